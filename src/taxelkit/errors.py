@@ -1,0 +1,128 @@
+"""Typed exceptions and boundary validators.
+
+Every error a user can cause is a :class:`TaxelkitError`. The CLI turns these
+into one line on stderr and exit code 2; anything else is a bug.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = [
+    "CorruptRecordingError",
+    "EmptyRecordingError",
+    "InputError",
+    "OutputExistsError",
+    "RecordingError",
+    "TaxelkitError",
+    "UnsupportedFormatError",
+    "check_finite_array",
+    "check_in_range",
+    "check_ndim",
+    "check_positive",
+]
+
+
+class TaxelkitError(Exception):
+    """Base class of every error taxelkit raises on purpose."""
+
+
+class InputError(TaxelkitError, ValueError):
+    """A parameter or array has the wrong shape, type, range or value."""
+
+
+class RecordingError(TaxelkitError):
+    """A recording cannot be read or written."""
+
+
+class UnsupportedFormatError(RecordingError):
+    """The file extension names no recording format taxelkit knows."""
+
+
+class CorruptRecordingError(RecordingError):
+    """The file is truncated, damaged, or does not hold the documented arrays."""
+
+
+class EmptyRecordingError(RecordingError):
+    """The file holds no frames."""
+
+
+class OutputExistsError(TaxelkitError, FileExistsError):
+    """An output file exists and overwriting it was not asked for."""
+
+
+def check_positive(name: str, value: float, *, allow_zero: bool = False) -> float:
+    """Return ``value`` as float if it is finite and > 0 (or >= 0).
+
+    Raises
+    ------
+    InputError
+        Naming ``name``, the expectation and the value received.
+    """
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number, got {value!r}") from None
+    ok = v >= 0 if allow_zero else v > 0
+    if not math.isfinite(v) or not ok:
+        bound = ">= 0" if allow_zero else "> 0"
+        raise InputError(f"{name} must be finite and {bound}, got {value!r}")
+    return v
+
+
+def check_in_range(name: str, value: float, low: float, high: float) -> float:
+    """Return ``value`` as float if ``low <= value <= high``.
+
+    Raises
+    ------
+    InputError
+        If the value is not a finite number inside the closed interval.
+    """
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number, got {value!r}") from None
+    if not (math.isfinite(v) and low <= v <= high):
+        raise InputError(f"{name} must be in [{low}, {high}], got {value!r}")
+    return v
+
+
+def check_ndim(name: str, array: ArrayLike, ndim: int, shape_doc: str) -> NDArray[Any]:
+    """Return ``np.asarray(array)`` if it has ``ndim`` dimensions.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the message.
+    array : array_like
+        Value to check.
+    ndim : int
+        Required number of dimensions.
+    shape_doc : str
+        Expected shape in words, e.g. ``"(T, rows, cols)"``.
+
+    Raises
+    ------
+    InputError
+        If the number of dimensions differs.
+    """
+    arr = np.asarray(array)
+    if arr.ndim != ndim:
+        raise InputError(
+            f"{name} must have shape {shape_doc} ({ndim} dimensions), got shape {arr.shape}"
+        )
+    return arr
+
+
+def check_finite_array(name: str, array: NDArray[Any]) -> None:
+    """Raise :class:`InputError` if a numeric array holds NaN or Inf.
+
+    Boolean and integer arrays are always finite and pass.
+    """
+    if array.dtype.kind in "fc" and not np.all(np.isfinite(array)):
+        n_bad = int(np.count_nonzero(~np.isfinite(array)))
+        raise InputError(f"{name} must be finite, got {n_bad} NaN/Inf value(s)")

@@ -1,0 +1,87 @@
+"""What the simulator needs from the world: relief surfaces and solid bodies.
+
+Both are protocols so that users can bring their own: anything with these
+methods can be pressed into a simulated sensor.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["Relief", "Solid"]
+
+
+@runtime_checkable
+class Relief(Protocol):
+    """A rigid plate whose top surface height varies with position (paper 000).
+
+    The plate's base surface is ``z = 0``; raised relief has ``z > 0``.
+    """
+
+    def height_mm(self, x_mm: NDArray[Any], y_mm: NDArray[Any]) -> NDArray[np.float64]:
+        """Surface height at points, mm.
+
+        Parameters
+        ----------
+        x_mm, y_mm : (...) float, mm
+            Point coordinates in the specimen frame; broadcast together.
+
+        Returns
+        -------
+        (...) float, mm
+            Height of the top surface above the base plane.
+        """
+        ...
+
+
+@runtime_checkable
+class Solid(Protocol):
+    """A rigid convex body that can be pressed onto the sensor (paper 001).
+
+    The body is defined in its own frame about a reference point (its centroid
+    unless the class says otherwise). A pose rotates it about that point; the
+    simulator then places the point above ``(x, y)`` on the sensor and lowers
+    the body until its lowest point is ``indent_mm`` below the skin surface.
+    """
+
+    name: str
+
+    def lowest_z_mm(self, rotations: NDArray[Any]) -> NDArray[np.float64]:
+        """Lowest z of the rotated body relative to its reference point.
+
+        Parameters
+        ----------
+        rotations : (P, 3, 3) float
+            Rotation matrices (body frame to sensor frame).
+
+        Returns
+        -------
+        (P,) float, mm
+        """
+        ...
+
+    def bottom_mm(
+        self, rotations: NDArray[Any], x_mm: NDArray[Any], y_mm: NDArray[Any]
+    ) -> NDArray[np.float64]:
+        """Height of the body's lower surface on vertical lines of a grid.
+
+        Parameters
+        ----------
+        rotations : (P, 3, 3) float
+            Rotation matrices.
+        x_mm : (P, W) float, mm
+            x of the grid columns relative to the reference point, per pose.
+        y_mm : (P, H) float, mm
+            y of the grid rows relative to the reference point, per pose.
+
+        Returns
+        -------
+        (P, H, W) float, mm
+            Lowest z of the rotated body on the vertical line through
+            ``(x_mm[p, j], y_mm[p, i])``, relative to the reference point;
+            ``+inf`` where the line misses the body.
+        """
+        ...
