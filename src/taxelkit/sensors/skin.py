@@ -105,7 +105,8 @@ def coupling_kernel_1d(skin: SkinModel, pitch_mm: float) -> NDArray[np.float64]:
         return np.ones(1)
     k = np.arange(-m, m + 1, dtype=np.float64) * pitch_mm
     w: NDArray[np.float64] = np.exp(-0.5 * (k / skin.spread_mm) ** 2)
-    return w / w.sum()
+    w /= w.sum()
+    return w
 
 
 def _band_matrix(n_out: int, weights: NDArray[np.float64]) -> NDArray[np.float64]:
