@@ -65,6 +65,21 @@ def sample_offsets_mm(
     return (xc[:, None] + sub).ravel(), (yc[:, None] + sub).ravel()
 
 
+def _grid_for(
+    sensor: Sensor, oversample: int, active_only: bool
+) -> tuple[NDArray[np.float64], NDArray[np.float64], tuple[int, int]]:
+    """Sample coordinates for the whole array or its active block, and the output shape."""
+    margin = coupling_margin_taxels(sensor.skin, sensor.array.pitch_mm)
+    xs, ys = sample_offsets_mm(sensor.array, margin=margin, oversample=oversample)
+    if not active_only:
+        return xs, ys, sensor.array.shape
+    block = sensor.array.active_region
+    n = int(oversample)
+    xs = xs[block.col0 * n : (block.col0 + block.cols + 2 * margin) * n]
+    ys = ys[block.row0 * n : (block.row0 + block.rows + 2 * margin) * n]
+    return xs, ys, (block.rows, block.cols)
+
+
 def _element_mean(p: NDArray[Any], n: int) -> NDArray[Any]:
     if n == 1:
         return p
@@ -122,6 +137,7 @@ def displacement_from_relief(
     rng: RngLike = None,
     chunk_poses: int = DEFAULT_CHUNK_POSES,
     dtype: DTypeLike = np.float32,
+    active_only: bool = False,
 ) -> NDArray[np.floating[Any]]:
     """Displacement frames of the sensor pressed flat onto a relief specimen.
 
@@ -149,6 +165,9 @@ def displacement_from_relief(
     dtype : float32 or float64
         Working and output precision. float32 (default) resolves 1e-7 of the
         largest height involved, far below the 1 um read-out resolution.
+    active_only : bool
+        Simulate only the array's active block (for example the central 6 x 6
+        used by paper 000); the output then has the block's shape.
 
     Returns
     -------
@@ -159,11 +178,10 @@ def displacement_from_relief(
     n_poses = pos.shape[0]
     indent = _as_per_pose("indent_mm", indent_mm, n_poses)
     yaw = np.deg2rad(_as_per_pose("yaw_deg", yaw_deg, n_poses))
-    margin = coupling_margin_taxels(sensor.skin, sensor.array.pitch_mm)
-    xs, ys = sample_offsets_mm(sensor.array, margin=margin, oversample=oversample)
+    xs, ys, shape = _grid_for(sensor, oversample, active_only)
     gen = np.random.default_rng(rng)
     ftype = _check_dtype(dtype)
-    out = np.empty((n_poses, *sensor.array.shape), dtype=ftype)
+    out = np.empty((n_poses, *shape), dtype=ftype)
     for a in range(0, n_poses, max(1, int(chunk_poses))):
         b = min(n_poses, a + max(1, int(chunk_poses)))
         c, s = np.cos(yaw[a:b])[:, None, None], np.sin(yaw[a:b])[:, None, None]
@@ -188,6 +206,7 @@ def displacement_from_solid(
     rng: RngLike = None,
     chunk_poses: int = DEFAULT_CHUNK_POSES,
     dtype: DTypeLike = np.float32,
+    active_only: bool = False,
 ) -> NDArray[np.floating[Any]]:
     """Displacement frames of a solid pressed onto the sensor in given poses.
 
@@ -212,6 +231,8 @@ def displacement_from_solid(
         Poses per internal chunk.
     dtype : float32 or float64
         Working and output precision (see :func:`displacement_from_relief`).
+    active_only : bool
+        Simulate only the array's active block.
 
     Returns
     -------
@@ -230,13 +251,12 @@ def displacement_from_solid(
         )
     n_poses = pos.shape[0]
     indent = _as_per_pose("indent_mm", indent_mm, n_poses)
-    margin = coupling_margin_taxels(sensor.skin, sensor.array.pitch_mm)
-    xs, ys = sample_offsets_mm(sensor.array, margin=margin, oversample=oversample)
+    xs64, ys64, shape = _grid_for(sensor, oversample, active_only)
     ftype = _check_dtype(dtype)
-    xs, ys = xs.astype(ftype), ys.astype(ftype)
+    xs, ys = xs64.astype(ftype), ys64.astype(ftype)
     posf = pos.astype(ftype)
     gen = np.random.default_rng(rng)
-    out = np.empty((n_poses, *sensor.array.shape), dtype=ftype)
+    out = np.empty((n_poses, *shape), dtype=ftype)
     step = max(1, int(chunk_poses))
     for a in range(0, n_poses, step):
         b = min(n_poses, a + step)
