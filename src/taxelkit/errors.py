@@ -16,8 +16,12 @@ __all__ = [
     "CorruptRecordingError",
     "EmptyRecordingError",
     "InputError",
+    "InvalidRecordingError",
     "OutputExistsError",
+    "OutputWriteError",
+    "RecordingAccessError",
     "RecordingError",
+    "RecordingNotFoundError",
     "TaxelkitError",
     "UnsupportedFormatError",
     "check_finite_array",
@@ -51,8 +55,29 @@ class EmptyRecordingError(RecordingError):
     """The file holds no frames."""
 
 
+class InvalidRecordingError(RecordingError, InputError):
+    """The file is readable but a field breaks the rules of :class:`~taxelkit.frames.TactileFrames`.
+
+    Wrong number of dimensions, NaN or Inf, non-increasing or mismatched
+    timestamps, a pitch that is not a positive number, text fields that are not
+    text. Both a :class:`RecordingError` and an :class:`InputError`.
+    """
+
+
+class RecordingAccessError(RecordingError, OSError):
+    """The path cannot be read as a file: a folder, no permission, not a regular file."""
+
+
+class RecordingNotFoundError(RecordingAccessError, FileNotFoundError):
+    """No file exists at the path."""
+
+
 class OutputExistsError(TaxelkitError, FileExistsError):
     """An output file exists and overwriting it was not asked for."""
+
+
+class OutputWriteError(TaxelkitError, OSError):
+    """An output file cannot be written: missing folder, no permission, disk full, ..."""
 
 
 def check_positive(name: str, value: float, *, allow_zero: bool = False) -> float:

@@ -106,8 +106,8 @@ class TactileFrames:
             if n > 1 and not np.all(np.diff(t) > 0):
                 k = int(np.argmin(np.diff(t) > 0))
                 raise InputError(
-                    f"t_s must be strictly increasing, got t_s[{k}]={t[k]!r} "
-                    f">= t_s[{k + 1}]={t[k + 1]!r}"
+                    f"t_s must be strictly increasing, got t_s[{k}]={float(t[k])!r} "
+                    f">= t_s[{k + 1}]={float(t[k + 1])!r}"
                 )
         pitch = check_positive("pitch_mm", pitch_mm)
         if f.dtype == bool:

@@ -1,0 +1,477 @@
+"""Read and write tactile recordings as ``.npz``, ``.h5``/``.hdf5`` or ``.csv``.
+
+The formats are specified in ``docs/recording-format.md``. Every reader returns
+a validated :class:`~taxelkit.frames.TactileFrames`; every problem with a file
+is a :class:`~taxelkit.errors.RecordingError` whose one-line message starts with
+the file's path.
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import h5py
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.errors import (
+    CorruptRecordingError,
+    EmptyRecordingError,
+    InputError,
+    InvalidRecordingError,
+    RecordingAccessError,
+    RecordingNotFoundError,
+    TaxelkitError,
+    UnsupportedFormatError,
+    check_positive,
+)
+from taxelkit.frames import CONTACT_UNITS, DEFAULT_PITCH_MM, TactileFrames
+from taxelkit.io._raw import RECORDING_FIELDS, RawRecording, describe_exception, fail
+from taxelkit.io.atomic import atomic_write
+from taxelkit.io.csv_format import read_csv_recording, write_csv_recording
+
+__all__ = [
+    "RECORDING_SUFFIXES",
+    "WRITABLE_FRAME_DTYPES",
+    "InvalidRecordingError",
+    "RecordingAccessError",
+    "RecordingNotFoundError",
+    "read_recording",
+    "recording_format",
+    "write_recording",
+]
+
+#: File extensions of the recording formats (matched case-insensitively).
+RECORDING_SUFFIXES = (".npz", ".h5", ".hdf5", ".csv")
+#: Frame dtypes every format stores exactly.
+WRITABLE_FRAME_DTYPES = (
+    np.dtype(np.bool_),
+    np.dtype(np.float16),
+    np.dtype(np.float32),
+    np.dtype(np.float64),
+)
+#: Default sensor name, as in :class:`~taxelkit.frames.TactileFrames`.
+_DEFAULT_SENSOR = "unknown"
+#: File signatures that identify a format from the first bytes: a zip archive
+#: (every ``.npz``), HDF5 without a user block, and a bare ``.npy`` array.
+_SIGNATURES = ((b"PK", "npz"), (b"\x89HDF\r\n\x1a\n", "hdf5"), (b"\x93NUMPY", "npy"))
+_MAGIC_LENGTH = 8
+_CANONICAL_SUFFIX = {"npz": ".npz", "hdf5": ".h5", "csv": ".csv"}
+_CONTENT_LABEL = {
+    "npz": "an .npz archive",
+    "hdf5": "HDF5 data",
+    "csv": "CSV text",
+    "npy": "a single .npy array",
+}
+
+
+@dataclass(frozen=True)
+class _Format:
+    """A recording format: its name, a reader of raw fields and a writer."""
+
+    name: str
+    read: Callable[[Path, bytes], RawRecording]
+    write: Callable[[TactileFrames, Path], None]
+
+
+def _raw_from_fields(fields: dict[str, object], found: tuple[str, ...]) -> RawRecording:
+    return RawRecording(
+        frames=fields.get("frames"),
+        t_s=fields.get("t_s"),
+        pitch_mm=fields.get("pitch_mm"),
+        units=fields.get("units"),
+        sensor=fields.get("sensor"),
+        found=found,
+    )
+
+
+# ----------------------------------------------------------------------------- npz
+def _read_npz(path: Path, head: bytes) -> RawRecording:
+    if _sniff(head) != "npz":
+        raise fail(CorruptRecordingError, path, "not an .npz file (no zip archive signature)")
+    # Any failure of the zip/npy parser means a damaged file; allow_pickle=False
+    # refuses object arrays, so no code in the file is ever run.
+    try:
+        with np.load(path, allow_pickle=False) as archive:
+            found = tuple(archive.files)
+            fields: dict[str, object] = {
+                name: archive[name] for name in RECORDING_FIELDS if name in found
+            }
+    except Exception as exc:
+        raise fail(
+            CorruptRecordingError, path, f"unreadable .npz archive ({describe_exception(exc)})"
+        ) from exc
+    return _raw_from_fields(fields, found)
+
+
+def _write_npz(rec: TactileFrames, path: Path) -> None:
+    # An open file, not a path: numpy appends ".npz" to any name not ending in
+    # lower-case ".npz", which would miss "RUN.NPZ".
+    with path.open("wb") as fh:
+        np.savez_compressed(
+            fh,
+            frames=rec.frames,
+            t_s=rec.t_s,
+            pitch_mm=np.float64(rec.pitch_mm),
+            units=np.str_(rec.units),
+            sensor=np.str_(rec.sensor),
+        )
+
+
+# ----------------------------------------------------------------------------- HDF5
+def _h5_field(path: Path, root: Any, name: str, *, dataset_only: bool = False) -> object | None:
+    """A root attribute (preferred for scalars) or a root dataset, else ``None``."""
+    if not dataset_only and name in root.attrs:
+        return root.attrs[name]  # type: ignore[no-any-return]
+    if name not in root:
+        return None
+    node = root[name]
+    if not isinstance(node, h5py.Dataset):
+        raise fail(CorruptRecordingError, path, f"{name!r} is an HDF5 group, expected a dataset")
+    return node[()]  # type: ignore[no-any-return]
+
+
+def _read_h5(path: Path, head: bytes) -> RawRecording:
+    del head  # HDF5 allows a user block before the signature; h5py finds it.
+    try:
+        with h5py.File(path, "r") as root:
+            found = tuple(root.keys()) + tuple(root.attrs.keys())
+            fields = {
+                name: _h5_field(path, root, name, dataset_only=name == "frames")
+                for name in RECORDING_FIELDS
+            }
+    except TaxelkitError:
+        raise
+    except Exception as exc:
+        # h5py reports damage as OSError, KeyError, RuntimeError, ValueError, ...
+        raise fail(
+            CorruptRecordingError, path, f"not a readable HDF5 file ({describe_exception(exc)})"
+        ) from exc
+    return _raw_from_fields(fields, found)
+
+
+def _write_h5(rec: TactileFrames, path: Path) -> None:
+    with h5py.File(path, "w") as root:
+        root.create_dataset("frames", data=rec.frames, compression="gzip")
+        root.create_dataset("t_s", data=rec.t_s)
+        root.attrs["pitch_mm"] = np.float64(rec.pitch_mm)
+        root.attrs["units"] = rec.units
+        root.attrs["sensor"] = rec.sensor
+
+
+def _read_csv(path: Path, head: bytes) -> RawRecording:
+    del head
+    return read_csv_recording(path)
+
+
+_NPZ = _Format("npz", _read_npz, _write_npz)
+_HDF5 = _Format("hdf5", _read_h5, _write_h5)
+_CSV = _Format("csv", _read_csv, write_csv_recording)
+_FORMATS = {".npz": _NPZ, ".h5": _HDF5, ".hdf5": _HDF5, ".csv": _CSV}
+
+
+# ----------------------------------------------------------------------------- checks
+def recording_format(path: str | os.PathLike[str]) -> str:
+    """Name of the recording format selected by the path's extension.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file name; only its suffix is looked at (case-insensitive).
+
+    Returns
+    -------
+    str
+        ``"npz"``, ``"hdf5"`` or ``"csv"``.
+
+    Raises
+    ------
+    UnsupportedFormatError
+        If the suffix is not one of :data:`RECORDING_SUFFIXES`.
+
+    Examples
+    --------
+    >>> recording_format("run.H5")
+    'hdf5'
+    """
+    return _format_for(Path(path)).name
+
+
+def _format_for(path: Path) -> _Format:
+    fmt = _FORMATS.get(path.suffix.lower())
+    if fmt is None:
+        got = f"extension {path.suffix!r}" if path.suffix else "no extension"
+        raise fail(
+            UnsupportedFormatError,
+            path,
+            f"unsupported recording format ({got}); expected one of "
+            f"{', '.join(RECORDING_SUFFIXES)}",
+        )
+    return fmt
+
+
+def _sniff(head: bytes) -> str | None:
+    """Format named by a file's first bytes, if they carry a known signature."""
+    for signature, name in _SIGNATURES:
+        if head.startswith(signature):
+            return name
+    return None
+
+
+def _check_signature(path: Path, head: bytes, fmt: _Format) -> None:
+    """Refuse a file whose signature names another format than its extension."""
+    found = _sniff(head)
+    if found is None or found == fmt.name:
+        return
+    if found == "npy":
+        hint = "save named arrays with numpy.savez(path, frames=...)"
+    else:
+        hint = f"rename it to end in {_CANONICAL_SUFFIX[found]}"
+    raise fail(
+        CorruptRecordingError,
+        path,
+        f"holds {_CONTENT_LABEL[found]}, not {_CONTENT_LABEL[fmt.name]} as its extension says; "
+        f"{hint}",
+    )
+
+
+def _reason(exc: OSError) -> str:
+    return exc.strerror or describe_exception(exc)
+
+
+def _probe_input(path: Path) -> tuple[int, bytes]:
+    """Size and first bytes of a readable regular file, or a RecordingAccessError."""
+    try:
+        info = path.stat()
+    except FileNotFoundError:
+        raise fail(RecordingNotFoundError, path, "no such file") from None
+    except (OSError, ValueError) as exc:
+        reason = _reason(exc) if isinstance(exc, OSError) else describe_exception(exc)
+        raise fail(RecordingAccessError, path, f"cannot access ({reason})") from None
+    if stat.S_ISDIR(info.st_mode):
+        raise fail(RecordingAccessError, path, "is a folder, not a recording file")
+    if not stat.S_ISREG(info.st_mode):
+        raise fail(RecordingAccessError, path, "is not a regular file")
+    try:
+        with path.open("rb") as fh:
+            head = fh.read(_MAGIC_LENGTH)
+    except OSError as exc:
+        raise fail(RecordingAccessError, path, f"cannot open ({_reason(exc)})") from None
+    return info.st_size, head
+
+
+def _show(value: object) -> str:
+    if isinstance(value, np.ndarray):
+        return f"an array of shape {value.shape} and dtype {value.dtype}"
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _text_field(path: Path, name: str, value: object | None) -> str | None:
+    """A text scalar from ``str``, ``bytes`` or a one-element string array."""
+    if value is None:
+        return None
+    item = value
+    if isinstance(item, np.ndarray) and item.size == 1 and item.dtype.kind in "US":
+        item = item.reshape(()).item()
+    if isinstance(item, bytes):
+        try:
+            item = item.decode("utf-8")
+        except UnicodeDecodeError:
+            raise fail(InvalidRecordingError, path, f"{name} is not UTF-8 text") from None
+    if isinstance(item, str):
+        return str(item)
+    raise fail(InvalidRecordingError, path, f"{name} must be text, got {_show(value)}")
+
+
+def _number_field(path: Path, name: str, value: object | None) -> float | None:
+    """A real scalar from a number, a numeric string or a one-element array of either."""
+    if value is None:
+        return None
+    item = value
+    if isinstance(item, np.ndarray) and item.size == 1:
+        item = item.reshape(()).item()
+    if isinstance(item, bytes):
+        item = item.decode("utf-8", "replace")
+    if isinstance(item, str):
+        try:
+            return float(item)
+        except ValueError:
+            pass
+    elif isinstance(item, int | float | np.integer | np.floating) and not isinstance(
+        item, bool | np.bool_
+    ):
+        return float(item)
+    raise fail(InvalidRecordingError, path, f"{name} must be a single number, got {_show(value)}")
+
+
+def _build(raw: RawRecording, path: Path, pitch_override: float | None) -> TactileFrames:
+    """Validate raw fields into a :class:`TactileFrames`, naming the file on failure."""
+    if raw.frames is None:
+        found = ", ".join(raw.found) if raw.found else "nothing"
+        raise fail(CorruptRecordingError, path, f"no 'frames' array (the file holds: {found})")
+    frames: NDArray[Any] = np.asarray(raw.frames)
+    if frames.ndim == 3 and frames.shape[0] == 0:
+        raise fail(EmptyRecordingError, path, f"holds zero frames (frames shape {frames.shape})")
+    if frames.ndim == 3 and 0 in frames.shape[1:]:
+        raise fail(
+            InvalidRecordingError,
+            path,
+            f"frames must have at least one row and one column, got shape {frames.shape}",
+        )
+    if frames.dtype.byteorder not in "=|":
+        frames = frames.astype(frames.dtype.newbyteorder("="))
+    units = _text_field(path, "units", raw.units)
+    sensor = _text_field(path, "sensor", raw.sensor)
+    if (raw.contact or units == CONTACT_UNITS) and frames.dtype.kind in "iuf":
+        if not np.all((frames == 0) | (frames == 1)):
+            raise fail(
+                InvalidRecordingError,
+                path,
+                f"frames must hold only 0 and 1 for units {CONTACT_UNITS!r}",
+            )
+        frames = frames != 0
+    if pitch_override is not None:
+        pitch = pitch_override
+    else:
+        stored = _number_field(path, "pitch_mm", raw.pitch_mm)
+        pitch = DEFAULT_PITCH_MM if stored is None else stored
+    t_s: NDArray[Any] | None = None
+    if raw.t_s is not None:
+        t_s = np.asarray(raw.t_s)
+        if t_s.dtype.kind not in "iuf":
+            raise fail(InvalidRecordingError, path, f"t_s must be numeric, got dtype {t_s.dtype}")
+    try:
+        return TactileFrames(
+            frames,
+            t_s,
+            pitch_mm=pitch,
+            units=units,
+            sensor=_DEFAULT_SENSOR if sensor is None else sensor,
+        )
+    except InputError as exc:
+        raise fail(InvalidRecordingError, path, str(exc)) from exc
+
+
+def _check_text_for_file(name: str, value: str) -> None:
+    """Text fields must survive every format: one line, no NUL, no outer spaces, UTF-8."""
+    try:
+        value.encode("utf-8")
+    except UnicodeEncodeError:
+        raise InputError(f"{name} must be encodable as UTF-8, got {value!r}") from None
+    if "\x00" in value or len(value.splitlines()) > 1 or value != value.strip():
+        raise InputError(
+            f"{name} must be one line of text without NUL characters or leading/trailing "
+            f"spaces to be stored in a recording file, got {value!r}"
+        )
+
+
+# ----------------------------------------------------------------------------- public API
+def read_recording(path: str | os.PathLike[str], *, pitch_mm: float | None = None) -> TactileFrames:
+    """Read a recording from a ``.npz``, ``.h5``/``.hdf5`` or ``.csv`` file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file; its extension (case-insensitive) selects the format.
+    pitch_mm : float, optional
+        Taxel pitch, mm, replacing (and skipping the check of) any pitch stored
+        in the file. Default: the stored ``pitch_mm``, else
+        :data:`~taxelkit.frames.DEFAULT_PITCH_MM`.
+
+    Returns
+    -------
+    TactileFrames
+        Frames in their stored dtype (bool stays bool, float32 stays float32;
+        integers become float64), with absent ``t_s`` = ``arange(T)`` s,
+        ``units`` = ``"mm"`` or ``"contact"``, ``sensor`` = ``"unknown"``.
+
+    Raises
+    ------
+    InputError
+        If ``pitch_mm`` is given and is not a finite number > 0.
+    RecordingNotFoundError
+        If nothing exists at ``path``.
+    RecordingAccessError
+        If ``path`` is a folder or cannot be opened.
+    UnsupportedFormatError
+        If the extension is not one of :data:`RECORDING_SUFFIXES`.
+    EmptyRecordingError
+        If the file has 0 bytes or holds zero frames.
+    CorruptRecordingError
+        If the file is truncated or damaged, lacks ``frames``, or (CSV) has
+        mismatched columns, a ragged row or a cell that is not a number.
+    InvalidRecordingError
+        If a field breaks the rules of :class:`TactileFrames` (dimensions,
+        NaN/Inf, timestamps, pitch, text).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> rec = TactileFrames(np.eye(3, dtype=bool)[None], pitch_mm=2.0)
+    >>> out = write_recording(rec, folder / "eye.csv")
+    >>> read_recording(out).equals(rec)
+    True
+    """
+    p = Path(path)
+    override = None if pitch_mm is None else check_positive("pitch_mm", pitch_mm)
+    size, head = _probe_input(p)
+    fmt = _format_for(p)
+    if size == 0:
+        raise fail(EmptyRecordingError, p, "is empty (0 bytes)")
+    _check_signature(p, head, fmt)
+    return _build(fmt.read(p, head), p, override)
+
+
+def write_recording(
+    rec: TactileFrames, path: str | os.PathLike[str], *, force: bool = False
+) -> Path:
+    """Write a recording atomically; the extension selects the format.
+
+    Parameters
+    ----------
+    rec : TactileFrames
+        The recording. Frames must be bool, float16, float32 or float64 (native
+        byte order); ``units`` and ``sensor`` one line of text.
+    path : str or os.PathLike
+        Output file ending in ``.npz``, ``.h5``, ``.hdf5`` or ``.csv``
+        (case-insensitive). Its folder must exist.
+    force : bool, optional
+        Replace an existing file. Default ``False``.
+
+    Returns
+    -------
+    pathlib.Path
+        The written path. :func:`read_recording` of it ``equals`` ``rec``.
+
+    Raises
+    ------
+    UnsupportedFormatError
+        If the extension is not one of :data:`RECORDING_SUFFIXES`.
+    EmptyRecordingError
+        If ``rec`` has zero frames.
+    InputError
+        If the frame dtype or a text field cannot be stored exactly.
+    OutputExistsError
+        If ``path`` exists and ``force`` is false.
+    OutputWriteError
+        If the operating system refuses the write.
+    """
+    p = Path(path)
+    fmt = _format_for(p)
+    if rec.n_frames == 0:
+        raise fail(EmptyRecordingError, p, "refusing to write a recording with zero frames")
+    if rec.frames.dtype not in WRITABLE_FRAME_DTYPES:
+        raise InputError(
+            f"frames dtype must be one of bool, float16, float32, float64 (native byte "
+            f"order) to be written, got {rec.frames.dtype.str}"
+        )
+    _check_text_for_file("units", rec.units)
+    _check_text_for_file("sensor", rec.sensor)
+    return atomic_write(p, lambda tmp: fmt.write(rec, tmp), force=force)
