@@ -1,0 +1,1 @@
+"""Manipulator motion: point-to-point moves and scans."""

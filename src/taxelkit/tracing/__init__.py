@@ -1,0 +1,1 @@
+"""Fine-edge tracing of paper 000: edge direction, error vector, controller."""

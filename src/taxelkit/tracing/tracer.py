@@ -1,0 +1,324 @@
+"""The edge-tracing controller of paper 000 (Section IV, Eq. 7, Fig. 3).
+
+At each point the probe scans along x and y, :func:`estimate_edge` reads the
+edge, and the manipulator moves by ``dr = dv + de`` (Eq. 7): ``dv`` is one
+point-to-point section (3 mm, the pitch, Section VI.3) along the edge with the
+raised side on the left, and ``de`` the error vector that brings the edge back
+under the array centre (Ishikawa's active sensing). The loop stops when it
+closes (back within ``close_radius_mm`` of its start after at least
+``min_loop_mm`` of travel) or after ``max_sections`` sections.
+
+The tracer sees only what the probe returns (frames and its own commanded
+positions), never the specimen.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from taxelkit.errors import InputError, check_positive
+from taxelkit.motion.probe import TactileProbe
+from taxelkit.tracing.edge_estimate import EdgeDetectorConfig, EdgeEstimate, estimate_edge
+from taxelkit.tracing.line_fit import line_intersection
+
+__all__ = [
+    "PTP_SECTION_MM",
+    "Trace",
+    "TracerConfig",
+    "find_edge",
+    "plan_move",
+    "trace_edge",
+]
+
+logger = logging.getLogger(__name__)
+
+#: Length of one point-to-point section, mm: the sensor pitch (paper 000, Sect. VI.3).
+PTP_SECTION_MM = 3.0
+
+
+@dataclass(frozen=True)
+class TracerConfig:
+    """Parameters of the edge-tracing controller.
+
+    Parameters
+    ----------
+    section_mm : float
+        Length of ``dv``, one point-to-point section, mm.
+    error_gain : float
+        Weight of ``de`` in ``dr = dv + gain * de`` (1 is Eq. 7).
+    max_sections : int
+        Hard stop.
+    close_radius_mm : float
+        The loop is closed when the array centre comes back this close to its start.
+    min_loop_mm : float
+        Path length travelled before closing is considered, mm.
+    max_misses : int
+        Consecutive points with no edge before giving up; at a miss the tracer
+        coasts one section along its last direction.
+    detector : EdgeDetectorConfig
+    """
+
+    section_mm: float = PTP_SECTION_MM
+    error_gain: float = 1.0
+    max_sections: int = 300
+    close_radius_mm: float = 3.0
+    min_loop_mm: float = 30.0
+    max_misses: int = 2
+    detector: EdgeDetectorConfig = field(default_factory=EdgeDetectorConfig)
+
+    def __post_init__(self) -> None:
+        check_positive("section_mm", self.section_mm)
+        check_positive("error_gain", self.error_gain, allow_zero=True)
+        check_positive("close_radius_mm", self.close_radius_mm)
+        check_positive("min_loop_mm", self.min_loop_mm, allow_zero=True)
+        if int(self.max_sections) < 1:
+            raise InputError(f"max_sections must be >= 1, got {self.max_sections!r}")
+        if int(self.max_misses) < 0:
+            raise InputError(f"max_misses must be >= 0, got {self.max_misses!r}")
+
+
+@dataclass(frozen=True, eq=False)
+class Trace:
+    """A traced contour with per-section diagnostics.
+
+    Attributes
+    ----------
+    points_mm : (K + 1, 2) float, mm
+        Commanded array centres, from the start to the last point.
+    moves_mm : (K, 2) float, mm
+        ``dr`` of every section (Eq. 7); the input of chain-symbolizing.
+    dv_mm, de_mm : (K, 2) float, mm
+        The two terms of Eq. 7 for every section (``dv`` is zero at a miss).
+    normals : (K, 2) float
+        Edge normal seen at each point (NaN at a miss).
+    n_crossings : (K,) int
+        Crossing points found at each point.
+    closed : bool
+        True when the loop closed.
+    stop_reason : str
+        ``"closed"``, ``"max_sections"`` or ``"lost"``.
+    """
+
+    points_mm: NDArray[np.float64]
+    moves_mm: NDArray[np.float64]
+    dv_mm: NDArray[np.float64]
+    de_mm: NDArray[np.float64]
+    normals: NDArray[np.float64]
+    n_crossings: NDArray[np.int64]
+    closed: bool
+    stop_reason: str
+
+    @property
+    def n_sections(self) -> int:
+        """Number of sections ``K``."""
+        return int(self.moves_mm.shape[0])
+
+    @property
+    def arc_length_mm(self) -> NDArray[np.float64]:
+        """Cumulative path length at every point, ``(K + 1,)`` mm."""
+        steps = np.hypot(self.moves_mm[:, 0], self.moves_mm[:, 1])
+        return np.concatenate([[0.0], np.cumsum(steps)])
+
+    def straightness(self) -> float | None:
+        """``|r|``, Pearson correlation of the points' x and y (paper 000, Fig. 7).
+
+        Returns ``None`` where ``r`` is undefined (a trace parallel to an axis).
+        """
+        p = self.points_mm
+        sx, sy = np.std(p[:, 0]), np.std(p[:, 1])
+        scale = max(sx, sy, 1e-12)
+        if min(sx, sy) < 1e-6 * scale + 1e-12:
+            return None
+        return float(abs(np.corrcoef(p[:, 0], p[:, 1])[0, 1]))
+
+
+def _ray_distance(
+    p: NDArray[np.float64], origin: NDArray[np.float64], direction: NDArray[np.float64]
+) -> float:
+    """Distance from ``p`` to the ray ``origin + s * direction``, ``s >= 0``."""
+    s = max(0.0, float((p - origin) @ direction))
+    return float(np.hypot(*(p - origin - s * direction)))
+
+
+def plan_move(
+    est: EdgeEstimate, centre_mm: NDArray[np.float64], cfg: TracerConfig
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """``(dv, de, heading)`` of Eq. 7 for one section, turning corners when two edges are seen.
+
+    With one edge: ``dv`` is a section along it and ``de`` the error vector.
+    With two edges meeting at a corner ``q`` within two sections: travelling
+    with the raised side on the left, the incoming edge ends at ``q`` (its
+    crossings lie before ``q`` along its direction) and the outgoing edge
+    starts there. While the centre is nearer the incoming ray than the outgoing
+    one, the tracer keeps to the incoming edge, and when the corner lies within
+    this section it goes to ``q`` and on along the outgoing edge; once nearer
+    the outgoing ray it follows the outgoing edge. ``heading`` is
+    the unit direction of the edge followed at the end of the move.
+    """
+    step = cfg.section_mm
+    if not est.lines:  # Eq. 8 estimator: no fitted lines
+        return step * est.tangent, cfg.error_gain * est.error_mm, est.tangent
+    line = est.lines[0]
+    if len(est.lines) == 2:
+        a, b = est.lines
+        q = line_intersection(a, b)
+        if q is not None and float(np.hypot(*(q - centre_mm))) <= 2.0 * step:
+            sa = float((a.point_mm - q) @ a.tangent)
+            sb = float((b.point_mm - q) @ b.tangent)
+            if sa * sb < 0:  # one edge ends at the corner, the other starts there
+                incoming, outgoing = (a, b) if sa < 0 else (b, a)
+                ahead = float((q - centre_mm) @ incoming.tangent)
+                if _ray_distance(centre_mm, q, outgoing.tangent) < _ray_distance(
+                    centre_mm, q, -incoming.tangent
+                ):
+                    line = outgoing  # already past the corner
+                elif ahead < step:
+                    dv = ahead * incoming.tangent + (step - ahead) * outgoing.tangent
+                    dr = (q - centre_mm) + (step - ahead) * outgoing.tangent
+                    return dv, cfg.error_gain * (dr - dv), outgoing.tangent
+                else:
+                    line = incoming
+    de = -float(line.signed_distance_mm(centre_mm)) * line.normal
+    return step * line.tangent, cfg.error_gain * de, line.tangent
+
+
+def _sense(probe: TactileProbe, at: NDArray[np.float64], cfg: TracerConfig) -> EdgeEstimate:
+    return estimate_edge(
+        probe.scan(at, 0), probe.scan(at, 1), probe.element_offsets_mm, cfg.detector
+    )
+
+
+def find_edge(
+    probe: TactileProbe,
+    origin_mm: ArrayLike,
+    *,
+    direction: ArrayLike = (1.0, 0.0),
+    max_distance_mm: float = 150.0,
+    config: TracerConfig | None = None,
+) -> NDArray[np.float64]:
+    """Move from ``origin_mm`` along ``direction`` until an edge is under the array.
+
+    Parameters
+    ----------
+    probe : TactileProbe
+    origin_mm : (2,) float, mm
+        Where to start (for example the specimen's centre).
+    direction : (2,) float
+        Search direction (normalised here).
+    max_distance_mm : float
+        Give up after this distance.
+    config : TracerConfig, optional
+
+    Returns
+    -------
+    (2,) float, mm
+        A point with the edge under the array, moved onto the edge by ``de``.
+
+    Raises
+    ------
+    InputError
+        If no edge is found within ``max_distance_mm``.
+    """
+    cfg = TracerConfig() if config is None else config
+    d = np.asarray(direction, dtype=np.float64)
+    if d.shape != (2,) or not np.any(d):
+        raise InputError(f"direction must be a non-zero 2-vector, got {direction!r}")
+    d = d / np.hypot(*d)
+    p = np.asarray(origin_mm, dtype=np.float64).copy()
+    stride = 2.0 * cfg.section_mm  # the scans reach +-3 mm around each point
+    for _ in range(int(np.ceil(max_distance_mm / stride)) + 1):
+        est = _sense(probe, p, cfg)
+        if est.found:
+            return np.asarray(p + est.error_mm, dtype=np.float64)
+        p = p + stride * d
+    raise InputError(
+        f"no edge found within {max_distance_mm:g} mm of {tuple(np.round(origin_mm, 3))}"
+    )
+
+
+def trace_edge(
+    probe: TactileProbe,
+    start_mm: ArrayLike,
+    config: TracerConfig | None = None,
+    *,
+    progress: Callable[[int], None] | None = None,
+) -> Trace:
+    """Trace an edge from ``start_mm`` until the loop closes.
+
+    Parameters
+    ----------
+    probe : TactileProbe
+    start_mm : (2,) float, mm
+        A point with the edge under the array (see :func:`find_edge`).
+    config : TracerConfig, optional
+    progress : callable, optional
+        Called with the section number after each section.
+
+    Returns
+    -------
+    Trace
+
+    References
+    ----------
+    Paper 000, Section IV (Eq. 7) and Section VI.3.
+    """
+    cfg = TracerConfig() if config is None else config
+    start = np.asarray(start_mm, dtype=np.float64)
+    if start.shape != (2,) or not np.all(np.isfinite(start)):
+        raise InputError(f"start_mm must be two finite numbers, got {start_mm!r}")
+    points = [start.copy()]
+    moves: list[Any] = []
+    dvs: list[Any] = []
+    des: list[Any] = []
+    normals: list[Any] = []
+    crossings: list[int] = []
+    p = start.copy()
+    last_dir: NDArray[np.float64] | None = None
+    travelled, misses = 0.0, 0
+    stop = "max_sections"
+    for k in range(int(cfg.max_sections)):
+        est = _sense(probe, p, cfg)
+        if est.found:
+            misses = 0
+            dv, de, last_dir = plan_move(est, p, cfg)
+        else:
+            misses += 1
+            if last_dir is None or misses > cfg.max_misses:
+                stop = "lost"
+                break
+            dv, de = cfg.section_mm * last_dir, np.zeros(2)
+        dr = dv + de
+        p = p + dr
+        travelled += float(np.hypot(*dr))
+        points.append(p.copy())
+        moves.append(dr)
+        dvs.append(dv)
+        des.append(de)
+        normals.append(est.normal)
+        crossings.append(int(est.crossings_mm.shape[0]))
+        if progress is not None:
+            progress(k + 1)
+        if travelled >= cfg.min_loop_mm and np.hypot(*(p - start)) <= cfg.close_radius_mm:
+            stop = "closed"
+            break
+    logger.info("trace stopped (%s) after %d sections", stop, len(moves))
+
+    def stack(v: list[Any]) -> NDArray[np.float64]:
+        return np.asarray(v, dtype=np.float64).reshape(-1, 2)
+
+    return Trace(
+        points_mm=stack(points),
+        moves_mm=stack(moves),
+        dv_mm=stack(dvs),
+        de_mm=stack(des),
+        normals=stack(normals),
+        n_crossings=np.asarray(crossings, dtype=np.int64),
+        closed=stop == "closed",
+        stop_reason=stop,
+    )
