@@ -131,7 +131,7 @@ class Trace:
         Returns ``None`` where ``r`` is undefined (a trace parallel to an axis).
         """
         p = self.points_mm
-        sx, sy = np.std(p[:, 0]), np.std(p[:, 1])
+        sx, sy = float(np.std(p[:, 0])), float(np.std(p[:, 1]))
         scale = max(sx, sy, 1e-12)
         if min(sx, sy) < 1e-6 * scale + 1e-12:
             return None
@@ -230,7 +230,8 @@ def find_edge(
     if d.shape != (2,) or not np.any(d):
         raise InputError(f"direction must be a non-zero 2-vector, got {direction!r}")
     d = d / np.hypot(*d)
-    p = np.asarray(origin_mm, dtype=np.float64).copy()
+    origin = np.asarray(origin_mm, dtype=np.float64)
+    p = origin.copy()
     stride = 2.0 * cfg.section_mm  # the scans reach +-3 mm around each point
     for _ in range(int(np.ceil(max_distance_mm / stride)) + 1):
         est = _sense(probe, p, cfg)
@@ -238,7 +239,7 @@ def find_edge(
             return np.asarray(p + est.error_mm, dtype=np.float64)
         p = p + stride * d
     raise InputError(
-        f"no edge found within {max_distance_mm:g} mm of {tuple(np.round(origin_mm, 3))}"
+        f"no edge found within {max_distance_mm:g} mm of {tuple(np.round(origin, 3).tolist())}"
     )
 
 
