@@ -125,15 +125,27 @@ class Trace:
         steps = np.hypot(self.moves_mm[:, 0], self.moves_mm[:, 1])
         return np.concatenate([[0.0], np.cumsum(steps)])
 
-    def straightness(self) -> float | None:
+    def straightness(self, *, axis_tolerance_deg: float = 3.0) -> float | None:
         """``|r|``, Pearson correlation of the points' x and y (paper 000, Fig. 7).
 
-        Returns ``None`` where ``r`` is undefined (a trace parallel to an axis).
+        Parameters
+        ----------
+        axis_tolerance_deg : float
+            ``r`` measures straightness only for oblique lines: it tends to 0 as
+            a perfectly straight line turns parallel to an axis. Within this
+            angle of the x or y axis (principal direction of the points) the
+            result is ``None``, as the paper leaves 0 and 90 deg unquoted.
+
+        Returns
+        -------
+        float or None
         """
-        p = self.points_mm
-        sx, sy = float(np.std(p[:, 0])), float(np.std(p[:, 1]))
-        scale = max(sx, sy, 1e-12)
-        if min(sx, sy) < 1e-6 * scale + 1e-12:
+        p = self.points_mm - self.points_mm.mean(axis=0)
+        if p.shape[0] < 3:
+            return None
+        _, vecs = np.linalg.eigh(p.T @ p)
+        angle = float(np.rad2deg(np.arctan2(vecs[1, 1], vecs[0, 1]))) % 90.0
+        if min(angle, 90.0 - angle) < axis_tolerance_deg:
             return None
         return float(abs(np.corrcoef(p[:, 0], p[:, 1])[0, 1]))
 
