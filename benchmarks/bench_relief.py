@@ -97,5 +97,6 @@ def main() -> None:
     print(f"{'per-frame call (baseline)':28s} {1 / t_frame:12,.0f} {t_frame / t_batch:16.1f} x")
     print(f"{'per-point shapely (naive)':28s} {1 / t_point:12,.0f} {t_point / t_batch:16.0f} x")
 
+
 if __name__ == "__main__":
     main()

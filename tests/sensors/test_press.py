@@ -110,3 +110,37 @@ def test_bad_arguments_raise(kwargs: dict[str, Any], match: str) -> None:
     args.update(kwargs)
     with pytest.raises(InputError, match=match):
         displacement_from_relief(OPTICAL_3AXIS, HalfPlaneStep(), **args)
+
+
+def test_vertex_contact_makes_a_point_image_on_the_bonneville_array() -> None:
+    """A cube on a vertex touches less than a taxel; the skin dimple makes it visible."""
+    from taxelkit.sensors import BONNEVILLE_16X16
+    from taxelkit.sensors.press import displacement_from_solid
+    from taxelkit.world import Cube, matrix_from_euler_xyz_deg
+
+    rot = matrix_from_euler_xyz_deg([54.7356, 45.0, 0.0])  # body diagonal vertical
+    u = displacement_from_solid(
+        BONNEVILLE_16X16, Cube(), rot, [0.3, -0.2], indent_mm=0.3, add_noise=False
+    )[0]
+    contact = BONNEVILLE_16X16.contact_from_displacement(u)
+    assert 1 <= contact.sum() <= 6  # a point contact: a few taxels
+    i, j = np.unravel_index(np.argmax(u), u.shape)
+    centres = BONNEVILLE_16X16.array.centres_mm()
+    assert np.hypot(*(centres[i, j] - [0.3, -0.2])) < BONNEVILLE_16X16.array.pitch_mm
+    assert u.max() <= 0.3 + 1e-6  # never deeper than the vertex
+
+
+def test_dimple_does_not_change_a_flat_face_press() -> None:
+    from dataclasses import replace
+
+    from taxelkit.sensors import BONNEVILLE_16X16
+    from taxelkit.sensors.press import displacement_from_solid
+    from taxelkit.world import Cube, Sphere
+
+    off = replace(BONNEVILLE_16X16, skin=replace(BONNEVILLE_16X16.skin, point_dimple=False))
+    for body in (Cube(), Sphere()):
+        kw: dict[str, Any] = {"indent_mm": 0.3, "add_noise": False, "dtype": np.float64}
+        a = displacement_from_solid(BONNEVILLE_16X16, body, np.eye(3), [0.0, 0.0], **kw)
+        b = displacement_from_solid(off, body, np.eye(3), [0.0, 0.0], **kw)
+        contact_a = BONNEVILLE_16X16.contact_from_displacement(a)
+        np.testing.assert_array_equal(contact_a, BONNEVILLE_16X16.contact_from_displacement(b))

@@ -65,7 +65,9 @@ def apply_noise(
         u = u.astype(np.float64)
     if noise.sigma_mm > 0.0:
         gen = np.random.default_rng(rng)
-        u += gen.normal(0.0, noise.sigma_mm, size=u.shape).astype(u.dtype)
+        draw = gen.standard_normal(u.shape, dtype=u.dtype)  # float32 drawn natively: faster
+        draw *= u.dtype.type(noise.sigma_mm)
+        u += draw
     if noise.resolution_mm > 0.0:
         np.round(u / noise.resolution_mm, out=u)
         u *= noise.resolution_mm

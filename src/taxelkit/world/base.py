@@ -47,7 +47,10 @@ class Solid(Protocol):
     the body until its lowest point is ``indent_mm`` below the skin surface.
     """
 
-    name: str
+    @property
+    def name(self) -> str:
+        """Short name of the body (``"cube"``, ``"mesh"``, ...)."""
+        ...
 
     def lowest_z_mm(self, rotations: NDArray[Any]) -> NDArray[np.float64]:
         """Lowest z of the rotated body relative to its reference point.
@@ -63,9 +66,23 @@ class Solid(Protocol):
         """
         ...
 
+    def lowest_point_mm(self, rotations: NDArray[Any]) -> NDArray[np.float64]:
+        """Lowest point of the rotated body relative to its reference point.
+
+        Parameters
+        ----------
+        rotations : (P, 3, 3) float
+
+        Returns
+        -------
+        (P, 3) float, mm
+            Where several points tie (a face or an edge resting flat), their mean.
+        """
+        ...
+
     def bottom_mm(
         self, rotations: NDArray[Any], x_mm: NDArray[Any], y_mm: NDArray[Any]
-    ) -> NDArray[np.float64]:
+    ) -> NDArray[np.floating[Any]]:
         """Height of the body's lower surface on vertical lines of a grid.
 
         Parameters
@@ -79,7 +96,7 @@ class Solid(Protocol):
 
         Returns
         -------
-        (P, H, W) float, mm
+        (P, H, W) float, mm, in the dtype of ``x_mm``
             Lowest z of the rotated body on the vertical line through
             ``(x_mm[p, j], y_mm[p, i])``, relative to the reference point;
             ``+inf`` where the line misses the body.
