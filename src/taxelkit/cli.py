@@ -1,0 +1,204 @@
+"""The ``taxelkit`` command line: the only layer that prints or writes files for the user.
+
+Every error a user can cause ends as one line on stderr and exit code 2.
+Outputs are written to a temporary file and renamed into place; an existing
+output is kept unless ``--force`` is given.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import sys
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+import click
+
+from taxelkit._version import __version__
+from taxelkit.errors import InputError, TaxelkitError
+from taxelkit.frames import TactileFrames
+
+EXIT_BAD_INPUT = 2
+
+logger = logging.getLogger("taxelkit")
+
+
+# ----------------------------------------------------------------------------- helpers
+def _save_figure(fig: Any, out: Path, *, force: bool, dpi: int = 130) -> None:
+    from taxelkit.io.atomic import atomic_write
+
+    def writer(tmp: Path) -> None:
+        fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
+
+    try:
+        atomic_write(out, writer, force=force)
+    finally:
+        import matplotlib.pyplot as plt
+
+        plt.close(fig)
+
+
+def _check_figure_suffix(out: Path) -> None:
+    if out.suffix.lower() not in {".png", ".pdf", ".svg", ".jpg", ".jpeg"}:
+        raise InputError(f"--out must end in .png, .pdf, .svg or .jpg, got {out.name!r}")
+
+
+def _summary(rec: TactileFrames, path: Path) -> dict[str, Any]:
+    frames = rec.frames
+    out: dict[str, Any] = {
+        "file": str(path),
+        "sensor": rec.sensor,
+        "frames": rec.n_frames,
+        "rows": rec.shape[1],
+        "cols": rec.shape[2],
+        "pitch_mm": rec.pitch_mm,
+        "units": rec.units,
+        "dtype": str(frames.dtype),
+        "duration_s": rec.duration_s,
+        "rate_hz": rec.rate_hz,
+    }
+    if rec.is_contact:
+        out["contact_fraction"] = float(frames.mean())
+        out["min"], out["max"] = int(frames.min()), int(frames.max())
+    else:
+        out["min"], out["max"] = float(frames.min()), float(frames.max())
+    return out
+
+
+# ----------------------------------------------------------------------------- commands
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, prog_name="taxelkit")
+@click.option("-v", "--verbose", is_flag=True, help="Log diagnostics to stderr.")
+def cli(verbose: bool) -> None:
+    """taxelkit: sense and recognise shapes by touch with array tactile sensors.
+
+    Simulate tactile arrays, read and inspect recordings, and run the
+    recognition systems of the two reference papers.
+    """
+    if verbose:
+        logging.basicConfig(level=logging.INFO, format="%(name)s: %(message)s")
+
+
+@cli.command()
+@click.argument("file", type=click.Path(path_type=Path, dir_okay=True))
+@click.option("--pitch-mm", type=float, default=None, help="Override the file's taxel pitch, mm.")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def info(file: Path, pitch_mm: float | None, as_json: bool) -> None:
+    """Summarise a recording (.npz, .h5, .csv): frames, shape, duration, rate, values."""
+    from taxelkit.io.recordings import read_recording
+
+    rec = read_recording(file, pitch_mm=pitch_mm)
+    s = _summary(rec, file)
+    if as_json:
+        click.echo(json.dumps(s))
+        return
+    rate = f"{s['rate_hz']:.4g} Hz" if s["rate_hz"] is not None else "n/a (one frame)"
+    click.echo(f"file      {file}")
+    click.echo(f"sensor    {s['sensor']}")
+    click.echo(f"frames    {s['frames']} x {s['rows']} x {s['cols']} ({s['dtype']}, {s['units']})")
+    click.echo(f"pitch     {s['pitch_mm']:.6g} mm")
+    click.echo(f"duration  {s['duration_s']:.6g} s at {rate}")
+    if rec.is_contact:
+        click.echo(f"contact   {100 * s['contact_fraction']:.2f} % of taxel-frames")
+    else:
+        click.echo(f"values    {s['min']:.6g} .. {s['max']:.6g} {s['units']}")
+
+
+@cli.command()
+@click.argument("file", type=click.Path(path_type=Path))
+@click.option("--out", type=click.Path(path_type=Path), required=True, help="Image file (.png).")
+@click.option("--max-frames", type=click.IntRange(1, 200), default=12, show_default=True)
+@click.option("--start", type=click.IntRange(0), default=0, help="First frame to consider.")
+@click.option("--stop", type=click.IntRange(1), default=None, help="One past the last frame.")
+@click.option("--threshold", type=float, default=None, help="Draw contact images frames > T.")
+@click.option("--force", is_flag=True, help="Overwrite an existing output.")
+def show(
+    file: Path,
+    out: Path,
+    max_frames: int,
+    start: int,
+    stop: int | None,
+    threshold: float | None,
+    force: bool,
+) -> None:
+    """Draw frames of a recording as an image strip."""
+    from taxelkit.io.recordings import read_recording
+    from taxelkit.plotting.strip import frame_indices_for_strip, plot_frame_strip
+
+    _check_figure_suffix(out)
+    rec = read_recording(file)
+    stop = rec.n_frames if stop is None else min(stop, rec.n_frames)
+    if start >= stop:
+        raise InputError(f"--start ({start}) must be below the number of frames ({stop})")
+    if threshold is not None:
+        rec = TactileFrames(rec.contact(threshold), rec.t_s, rec.pitch_mm, sensor=rec.sensor)
+    idx = start + frame_indices_for_strip(stop - start, max_frames)
+    fig = plot_frame_strip(rec, indices=idx, title=f"{file.name} ({rec.sensor})")
+    _save_figure(fig, out, force=force)
+    click.echo(f"wrote {out}")
+
+
+@cli.command()
+def sensors() -> None:
+    """List the sensor presets."""
+    from taxelkit.sensors.presets import SENSORS
+
+    for name, s in SENSORS.items():
+        a = s.array
+        click.echo(
+            f"{name:18s} {a.rows} x {a.cols} at {a.pitch_mm:.4g} mm, "
+            f"max {s.max_rate_hz:g} Hz  {s.description}"
+        )
+
+
+from taxelkit.cli_simulate import demo, simulate  # noqa: E402  (registers sub-commands)
+
+cli.add_command(simulate)
+cli.add_command(demo)
+
+
+# ----------------------------------------------------------------------------- entry point
+def run(argv: Sequence[str] | None = None, *, echo_err: Callable[[str], None] | None = None) -> int:
+    """Run the CLI and return the exit code instead of exiting.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        Arguments (default: ``sys.argv[1:]``).
+    echo_err : callable, optional
+        Where one-line error messages go (default: stderr).
+
+    Returns
+    -------
+    int
+        0 on success, 2 on bad input, 1 on an unexpected internal error.
+    """
+
+    def err(msg: str) -> None:
+        (echo_err or (lambda m: click.echo(m, err=True)))(msg)
+
+    try:
+        result = cli.main(args=list(argv) if argv is not None else None, standalone_mode=False)
+    except click.exceptions.Exit as e:
+        return int(e.exit_code)
+    except click.exceptions.Abort:
+        err("taxelkit: aborted")
+        return 130
+    except click.ClickException as e:
+        err(f"taxelkit: error: {e.format_message()} (see --help)")
+        return EXIT_BAD_INPUT if isinstance(e, click.UsageError) else e.exit_code
+    except TaxelkitError as e:
+        err(f"taxelkit: error: {e}")
+        return EXIT_BAD_INPUT
+    except OSError as e:  # unreadable input or unwritable output
+        where = f": {e.filename}" if getattr(e, "filename", None) else ""
+        err(f"taxelkit: error: {e.strerror or e}{where}")
+        return EXIT_BAD_INPUT
+    return int(result) if isinstance(result, int) else 0
+
+
+def main() -> None:
+    """Console-script entry point."""
+    sys.exit(run())

@@ -1,0 +1,260 @@
+"""``taxelkit simulate`` and ``taxelkit demo``: recordings and figures from the simulator."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, TypeVar
+
+import click
+import numpy as np
+from tqdm import tqdm
+
+from taxelkit.errors import InputError
+from taxelkit.frames import TactileFrames
+
+__all__ = ["demo", "simulate"]
+
+
+def _pair(value: str | None, name: str) -> tuple[float, float] | None:
+    if value is None:
+        return None
+    try:
+        a, b = (float(v) for v in value.split(","))
+    except ValueError:
+        raise InputError(f"{name} must be two numbers X,Y, got {value!r}") from None
+    if not (np.isfinite(a) and np.isfinite(b)):
+        raise InputError(f"{name} must be finite, got {value!r}")
+    return (a, b)
+
+
+def _triple(value: str, name: str) -> tuple[float, float, float]:
+    try:
+        a, b, c = (float(v) for v in value.split(","))
+    except ValueError:
+        raise InputError(f"{name} must be three numbers A,B,C, got {value!r}") from None
+    return (a, b, c)
+
+
+def _write(rec: TactileFrames, out: Path, force: bool) -> None:
+    from taxelkit.io.recordings import write_recording
+
+    write_recording(rec, out, force=force)
+    click.echo(
+        f"wrote {out} ({rec.n_frames} frames of {rec.shape[1]} x {rec.shape[2]}, {rec.units})"
+    )
+
+
+_common = [
+    click.option("--sensor", "sensor_name", default=None, help="Sensor preset (taxelkit sensors)."),
+    click.option("--frames", "n_frames", type=click.IntRange(1, 1_000_000), default=None),
+    click.option("--rate-hz", type=float, default=None, help="Frame rate; default: the sensor's."),
+    click.option("--contact", is_flag=True, help="Write binary contact images instead of mm."),
+    click.option("--no-noise", is_flag=True, help="Noise-free frames."),
+    click.option("--seed", type=int, default=0, show_default=True, help="Noise seed."),
+    click.option("--out", type=click.Path(path_type=Path), required=True, help=".npz/.h5/.csv"),
+    click.option("--force", is_flag=True, help="Overwrite an existing output."),
+]
+
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+def _with_common(f: F) -> F:
+    """Add the options shared by every ``simulate`` command."""
+    for option in reversed(_common):
+        f = option(f)
+    return f
+
+
+def _finish(
+    disp: np.ndarray,
+    sensor_name: str,
+    rate_hz: float | None,
+    contact: bool,
+    out: Path,
+    force: bool,
+    active_only: bool = False,
+) -> None:
+    from taxelkit.sensors.presets import get_sensor
+
+    sensor = get_sensor(sensor_name)
+    if active_only:
+        rows, cols = sensor.array.active_region.slices
+        disp = disp[:, rows, cols]
+    rate = sensor.max_rate_hz if rate_hz is None else rate_hz
+    if not (np.isfinite(rate) and rate > 0):
+        raise InputError(f"--rate-hz must be > 0, got {rate_hz!r}")
+    t_s = np.arange(disp.shape[0]) / rate
+    frames = sensor.contact_from_displacement(disp) if contact else disp
+    _write(TactileFrames(frames, t_s, sensor.array.pitch_mm, "mm", sensor.name), out, force)
+
+
+@click.group()
+def simulate() -> None:
+    """Produce recordings from the simulated sensor."""
+
+
+@simulate.command("press")
+@click.option("--shape", default=None, help="circle, square, triangle, star, hexagon")
+@click.option("--specimen", type=click.Path(path_type=Path), default=None, help="Heightmap .npz.")
+@click.option("--diameter-mm", type=float, default=90.0, show_default=True)
+@click.option("--step-height-um", type=float, default=200.0, show_default=True)
+@click.option("--rotate-deg", type=float, default=0.0, show_default=True)
+@click.option("--offset-mm", default="0,0", show_default=True, help="Shape offset X,Y.")
+@click.option("--at", "at_mm", default="0,0", show_default=True, help="Sensor centre X,Y (mm).")
+@click.option("--to", "to_mm", default=None, help="Slide the sensor to X,Y over --frames.")
+@click.option("--indent-mm", type=float, default=0.1, show_default=True)
+@click.option("--yaw-deg", type=float, default=0.0, show_default=True)
+@click.option("--active-only", is_flag=True, help="Keep only the sensor's active block.")
+@_with_common
+def press(
+    shape: str | None,
+    specimen: Path | None,
+    diameter_mm: float,
+    step_height_um: float,
+    rotate_deg: float,
+    offset_mm: str,
+    at_mm: str,
+    to_mm: str | None,
+    indent_mm: float,
+    yaw_deg: float,
+    active_only: bool,
+    sensor_name: str | None,
+    n_frames: int | None,
+    rate_hz: float | None,
+    contact: bool,
+    no_noise: bool,
+    seed: int,
+    out: Path,
+    force: bool,
+) -> None:
+    """Press (or slide) a sensor flat on a relief specimen (paper 000)."""
+    from taxelkit.sensors.presets import get_sensor
+    from taxelkit.sensors.press import displacement_from_relief
+    from taxelkit.world.base import Relief
+    from taxelkit.world.relief import load_heightmap, relief_shape
+
+    if (shape is None) == (specimen is None):
+        raise InputError("give exactly one of --shape NAME or --specimen FILE.npz")
+    relief: Relief
+    if specimen is not None:
+        relief = load_heightmap(specimen)
+    else:
+        relief = relief_shape(
+            str(shape),
+            diameter_mm=diameter_mm,
+            step_height_um=step_height_um,
+            rotation_deg=rotate_deg,
+            offset_mm=_pair(offset_mm, "--offset-mm") or (0.0, 0.0),
+        )
+    name = sensor_name or "optical-3axis"
+    sensor = get_sensor(name)
+    start = np.array(_pair(at_mm, "--at"))
+    stop = _pair(to_mm, "--to")
+    n = n_frames or (1 if stop is None else 30)
+    end = start if stop is None else np.array(stop)
+    positions = start + np.linspace(0.0, 1.0, n)[:, None] * (end - start)
+    disp = displacement_from_relief(
+        sensor,
+        relief,
+        positions,
+        indent_mm=indent_mm,
+        yaw_deg=yaw_deg,
+        add_noise=not no_noise,
+        rng=seed,
+    )
+    _finish(disp, name, rate_hz, contact, out, force, active_only)
+
+
+@simulate.command("solid")
+@click.option("--object", "object_name", default=None, help="cube, sphere, cone, ...")
+@click.option("--mesh", type=click.Path(path_type=Path), default=None, help="Convex STL/OBJ.")
+@click.option("--scale", type=float, default=1.0, show_default=True)
+@click.option("--euler-deg", default="0,0,0", show_default=True, help="Rotation RX,RY,RZ.")
+@click.option("--at", "at_mm", default="0,0", show_default=True, help="Position X,Y (mm).")
+@click.option(
+    "--indent-mm",
+    type=float,
+    default=0.3,
+    show_default=True,
+    help="Final depth of the lowest point; with --frames N > 1 a press from 0.",
+)
+@_with_common
+def solid(
+    object_name: str | None,
+    mesh: Path | None,
+    scale: float,
+    euler_deg: str,
+    at_mm: str,
+    indent_mm: float,
+    sensor_name: str | None,
+    n_frames: int | None,
+    rate_hz: float | None,
+    contact: bool,
+    no_noise: bool,
+    seed: int,
+    out: Path,
+    force: bool,
+) -> None:
+    """Press a solid onto the sensor in a given pose (paper 001)."""
+    from taxelkit.sensors.presets import get_sensor
+    from taxelkit.sensors.press import displacement_from_solid
+    from taxelkit.world.mesh_solid import load_mesh_solid
+    from taxelkit.world.pose import matrix_from_euler_xyz_deg
+    from taxelkit.world.solids import make_solid
+
+    if (object_name is None) == (mesh is None):
+        raise InputError("give exactly one of --object NAME or --mesh FILE")
+    body = load_mesh_solid(mesh) if mesh is not None else make_solid(str(object_name), scale=scale)
+    name = sensor_name or "bonneville-16x16"
+    sensor = get_sensor(name)
+    n = n_frames or 1
+    depth = np.full(n, indent_mm) if n == 1 else np.linspace(0.0, indent_mm, n)
+    rot = np.repeat(matrix_from_euler_xyz_deg(_triple(euler_deg, "--euler-deg"))[None], n, 0)
+    pos = np.repeat(np.array(_pair(at_mm, "--at"))[None], n, 0)
+    disp = displacement_from_solid(
+        sensor, body, rot, pos, indent_mm=depth, add_noise=not no_noise, rng=seed
+    )
+    _finish(disp, name, rate_hz, contact, out, force)
+
+
+@click.command()
+@click.option("--out", type=click.Path(path_type=Path), default=Path("demo-out"), show_default=True)
+@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--force", is_flag=True, help="Overwrite existing outputs.")
+def demo(out: Path, seed: int, force: bool) -> None:
+    """Run the main job: the simulated sensors of both papers, with figures."""
+    from taxelkit.cli import _save_figure
+    from taxelkit.experiments.simulator_demo import relief_slide, solid_presses
+    from taxelkit.io.recordings import write_recording
+    from taxelkit.plotting.demo import plot_relief_slide, plot_solid_presses
+
+    targets = {
+        "relief_png": out / "demo-relief.png",
+        "relief_rec": out / "demo-relief.npz",
+        "solids_png": out / "demo-solids.png",
+        "solids_rec": out / "demo-solids.npz",
+    }
+    if not force:
+        existing = [str(p) for p in targets.values() if p.exists()]
+        if existing:
+            raise InputError(f"{existing[0]} exists; pass --force to overwrite")
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    with tqdm(total=4, desc="taxelkit demo", unit="step", leave=False) as bar:
+        bar.set_postfix_str("relief slide (paper 000)")
+        slide = relief_slide(rng=seed)
+        bar.update()
+        _save_figure(plot_relief_slide(slide), targets["relief_png"], force=force)
+        write_recording(slide.recording, targets["relief_rec"], force=force)
+        bar.update()
+        presses = solid_presses(rng=seed, progress=lambda s: bar.set_postfix_str(f"pressing {s}"))
+        bar.update()
+        _save_figure(plot_solid_presses(presses), targets["solids_png"], force=force)
+        write_recording(presses.recording, targets["solids_rec"], force=force)
+        bar.update()
+    for p in targets.values():
+        click.echo(f"wrote {p}")
+    click.echo(f"demo finished in {time.perf_counter() - t0:.1f} s")

@@ -1,0 +1,1 @@
+"""Registered experiments: each returns a frozen result object."""
