@@ -40,6 +40,10 @@ logger = logging.getLogger(__name__)
 
 #: Length of one point-to-point section, mm: the sensor pitch (paper 000, Sect. VI.3).
 PTP_SECTION_MM = 3.0
+#: Re-sensing steps of :func:`find_edge` to centre the array on the edge it found.
+FIND_EDGE_REFINEMENTS = 5
+#: :func:`find_edge` stops refining when the error vector is shorter than this, mm.
+FIND_EDGE_TOLERANCE_MM = 0.3
 
 
 @dataclass(frozen=True)
@@ -230,7 +234,10 @@ def find_edge(
     Returns
     -------
     (2,) float, mm
-        A point with the edge under the array, moved onto the edge by ``de``.
+        A point on the edge: after the first sighting the array steps onto the
+        edge by its error vector and senses again, up to
+        :data:`FIND_EDGE_REFINEMENTS` times, until ``|de|`` is below
+        :data:`FIND_EDGE_TOLERANCE_MM`.
 
     Raises
     ------
@@ -248,6 +255,16 @@ def find_edge(
     for _ in range(int(np.ceil(max_distance_mm / stride)) + 1):
         est = _sense(probe, p, cfg)
         if est.found:
+            # The first sighting may be an edge at the array's rim, fitted from a
+            # few crossings: step onto it and look again until it is centred.
+            for _ in range(FIND_EDGE_REFINEMENTS):
+                if float(np.hypot(*est.error_mm)) < FIND_EDGE_TOLERANCE_MM:
+                    break
+                p = p + est.error_mm
+                nxt = _sense(probe, p, cfg)
+                if not nxt.found:
+                    break
+                est = nxt
             return np.asarray(p + est.error_mm, dtype=np.float64)
         p = p + stride * d
     raise InputError(
