@@ -153,10 +153,11 @@ def sensors() -> None:
         )
 
 
-from taxelkit.cli_simulate import demo, simulate  # noqa: E402  (registers sub-commands)
+from taxelkit.cli_paper000 import memorise, reproduce, trace  # noqa: E402  (sub-commands)
+from taxelkit.cli_simulate import demo, simulate  # noqa: E402
 
-cli.add_command(simulate)
-cli.add_command(demo)
+for _command in (simulate, demo, reproduce, trace, memorise):
+    cli.add_command(_command)
 
 
 # ----------------------------------------------------------------------------- entry point

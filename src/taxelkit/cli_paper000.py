@@ -1,0 +1,280 @@
+"""``taxelkit reproduce``, ``trace`` and ``memorise``: the paper-000 system and experiments."""
+
+from __future__ import annotations
+
+import io
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+import click
+import numpy as np
+from tqdm import tqdm
+
+from taxelkit.errors import InputError
+
+__all__ = ["memorise", "reproduce", "trace"]
+
+
+def _pair(value: str | None, name: str) -> tuple[float, float] | None:
+    if value is None:
+        return None
+    try:
+        a, b = (float(v) for v in value.split(","))
+    except ValueError:
+        raise InputError(f"{name} must be two numbers X,Y, got {value!r}") from None
+    if not (np.isfinite(a) and np.isfinite(b)):
+        raise InputError(f"{name} must be finite, got {value!r}")
+    return (a, b)
+
+
+def _write_text(path: Path, text: str, force: bool) -> None:
+    from taxelkit.io.atomic import atomic_write
+
+    def writer(tmp: Path) -> None:
+        tmp.write_text(text)
+
+    atomic_write(path, writer, force=force)
+
+
+def _check_outputs(paths: list[Path], force: bool) -> None:
+    if force:
+        return
+    for p in paths:
+        if p.exists():
+            raise InputError(f"{p} exists; pass --force to overwrite")
+
+
+@click.command()
+@click.argument("name")
+@click.option("--out", type=click.Path(path_type=Path), required=True, help="Output folder.")
+@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--trials", type=click.IntRange(1), default=50, show_default=True,
+              help="Trials per shape (recall-vs-s).")  # fmt: skip
+@click.option("--workers", type=click.IntRange(1), default=None, help="Worker processes.")
+@click.option("--force", is_flag=True, help="Overwrite existing outputs.")
+def reproduce(
+    name: str, out: Path, seed: int, trials: int, workers: int | None, force: bool
+) -> None:
+    """Run a registered experiment (or 'all'): writes OUT/NAME.json and OUT/NAME.png."""
+    from taxelkit.cli import _save_figure
+    from taxelkit.experiments.registry import EXPERIMENTS, get_experiment
+    from taxelkit.plotting.experiments import plot_experiment
+
+    names = list(EXPERIMENTS) if name == "all" else [get_experiment(name).name]
+    _check_outputs([out / f"{n}{ext}" for n in names for ext in (".json", ".png")], force)
+    out.mkdir(parents=True, exist_ok=True)
+    t_all = time.perf_counter()
+    for n in names:
+        exp = EXPERIMENTS[n]
+        kwargs: dict[str, Any] = {"seed": seed}
+        if n == "recall-vs-s":
+            kwargs.update(n_trials=trials, workers=workers)
+        t0 = time.perf_counter()
+        with tqdm(desc=n, unit="run", leave=False) as bar:
+
+            def progress(done: int, total: int, bar: Any = bar) -> None:
+                bar.total = total
+                bar.n = done
+                bar.refresh()
+
+            result = exp.run(progress=progress, **kwargs)
+        doc = result.to_json()
+        doc["seed"] = seed
+        doc["seconds"] = round(time.perf_counter() - t0, 2)
+        _write_text(out / f"{n}.json", json.dumps(doc, indent=2) + "\n", force)
+        _save_figure(plot_experiment(n, result), out / f"{n}.png", force=force)
+        click.echo(f"{n}: wrote {out / n}.json and .png in {doc['seconds']:.1f} s")
+    if len(names) > 1:
+        click.echo(f"all done in {time.perf_counter() - t_all:.1f} s")
+
+
+def _load_memory(path: Path | None, rule: str) -> Any:
+    from taxelkit.experiments.paper000_common import IMPROVED, RecallSetup, reference_memory
+    from taxelkit.memory.associatron import AssociativeMemory
+    from taxelkit.memory.recall_rules import get_recall_rule
+
+    get_recall_rule(rule)  # validates the name
+    if path is None:
+        phases = 1 if rule == "hebbian" else IMPROVED.phases
+        return reference_memory(RecallSetup(rule, rule, phases))
+
+    if not path.is_file():
+        raise InputError(f"{path}: no such memory file")
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {k: data[k] for k in data.files}
+    except (OSError, ValueError) as exc:
+        raise InputError(f"{path}: not a taxelkit memory file ({exc})") from None
+    try:
+        return AssociativeMemory.from_arrays(arrays).with_rule(rule)
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}") from None
+
+
+def _specimen(
+    shape: str | None,
+    specimen: Path | None,
+    rotate_deg: float,
+    offset_mm: str,
+    diameter_mm: float,
+    step_height_um: float,
+) -> tuple[Any, tuple[float, float]]:
+    from taxelkit.world.base import Relief
+    from taxelkit.world.relief import load_heightmap, relief_shape
+
+    relief: Relief
+    if (shape is None) == (specimen is None):
+        raise InputError("give exactly one of --shape NAME or --specimen FILE.npz")
+    if specimen is not None:
+        heightmap = load_heightmap(specimen)
+        x0, x1, y0, y1 = heightmap.extent_mm
+        return heightmap, ((x0 + x1) / 2, (y0 + y1) / 2)
+    off = _pair(offset_mm, "--offset-mm") or (0.0, 0.0)
+    relief = relief_shape(
+        str(shape),
+        diameter_mm=diameter_mm,
+        step_height_um=step_height_um,
+        rotation_deg=rotate_deg,
+        offset_mm=off,
+    )
+    return relief, off
+
+
+@click.command()
+@click.option("--shape", default=None, help="circle, square, triangle, star, hexagon")
+@click.option("--specimen", type=click.Path(path_type=Path), default=None, help="Heightmap .npz.")
+@click.option("--rotate-deg", type=float, default=0.0, show_default=True)
+@click.option("--offset-mm", default="0,0", show_default=True, help="Shape offset X,Y.")
+@click.option("--diameter-mm", type=float, default=90.0, show_default=True)
+@click.option("--step-height-um", type=float, default=200.0, show_default=True)
+@click.option("--start-mm", default=None, help="Where the sensor first meets the edge, X,Y.")
+@click.option(
+    "--rule",
+    default="masked_projection",
+    show_default=True,
+    help="Recall rule: hebbian (paper), zero_mean, projection, masked_projection.",
+)
+@click.option(
+    "--memory",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Memory file from 'taxelkit memorise' (default: the five built-in shapes).",
+)
+@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--plot", type=click.Path(path_type=Path), default=None, help="Figure (.png).")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+@click.option("--force", is_flag=True, help="Overwrite an existing --plot file.")
+def trace(
+    shape: str | None,
+    specimen: Path | None,
+    rotate_deg: float,
+    offset_mm: str,
+    diameter_mm: float,
+    step_height_um: float,
+    start_mm: str | None,
+    rule: str,
+    memory: Path | None,
+    seed: int,
+    plot: Path | None,
+    as_json: bool,
+    force: bool,
+) -> None:
+    """Trace a relief specimen's edge and recognise its shape (paper 000).
+
+    Recognition uses only the trajectory the tracer produced, never the specimen.
+    """
+    from taxelkit.cli import _check_figure_suffix, _save_figure
+    from taxelkit.memory.contour_recall import recall_curve
+    from taxelkit.motion.probe import SimulatedProbe
+    from taxelkit.tracing.tracer import find_edge, trace_edge
+
+    if plot is not None:
+        _check_figure_suffix(plot)
+        _check_outputs([plot], force)
+    relief, centre = _specimen(shape, specimen, rotate_deg, offset_mm, diameter_mm, step_height_um)
+    mem = _load_memory(memory, rule)
+    probe = SimulatedProbe(relief, rng=seed)
+    start = _pair(start_mm, "--start-mm")
+    if start is None:
+        start = tuple(find_edge(probe, centre))
+    tr = trace_edge(probe, start)
+    phases = 1 if rule == "hebbian" else 2
+    curve = recall_curve(tr.moves_mm, mem, phases=phases)
+    final = {n: float(c) for n, c in zip(curve.names, curve.correlations[-1], strict=True)}
+    doc = {
+        "trajectory_mm": tr.points_mm.round(4).tolist(),
+        "closed": tr.closed,
+        "stop_reason": tr.stop_reason,
+        "recognised": curve.recognised[-1],
+        "correlations": final,
+        "recall_curve": curve.to_json(),
+        "rule": rule,
+    }
+    if plot is not None:
+        from taxelkit.plotting.paper000 import plot_trace_recall
+
+        _save_figure(plot_trace_recall(tr, curve, rule=rule), plot, force=force)
+    if as_json:
+        click.echo(json.dumps(doc))
+    else:
+        click.echo(
+            f"traced {tr.n_sections} sections ({'closed' if tr.closed else tr.stop_reason}); "
+            f"recognised: {doc['recognised']}"
+        )
+        for n, c in sorted(final.items(), key=lambda kv: -kv[1]):
+            click.echo(f"  {n:16s} c = {c:+.3f}")
+
+
+@click.command()
+@click.option("--specimen", "specimens", type=click.Path(path_type=Path), multiple=True,
+              help="Heightmap .npz to trace and store (repeatable).")  # fmt: skip
+@click.option("--name", "names", multiple=True, help="Name for each --specimen, in order.")
+@click.option("--base", type=click.Path(path_type=Path), default=None,
+              help="Start from this memory file instead of the five built-in shapes.")  # fmt: skip
+@click.option("--rule", default="masked_projection", show_default=True)
+@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--out", type=click.Path(path_type=Path), required=True, help="Memory file (.npz).")
+@click.option("--force", is_flag=True)
+def memorise(
+    specimens: tuple[Path, ...],
+    names: tuple[str, ...],
+    base: Path | None,
+    rule: str,
+    seed: int,
+    out: Path,
+    force: bool,
+) -> None:
+    """Trace your own specimens and save a memory that 'taxelkit trace --memory' recalls from."""
+    from taxelkit.io.atomic import atomic_write
+    from taxelkit.memory.contour_recall import memorise_contours
+    from taxelkit.motion.probe import SimulatedProbe
+    from taxelkit.tracing.tracer import find_edge, trace_edge
+    from taxelkit.world.relief import load_heightmap
+
+    if out.suffix.lower() != ".npz":
+        raise InputError(f"--out must end in .npz, got {out.name!r}")
+    if len(specimens) != len(names):
+        raise InputError(f"give one --name per --specimen ({len(specimens)} vs {len(names)})")
+    _check_outputs([out], force)
+    mem = _load_memory(base, rule)
+    phases = 1 if rule == "hebbian" else 2
+    for path, name in zip(specimens, names, strict=True):
+        relief = load_heightmap(path)
+        x0, x1, y0, y1 = relief.extent_mm
+        probe = SimulatedProbe(relief, rng=seed)
+        tr = trace_edge(probe, find_edge(probe, ((x0 + x1) / 2, (y0 + y1) / 2)))
+        if not tr.closed:
+            click.echo(f"warning: the trace of {path} did not close ({tr.stop_reason})", err=True)
+        code = memorise_contours([name], [tr.moves_mm], rule=rule, phases=phases).patterns[0]
+        mem = mem.with_pattern(name, code)
+        click.echo(f"stored {name!r} from {path} ({tr.n_sections} sections)")
+
+    def writer(tmp: Path) -> None:
+        buf = io.BytesIO()
+        np.savez(buf, **mem.to_arrays())
+        tmp.write_bytes(buf.getvalue())
+
+    atomic_write(out, writer, force=force)
+    click.echo(f"wrote {out}: {', '.join(mem.names)}")

@@ -1,0 +1,83 @@
+"""Registry of reproducible experiments: name -> runner returning a result with ``to_json()``."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+from taxelkit.errors import InputError
+
+__all__ = ["EXPERIMENTS", "Experiment", "ExperimentResult", "get_experiment"]
+
+
+class ExperimentResult(Protocol):
+    """What every experiment returns."""
+
+    def to_json(self) -> dict[str, Any]:
+        """The experiment's figures as plain JSON types."""
+        ...
+
+
+@dataclass(frozen=True)
+class Experiment:
+    """A registered experiment.
+
+    Attributes
+    ----------
+    name : str
+        Registry name (``taxelkit reproduce NAME``).
+    title : str
+        One line.
+    run : callable
+        ``run(*, seed, progress) -> ExperimentResult``.
+    """
+
+    name: str
+    title: str
+    run: Callable[..., ExperimentResult]
+
+
+def _fig7(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.fig7 import run_fig7
+
+    return run_fig7(**kw)
+
+
+def _fig8(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.fig8 import run_fig8
+
+    return run_fig8(**kw)
+
+
+def _fig9(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.fig9 import run_fig9
+
+    return run_fig9(**kw)
+
+
+def _recall_vs_s(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.recall_vs_s import run_recall_vs_s
+
+    return run_recall_vs_s(**kw)
+
+
+#: All registered experiments, in the order ``reproduce all`` runs them.
+EXPERIMENTS: dict[str, Experiment] = {
+    e.name: e
+    for e in (
+        Experiment("fig7", "Paper 000 Fig. 7: tracing straight 50 um edges", _fig7),
+        Experiment("fig8", "Paper 000 Fig. 8: tracing the five 200 um specimens", _fig8),
+        Experiment("fig9", "Paper 000 Fig. 9: correlation against arc length", _fig9),
+        Experiment("recall-vs-s", "Paper 000: recognition rate against s", _recall_vs_s),
+    )
+}
+
+
+def get_experiment(name: str) -> Experiment:
+    """Look up an experiment; unknown names raise InputError listing the known ones."""
+    try:
+        return EXPERIMENTS[name]
+    except KeyError:
+        known = ", ".join([*EXPERIMENTS, "all"])
+        raise InputError(f"unknown experiment {name!r}; known: {known}") from None

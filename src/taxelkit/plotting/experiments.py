@@ -1,0 +1,26 @@
+"""Which figure each registered experiment draws."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from matplotlib.figure import Figure
+
+__all__ = ["plot_experiment"]
+
+
+def _plotters() -> dict[str, Callable[[Any], Figure]]:
+    from taxelkit.plotting.paper000 import plot_fig7, plot_fig8, plot_fig9, plot_recall_vs_s
+
+    return {
+        "fig7": plot_fig7,
+        "fig8": plot_fig8,
+        "fig9": plot_fig9,
+        "recall-vs-s": plot_recall_vs_s,
+    }
+
+
+def plot_experiment(name: str, result: Any) -> Figure:
+    """The figure of experiment ``name`` for its ``result``."""
+    return _plotters()[name](result)
