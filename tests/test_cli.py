@@ -195,10 +195,17 @@ def test_show_writes_a_png(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -
 def test_demo_writes_figures_and_recordings(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    code, _, err = _run(capsys, "demo", "--out", str(tmp_path / "d"))
+    code, out, err = _run(capsys, "demo", "--out", str(tmp_path / "d"))
     assert code == 0, err
-    for name in ("demo-relief.png", "demo-solids.png", "demo-relief.npz", "demo-solids.npz"):
+    for name in (
+        "demo-relief.png",
+        "demo-solids.png",
+        "demo-relief.npz",
+        "demo-solids.npz",
+        "demo-trace.png",
+    ):
         assert (tmp_path / "d" / name).stat().st_size > 0
+    assert "recognised as 'star'" in out  # paper 000 end to end
     solids = read_recording(tmp_path / "d" / "demo-solids.npz")
     assert solids.is_contact and solids.n_frames == 18
     # every one of the 18 presses touches the sensor

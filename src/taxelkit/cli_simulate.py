@@ -225,17 +225,21 @@ def solid(
 @click.option("--seed", type=int, default=0, show_default=True)
 @click.option("--force", is_flag=True, help="Overwrite existing outputs.")
 def demo(out: Path, seed: int, force: bool) -> None:
-    """Run the main job: the simulated sensors of both papers, with figures."""
+    """Run the main job: both papers' systems on the built-in simulated sensors, with figures."""
     from taxelkit.cli import _save_figure
+    from taxelkit.experiments.paper000_common import IMPROVED, reference_memory, trace_shape
     from taxelkit.experiments.simulator_demo import relief_slide, solid_presses
     from taxelkit.io.recordings import write_recording
+    from taxelkit.memory.contour_recall import recall_curve
     from taxelkit.plotting.demo import plot_relief_slide, plot_solid_presses
+    from taxelkit.plotting.paper000 import plot_trace_recall
 
     targets = {
         "relief_png": out / "demo-relief.png",
         "relief_rec": out / "demo-relief.npz",
         "solids_png": out / "demo-solids.png",
         "solids_rec": out / "demo-solids.npz",
+        "trace_png": out / "demo-trace.png",
     }
     if not force:
         existing = [str(p) for p in targets.values() if p.exists()]
@@ -243,18 +247,35 @@ def demo(out: Path, seed: int, force: bool) -> None:
             raise InputError(f"{existing[0]} exists; pass --force to overwrite")
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    with tqdm(total=4, desc="taxelkit demo", unit="step", leave=False) as bar:
-        bar.set_postfix_str("relief slide (paper 000)")
+    lines = []
+    with tqdm(total=6, desc="taxelkit demo", unit="step", leave=False) as bar:
+        bar.set_postfix_str("simulator: relief slide (paper 000)")
         slide = relief_slide(rng=seed)
-        bar.update()
         _save_figure(plot_relief_slide(slide), targets["relief_png"], force=force)
         write_recording(slide.recording, targets["relief_rec"], force=force)
         bar.update()
         presses = solid_presses(rng=seed, progress=lambda s: bar.set_postfix_str(f"pressing {s}"))
-        bar.update()
         _save_figure(plot_solid_presses(presses), targets["solids_png"], force=force)
         write_recording(presses.recording, targets["solids_rec"], force=force)
         bar.update()
+        bar.set_postfix_str("paper 000: tracing the five stored specimens")
+        memory = reference_memory(IMPROVED)
+        bar.update(2)
+        bar.set_postfix_str("paper 000: tracing an unknown specimen")
+        trace = trace_shape("star", rotation_deg=23.0, offset_mm=(6.0, -4.0), seed=seed + 7)
+        curve = recall_curve(trace.moves_mm, memory, phases=IMPROVED.phases)
+        _save_figure(
+            plot_trace_recall(trace, curve, rule=IMPROVED.rule), targets["trace_png"], force=force
+        )
+        bar.update(2)
+    s0 = curve.recognised_from_s(curve.recognised[-1])
+    lines.append(
+        f"paper 000: traced a star rotated by 23 deg ({trace.n_sections} sections, "
+        f"{'closed' if trace.closed else trace.stop_reason}); recognised as "
+        f"{curve.recognised[-1]!r}, top-ranked from s = {s0}"
+    )
     for p in targets.values():
         click.echo(f"wrote {p}")
+    for line in lines:
+        click.echo(line)
     click.echo(f"demo finished in {time.perf_counter() - t0:.1f} s")

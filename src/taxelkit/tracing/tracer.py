@@ -40,6 +40,10 @@ logger = logging.getLogger(__name__)
 
 #: Length of one point-to-point section, mm: the sensor pitch (paper 000, Sect. VI.3).
 PTP_SECTION_MM = 3.0
+#: The loop is closed when the tracer comes back near its start or near one of
+#: its first few points (the start may sit off the contour, e.g. next to a
+#: concave corner; the next points lie on the edge once ``de`` has acted).
+CLOSURE_HEAD_POINTS = 3
 #: Re-sensing steps of :func:`find_edge` to centre the array on the edge it found.
 FIND_EDGE_REFINEMENTS = 5
 #: :func:`find_edge` stops refining when the error vector is shorter than this, mm.
@@ -59,7 +63,8 @@ class TracerConfig:
     max_sections : int
         Hard stop.
     close_radius_mm : float
-        The loop is closed when the array centre comes back this close to its start.
+        The loop is closed when the array centre comes back this close to its
+        start or to one of its first :data:`CLOSURE_HEAD_POINTS` points.
     min_loop_mm : float
         Path length travelled before closing is considered, mm.
     max_misses : int
@@ -334,9 +339,11 @@ def trace_edge(
         crossings.append(int(est.crossings_mm.shape[0]))
         if progress is not None:
             progress(k + 1)
-        if travelled >= cfg.min_loop_mm and np.hypot(*(p - start)) <= cfg.close_radius_mm:
-            stop = "closed"
-            break
+        if travelled >= cfg.min_loop_mm:
+            head = np.asarray(points[: CLOSURE_HEAD_POINTS + 1])
+            if np.min(np.hypot(*(head - p).T)) <= cfg.close_radius_mm:
+                stop = "closed"
+                break
     logger.info("trace stopped (%s) after %d sections", stop, len(moves))
 
     def stack(v: list[Any]) -> NDArray[np.float64]:
