@@ -284,16 +284,10 @@ def displacement_from_solid(
         )
         floor = None
         if use_dimple:
-            low = solid.lowest_point_mm(rot[a:b])
-            level64 = indent[a:b] + low[:, 2]
-            cx = (pos[a:b, 0] + low[:, 0])[:, None]
-            cy = (pos[a:b, 1] + low[:, 1])[:, None]
-            floor = dimple_mm(
-                indent[a:b],
-                (xc[None, :] - cx).astype(ftype),
-                (yc[None, :] - cy).astype(ftype),
-                sensor.skin,
-            )
+            ends = solid.lowest_segment_mm(rot[a:b])  # (n, 2, 3), relative to the body
+            level64 = indent[a:b] + ends[:, 0, 2]
+            ends_xy = ends[:, :, :2] + pos[a:b, None, :]
+            floor = dimple_mm(indent[a:b], ends_xy, xc.astype(ftype), yc.astype(ftype), sensor.skin)
         else:
             level64 = indent[a:b] + solid.lowest_z_mm(rot[a:b])
         level = level64.astype(ftype)[:, None, None]

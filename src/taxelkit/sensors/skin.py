@@ -26,14 +26,15 @@ sufficient for contact images and for the fine steps of paper 000.
 
 Point-contact dimple
 --------------------
-A vertex, an apex or a tilted rim touches the skin over an area far smaller
-than a taxel, so sampled penetration alone would miss it, while a real elastic
-layer pressed by a point forms a dimple about as wide as the layer is thick
-(paper 001 sees such contacts as "point" images). When the body's deepest
-point is known, the skin is pulled down at least to the Gaussian dimple
-``d exp(-r^2 / (2 spread_mm^2))`` around it (``d`` its depth, ``r`` the
-distance from it), see :func:`dimple_mm`. Inside a flat or gently curved
-contact the dimple stays below the penetration, so it changes nothing there.
+A vertex, an apex, a tilted rim or a knife edge touches the skin over an area
+far thinner than a taxel, so sampled penetration alone would miss it, while a
+real elastic layer pressed by a point or an edge forms a dimple or a groove
+about as wide as the layer is thick (paper 001 sees them as "point" and "line"
+images). When the body's deepest part is known (a point, or a segment: an edge
+or a generator lying flat), the skin is pulled down at least to the Gaussian
+profile ``d exp(-r^2 / (2 spread_mm^2))`` around it (``d`` its depth, ``r``
+the distance from the point or segment), see :func:`dimple_mm`. Inside a flat
+or gently curved contact this stays below the penetration and changes nothing.
 """
 
 from __future__ import annotations
@@ -201,35 +202,58 @@ def displacement_from_penetration(
 
 def dimple_mm(
     depth_mm: NDArray[Any],
-    dx_mm: NDArray[Any],
-    dy_mm: NDArray[Any],
+    ends_mm: NDArray[Any],
+    x_mm: NDArray[Any],
+    y_mm: NDArray[Any],
     skin: SkinModel,
 ) -> NDArray[np.floating[Any]]:
-    """Dimple of the skin around a body's deepest point (see module docs).
+    """Dimple (or groove) of the skin around a body's deepest point or edge.
 
     Parameters
     ----------
     depth_mm : (P,) float, mm
-        Depth of the deepest point below the skin surface (<= 0: no dimple).
-    dx_mm : (P, W) float, mm
-        x of the taxel columns minus x of the deepest point.
-    dy_mm : (P, H) float, mm
-        y of the taxel rows minus y of the deepest point.
+        Depth of the deepest part below the skin surface (<= 0: none).
+    ends_mm : (P, 2, 2) float, mm
+        ``(x, y)`` of the two ends of the deepest segment (equal for a point),
+        in the sensor frame.
+    x_mm : (W,) float, mm
+        x of the taxel columns.
+    y_mm : (H,) float, mm
+        y of the taxel rows.
     skin : SkinModel
 
     Returns
     -------
-    (P, H, W) float, mm
-        ``max(d, 0) exp(-(dx^2 + dy^2) / (2 spread_mm^2))``, separable (two
-        small exponentials per pose and one outer product); zeros when the
-        skin has no spread.
+    (P, H, W) float, mm, in the dtype of ``x_mm``
+        ``max(d, 0) exp(-r^2 / (2 spread_mm^2))``, ``r`` the distance to the
+        segment; zeros when the skin has no spread or the dimple is off.
+        Point-like segments use a separable form (two small exponentials per
+        pose); only true segments pay for the full distance computation.
     """
-    dx = np.asarray(dx_mm)
-    dy = np.asarray(dy_mm)
+    x = np.asarray(x_mm)
+    y = np.asarray(y_mm)
+    ftype = x.dtype.type
+    ends = np.asarray(ends_mm, dtype=np.float64)
+    depth = np.maximum(np.asarray(depth_mm, dtype=np.float64), 0.0)
+    n = ends.shape[0]
+    out = np.zeros((n, y.size, x.size), dtype=x.dtype)
     if skin.spread_mm == 0.0 or not skin.point_dimple:
-        return np.zeros((dx.shape[0], dy.shape[1], dx.shape[1]), dtype=dx.dtype)
-    scale = dx.dtype.type(-0.5 / skin.spread_mm**2)
-    gx = np.exp(scale * dx * dx)
-    gy = np.exp(scale * dy * dy) * np.maximum(np.asarray(depth_mm, dtype=dx.dtype), 0)[:, None]
-    out: NDArray[np.floating[Any]] = gy[:, :, None] * gx[:, None, :]
+        return out
+    scale = -0.5 / skin.spread_mm**2
+    a, d = ends[:, 0], ends[:, 1] - ends[:, 0]
+    length2 = np.sum(d * d, axis=1)
+    line = length2 > 1e-12
+    pt = np.flatnonzero(~line)
+    if pt.size:
+        gx = np.exp(ftype(scale) * (x[None, :] - a[pt, 0:1].astype(x.dtype)) ** 2)
+        gy = np.exp(ftype(scale) * (y[None, :] - a[pt, 1:2].astype(x.dtype)) ** 2)
+        out[pt] = (gy * depth[pt, None].astype(x.dtype))[:, :, None] * gx[:, None, :]
+    ln = np.flatnonzero(line)
+    if ln.size:
+        rx = x[None, None, :] - a[ln, 0, None, None]  # (L, 1, W)
+        ry = y[None, :, None] - a[ln, 1, None, None]  # (L, H, 1)
+        dx, dy = d[ln, 0, None, None], d[ln, 1, None, None]
+        t = np.clip((rx * dx + ry * dy) / length2[ln, None, None], 0.0, 1.0)
+        r2 = (rx - t * dx) ** 2 + (ry - t * dy) ** 2
+        out[ln] = (depth[ln, None, None] * np.exp(scale * r2)).astype(x.dtype)
     return out

@@ -80,6 +80,19 @@ class Solid(Protocol):
         """
         ...
 
+    def lowest_segment_mm(self, rotations: NDArray[Any]) -> NDArray[np.float64]:
+        """Ends of the body's lowest part: a point (twice), an edge or a generator.
+
+        Parameters
+        ----------
+        rotations : (P, 3, 3) float
+
+        Returns
+        -------
+        (P, 2, 3) float, mm
+        """
+        ...
+
     def bottom_mm(
         self, rotations: NDArray[Any], x_mm: NDArray[Any], y_mm: NDArray[Any]
     ) -> NDArray[np.floating[Any]]:

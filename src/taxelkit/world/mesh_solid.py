@@ -28,6 +28,7 @@ from taxelkit.errors import (
 from taxelkit.world.solids_polyhedra import (
     polytope_bottom_mm,
     polytope_lowest_point_mm,
+    polytope_lowest_segment_mm,
     polytope_lowest_z_mm,
 )
 
@@ -180,6 +181,10 @@ class MeshSolid:
     def lowest_point_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
         """Lowest point of the rotated body, ``(P, 3)`` mm (mean of tied vertices)."""
         return polytope_lowest_point_mm(self.vertices_mm, rotations)
+
+    def lowest_segment_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
+        """Ends of the lowest vertex or edge (a face's centre twice), ``(P, 2, 3)`` mm."""
+        return polytope_lowest_segment_mm(self.vertices_mm, rotations)
 
     def bottom_mm(self, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[Any]:
         """Bottom of the rotated mesh body on vertical lines through a grid.

@@ -41,6 +41,7 @@ __all__ = [
     "planes_from_vertices",
     "polytope_bottom_mm",
     "polytope_lowest_point_mm",
+    "polytope_lowest_segment_mm",
     "polytope_lowest_z_mm",
 ]
 
@@ -107,6 +108,34 @@ def polytope_lowest_point_mm(
     body = tied @ vertices_mm  # mean of the tied vertices, body frame (P, 3)
     low: NDArray[np.float64] = np.einsum("pij,pj->pi", rot, body)
     return low
+
+
+def polytope_lowest_segment_mm(
+    vertices_mm: NDArray[np.float64], rotations: ArrayLike
+) -> NDArray[np.float64]:
+    """Ends of the lowest part of rotated polyhedra: a vertex or an edge.
+
+    Returns
+    -------
+    (P, 2, 3) float64, mm
+        An edge's two vertices when exactly two vertices are lowest; otherwise
+        the mean of the lowest vertices twice (a vertex, or a face's centre: a
+        face is sampled well and needs no groove), relative to the reference point.
+    """
+    rot = as_rotation_batch(rotations)
+    pts = np.einsum("pij,vj->pvi", rot, vertices_mm)  # (P, V, 3)
+    z = pts[..., 2]
+    tied = z <= z.min(axis=1, keepdims=True) + LOWEST_TIE_MM
+    d2 = np.sum((pts[:, :, None, :] - pts[:, None, :, :]) ** 2, axis=-1)
+    d2 = np.where(tied[:, :, None] & tied[:, None, :], d2, -1.0)
+    flat = np.argmax(d2.reshape(d2.shape[0], -1), axis=1)
+    i, j = np.divmod(flat, pts.shape[1])
+    rows = np.arange(pts.shape[0])
+    out: NDArray[np.float64] = np.stack([pts[rows, i], pts[rows, j]], axis=1)
+    centre = (pts * tied[..., None]).sum(axis=1) / tied.sum(axis=1)[:, None]
+    not_edge = tied.sum(axis=1) != 2
+    out[not_edge] = centre[not_edge, None, :]
+    return out
 
 
 def polytope_lowest_z_mm(
@@ -277,6 +306,10 @@ class Cube:
         """Lowest point of the rotated body, ``(P, 3)`` mm (mean of tied vertices)."""
         return polytope_lowest_point_mm(self.vertices_mm, rotations)
 
+    def lowest_segment_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
+        """Ends of the lowest vertex or edge (a face's centre twice), ``(P, 2, 3)`` mm."""
+        return polytope_lowest_segment_mm(self.vertices_mm, rotations)
+
     def bottom_mm(self, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[Any]:
         """Bottom of the rotated cube on vertical lines through a grid.
 
@@ -362,6 +395,10 @@ class Tetrahedron:
     def lowest_point_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
         """Lowest point of the rotated body, ``(P, 3)`` mm (mean of tied vertices)."""
         return polytope_lowest_point_mm(self.vertices_mm, rotations)
+
+    def lowest_segment_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
+        """Ends of the lowest vertex or edge (a face's centre twice), ``(P, 2, 3)`` mm."""
+        return polytope_lowest_segment_mm(self.vertices_mm, rotations)
 
     def bottom_mm(self, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[Any]:
         """Bottom of the rotated tetrahedron on vertical lines through a grid.

@@ -63,6 +63,7 @@ __all__ = [
     "RevolutionProfile",
     "revolution_bottom_mm",
     "revolution_lowest_point_mm",
+    "revolution_lowest_segment_mm",
     "revolution_lowest_z_mm",
 ]
 
@@ -150,6 +151,35 @@ def revolution_lowest_point_mm(
     tied = z <= z.min(axis=1, keepdims=True) + 1e-6
     low: NDArray[np.float64] = (pts * tied[..., None]).sum(axis=1) / tied.sum(axis=1)[:, None]
     return low
+
+
+def revolution_lowest_segment_mm(
+    profile: RevolutionProfile, rotations: ArrayLike
+) -> NDArray[np.float64]:
+    """Ends of the lowest part of rotated bodies of revolution.
+
+    A body lying on its side (a cylinder's or cone's generator horizontal) has
+    its two lowest rim points tied: the segment between them is the contact
+    line. Otherwise both ends are the single lowest point.
+
+    Returns
+    -------
+    (P, 2, 3) float64, mm
+    """
+    rot = as_rotation_batch(rotations)
+    a = rot[:, :, 2]
+    tilt = np.hypot(a[:, 0], a[:, 1])
+    down = -(np.array([0.0, 0.0, 1.0]) - a[:, 2:3] * a)
+    safe = np.where(tilt > 1e-12, tilt, 1.0)[:, None]
+    down = np.where(tilt[:, None] > 1e-12, down / safe, 0.0)
+    pts = np.stack([zr * a + rr * down for zr, rr in profile.rims], axis=1)  # (P, R, 3)
+    z = pts[..., 2]
+    lowest = np.argmin(z, axis=1)
+    tied = z <= z.min(axis=1, keepdims=True) + 1e-6
+    other = np.where(tied, np.arange(z.shape[1])[None, :], -1).max(axis=1)
+    rows = np.arange(z.shape[0])
+    out: NDArray[np.float64] = np.stack([pts[rows, lowest], pts[rows, other]], axis=1)
+    return out
 
 
 def revolution_lowest_z_mm(profile: RevolutionProfile, rotations: ArrayLike) -> NDArray[np.float64]:

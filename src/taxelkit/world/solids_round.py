@@ -25,6 +25,7 @@ from taxelkit.world.solids_revolution import (
     RevolutionProfile,
     revolution_bottom_mm,
     revolution_lowest_point_mm,
+    revolution_lowest_segment_mm,
     revolution_lowest_z_mm,
 )
 
@@ -147,6 +148,11 @@ class Sphere:
         low[:, 2] = -float(self.radius_mm)
         return low
 
+    def lowest_segment_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
+        """The lowest point twice, ``(P, 2, 3)`` mm."""
+        low = self.lowest_point_mm(rotations)
+        return np.stack([low, low], axis=1)
+
     def bottom_mm(self, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[Any]:
         """``-sqrt(R**2 - x**2 - y**2)`` on each vertical line, ``+inf`` off the sphere.
 
@@ -217,6 +223,10 @@ class Cylinder:
     def lowest_point_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
         """Lowest point of the rotated body, ``(P, 3)`` mm (a rim point, or a mean of tied ones)."""
         return revolution_lowest_point_mm(self.profile, rotations)
+
+    def lowest_segment_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
+        """Ends of the lowest rim point or generator, ``(P, 2, 3)`` mm."""
+        return revolution_lowest_segment_mm(self.profile, rotations)
 
     def bottom_mm(self, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[Any]:
         """Bottom of the rotated cylinder on vertical lines through a grid.
@@ -303,6 +313,10 @@ class TruncatedCone:
         """Lowest point of the rotated body, ``(P, 3)`` mm (a rim point, or a mean of tied ones)."""
         return revolution_lowest_point_mm(self.profile, rotations)
 
+    def lowest_segment_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
+        """Ends of the lowest rim point or generator, ``(P, 2, 3)`` mm."""
+        return revolution_lowest_segment_mm(self.profile, rotations)
+
     def bottom_mm(self, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[Any]:
         """Bottom of the rotated truncated cone on vertical lines through a grid.
 
@@ -371,6 +385,10 @@ class Cone:
     def lowest_point_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
         """Lowest point of the rotated body, ``(P, 3)`` mm (a rim point, or a mean of tied ones)."""
         return revolution_lowest_point_mm(self.profile, rotations)
+
+    def lowest_segment_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
+        """Ends of the lowest rim point or generator, ``(P, 2, 3)`` mm."""
+        return revolution_lowest_segment_mm(self.profile, rotations)
 
     def bottom_mm(self, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[Any]:
         """Bottom of the rotated cone on vertical lines through a grid.

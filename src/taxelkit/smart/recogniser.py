@@ -1,0 +1,390 @@
+"""The smart tactile sensor of paper 001: Levels 1-4, batch and streaming.
+
+:func:`recognise` processes a whole recording (vectorised Levels 1-2, run-length
+debounce, per-segment Level 3); :class:`SmartSensor` takes one frame at a time
+and emits :class:`~taxelkit.smart.elimination.Event` objects as they happen.
+Both see only frames, timestamps and the pitch; for the same frames they
+produce the same events.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from taxelkit.errors import InputError, check_positive
+from taxelkit.frames import TactileFrames
+from taxelkit.smart.contact_classes import (
+    DEFAULT_CONFIDENCE,
+    HAND_SET,
+    OUTPUT_CLASSES,
+    REFERENCE_AREA_MM2,
+    ContactClass,
+    ContactNetwork,
+    classify_contacts,
+)
+from taxelkit.smart.elimination import Eliminator, Event
+from taxelkit.smart.moments import CELL_SECOND_MOMENT, ImageStats, image_stats
+from taxelkit.smart.tacteme_table import Tacteme
+from taxelkit.smart.tactemes import (
+    SegmentTrack,
+    TactemeConfig,
+    accepted_runs,
+    segment_tactemes,
+    transition_tactemes,
+)
+
+__all__ = ["Recognition", "SmartSensor", "recognise"]
+
+_BASIC = {
+    int(ContactClass.POINT): Tacteme.PC,
+    int(ContactClass.LINE): Tacteme.LC,
+    int(ContactClass.AREA): Tacteme.AC,
+}
+
+
+@dataclass(frozen=True, eq=False)
+class Recognition:
+    """What the smart sensor concluded from a recording.
+
+    Attributes
+    ----------
+    classes : (T,) int8
+        Level 2 class of every frame.
+    tactemes : tuple of (str, int)
+        Level 3 tactemes with the frame at which each was seen.
+    events : tuple of Event
+        Everything in order.
+    identified : str or None
+        The object of the last contact, ``"unknown"``, or None if undecided.
+    candidates : tuple of str
+        Objects not yet eliminated for the last contact.
+    """
+
+    classes: NDArray[np.int8]
+    tactemes: tuple[tuple[str, int], ...]
+    events: tuple[Event, ...]
+    identified: str | None
+    candidates: tuple[str, ...]
+
+    def class_names(self) -> list[str]:
+        """Per-frame class names (``"none"``, ``"indeterminate"``, ``"point"``, ...)."""
+        return [ContactClass(int(c)).name.lower() for c in self.classes]
+
+    def to_json(self) -> dict[str, Any]:
+        """``identified``, ``candidates``, ``tactemes`` and ``classes`` as JSON types."""
+        return {
+            "identified": self.identified,
+            "candidates": list(self.candidates),
+            "tactemes": [{"name": n, "frame": f} for n, f in self.tactemes],
+            "classes": self.class_names(),
+        }
+
+
+def _half_length(stats: ImageStats) -> NDArray[np.float64]:
+    vx, vy, cxy = stats.var_x_mm2, stats.var_y_mm2, stats.cov_xy_mm2
+    lam = 0.5 * (vx + vy) + np.hypot(0.5 * (vx - vy), cxy)
+    out: NDArray[np.float64] = np.sqrt(3.0 * lam)
+    return out
+
+
+class _Levels34:
+    """Levels 3-4 state over accepted runs; shared by batch and streaming."""
+
+    def __init__(self, config: TactemeConfig) -> None:
+        self.config = config
+        self.k = int(config.debounce_frames)
+        self.elim = Eliminator()
+        self.history: list[tuple[int, float]] = []
+        self.in_contact = False
+        self.events: list[Event] = []
+        self._open: tuple[int, set[Tacteme]] | None = None  # class, motion tactemes emitted
+
+    def open_run(self, cls: int, accept: int, track: SegmentTrack | None) -> None:
+        """A new class was accepted at frame ``accept``."""
+        self.close_run()
+        if cls == ContactClass.NONE:
+            if self.in_contact:
+                self.events.append(Event("lifted", accept, self.elim.candidates))
+                self.elim.reset()
+                self.history = []
+                self.in_contact = False
+            return
+        assert track is not None  # a contact class always has frames
+        self.in_contact = True
+        self.events.append(Event("contact", accept, ContactClass(cls).name.lower()))
+        self.history.append((cls, _mean_axis_deg(track.orientation_deg[: self.k])))
+        for tac in [_BASIC[cls], *transition_tactemes(self.history, self.config)]:
+            self.events.extend(self.elim.apply(tac, accept))
+        self._open = (cls, set())
+        self.update(track)
+
+    def update(self, track: SegmentTrack) -> None:
+        """The open segment grew: emit its new motion tactemes (detection is causal)."""
+        if self._open is None:
+            return
+        cls, done = self._open
+        for tac, frame in segment_tactemes(cls, track, self.config):
+            if tac not in done:
+                done.add(tac)
+                self.events.extend(self.elim.apply(tac, frame))
+        self.history[-1] = (cls, _mean_axis_deg(track.orientation_deg[-self.k :]))
+
+    def close_run(self) -> None:
+        """The open segment ended."""
+        self._open = None
+
+
+def _events_for_runs(
+    runs: list[tuple[int, int, NDArray[np.intp]]],
+    track_of: Any,
+    config: TactemeConfig,
+) -> list[Event]:
+    """Levels 3-4 over the accepted runs of a whole recording (batch)."""
+    state = _Levels34(config)
+    for cls, accept, frames in runs:
+        state.open_run(cls, accept, track_of(frames) if cls != ContactClass.NONE else None)
+    return state.events
+
+
+def _mean_axis_deg(theta_deg: NDArray[np.float64]) -> float:
+    if theta_deg.size == 0:
+        return float("nan")
+    t = np.deg2rad(2.0 * theta_deg)
+    return float(0.5 * np.rad2deg(np.arctan2(np.sin(t).sum(), np.cos(t).sum())))
+
+
+def _finish(classes: NDArray[np.int8], events: list[Event]) -> Recognition:
+    """Summarise: the outcome is that of the current contact, or of the last one lifted."""
+    tactemes = tuple((str(e.value), e.frame) for e in events if e.kind == "tacteme")
+    state = Eliminator()
+    current: tuple[str, ...] | None = None  # candidates of the ongoing contact
+    lifted: tuple[str, ...] | None = None  # candidates when the last contact ended
+    for e in events:
+        if e.kind == "contact" and current is None:
+            current = state.objects
+        elif e.kind == "candidates":
+            current = tuple(e.value)
+        elif e.kind == "lifted":
+            lifted, current = tuple(e.value), None
+    final = current if current is not None else lifted
+    state.candidates = state.objects if final is None else final
+    return Recognition(classes, tactemes, tuple(events), state.outcome, state.candidates)
+
+
+def recognise(
+    recording: TactileFrames | ArrayLike,
+    *,
+    threshold: float | None = None,
+    pitch_mm: float | None = None,
+    network: ContactNetwork = HAND_SET,
+    confidence: float = DEFAULT_CONFIDENCE,
+    config: TactemeConfig | None = None,
+) -> Recognition:
+    """Recognise the object(s) touching the sensor in a recording (batch).
+
+    Parameters
+    ----------
+    recording : TactileFrames or (T, rows, cols) array
+        Bool contact images or float deflections.
+    threshold : float, optional
+        Contact threshold for float frames (in the recording's units); default
+        0.03 mm, the Bonneville preset's. Ignored for bool frames.
+    pitch_mm : float, optional
+        Overrides the recording's pitch (required for a bare array).
+    network : ContactNetwork
+        Level 2 network (hand-set by default).
+    confidence : float
+        Level 2 confidence.
+    config : TactemeConfig, optional
+        Level 3 thresholds.
+
+    Returns
+    -------
+    Recognition
+    """
+    cfg = TactemeConfig() if config is None else config
+    if isinstance(recording, TactileFrames):
+        frames = recording.frames
+        pitch = recording.pitch_mm if pitch_mm is None else check_positive("pitch_mm", pitch_mm)
+    else:
+        frames = np.asarray(recording)
+        if pitch_mm is None:
+            raise InputError("pitch_mm is required when recording is a bare array")
+        pitch = check_positive("pitch_mm", pitch_mm)
+    thr = _DEFAULT_THRESHOLD_MM if threshold is None else float(threshold)
+    stats = image_stats(frames, pitch_mm=pitch, threshold=None if frames.dtype == bool else thr)
+    classes = classify_contacts(stats, network, confidence=confidence)
+    half = _half_length(stats)
+
+    def track_of(idx: NDArray[np.intp]) -> SegmentTrack:
+        return SegmentTrack(
+            idx,
+            stats.centre_mm[idx],
+            stats.orientation_deg[idx],
+            stats.area_mm2[idx],
+            stats.elongation[idx],
+            half[idx],
+        )
+
+    runs = accepted_runs(classes, int(cfg.debounce_frames))
+    return _finish(classes, _events_for_runs(runs, track_of, cfg))
+
+
+#: Default contact threshold, mm: the Bonneville preset's fixed threshold.
+_DEFAULT_THRESHOLD_MM = 0.03
+
+
+class SmartSensor:
+    """The smart sensor, one frame at a time (streaming Levels 1-4).
+
+    Parameters
+    ----------
+    shape : (rows, cols)
+        Frame shape.
+    pitch_mm : float
+        Taxel pitch, mm.
+    threshold : float
+        Contact threshold for float frames.
+    network : ContactNetwork
+    confidence : float
+    config : TactemeConfig, optional
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> sensor = SmartSensor((16, 16), pitch_mm=1.7625)
+    >>> frame = np.zeros((16, 16), bool); frame[7:9, 7:9] = True
+    >>> [e.kind for _ in range(3) for e in sensor.push(frame)]
+    ['contact', 'tacteme']
+    """
+
+    def __init__(
+        self,
+        shape: tuple[int, int],
+        *,
+        pitch_mm: float,
+        threshold: float = _DEFAULT_THRESHOLD_MM,
+        network: ContactNetwork = HAND_SET,
+        confidence: float = DEFAULT_CONFIDENCE,
+        config: TactemeConfig | None = None,
+    ) -> None:
+        rows, cols = int(shape[0]), int(shape[1])
+        if rows < 1 or cols < 1:
+            raise InputError(f"shape must be two positive integers, got {shape!r}")
+        self.shape = (rows, cols)
+        self.pitch_mm = check_positive("pitch_mm", pitch_mm)
+        self.threshold = float(threshold)
+        self.network = network
+        self.confidence = float(confidence)
+        self.config = TactemeConfig() if config is None else config
+        u = np.arange(cols) - (cols - 1) / 2.0
+        v = np.arange(rows) - (rows - 1) / 2.0
+        uu, vv = np.meshgrid(u, v)
+        self._basis = np.stack(
+            [np.ones(rows * cols), uu.ravel(), vv.ravel(), uu.ravel() ** 2, vv.ravel() ** 2,
+             (uu * vv).ravel()], axis=1,
+        )  # fmt: skip
+        self._w_hidden = network.w_hidden.tolist()
+        self._b_hidden = network.b_hidden.tolist()
+        self._w_output = network.w_output.tolist()
+        self._b_output = network.b_output.tolist()
+        self.reset()
+
+    def reset(self) -> None:
+        """Start afresh (no frames seen)."""
+        self.frame_index = 0
+        self.classes: list[int] = []
+        self._accepted = int(ContactClass.NONE)
+        self._candidate: int | None = None
+        self._cand_frames: list[int] = []
+        self._stats: dict[int, tuple[float, ...]] = {}
+        self._segment: list[int] = []
+        self._state = _Levels34(self.config)
+
+    # -- Level 1 and 2 for one frame --------------------------------------------------
+    def _classify(self, frame: NDArray[Any]) -> tuple[int, tuple[float, ...]]:
+        b = frame if frame.dtype == bool else frame > self.threshold
+        n, su, sv, suu, svv, suv = (b.ravel() @ self._basis).tolist()
+        if n == 0:
+            return int(ContactClass.NONE), ()
+        p = self.pitch_mm
+        cuu = (n * suu - su * su) / (n * n) + CELL_SECOND_MOMENT
+        cvv = (n * svv - sv * sv) / (n * n) + CELL_SECOND_MOMENT
+        cuv = (n * suv - su * sv) / (n * n)
+        radius = math.hypot(0.5 * (cuu - cvv), cuv)
+        lam_max = 0.5 * (cuu + cvv) + radius
+        lam_min = (cuu * cvv - cuv * cuv) / lam_max
+        elong = math.sqrt(lam_max / lam_min)
+        theta = 0.5 * math.degrees(math.atan2(2.0 * cuv, cuu - cvv))
+        if theta <= -90.0:
+            theta += 180.0
+        area = n * p * p
+        x0, x1 = math.log(area / REFERENCE_AREA_MM2), math.log(elong)
+        wh, bh = self._w_hidden, self._b_hidden
+        h = [math.tanh(x0 * wh[0][i] + x1 * wh[1][i] + bh[i]) for i in range(len(bh))]
+        wo, bo = self._w_output, self._b_output
+        z = [sum(h[i] * wo[i][j] for i in range(len(h))) + bo[j] for j in range(len(bo))]
+        top = max(z)
+        e = [math.exp(v - top) for v in z]
+        best = max(range(len(e)), key=e.__getitem__)
+        prob = e[best] / sum(e)
+        cls = int(OUTPUT_CLASSES[best]) if prob > self.confidence else int(
+            ContactClass.INDETERMINATE
+        )  # fmt: skip
+        half = math.sqrt(3.0 * lam_max * p * p)
+        return cls, (su / n * p, sv / n * p, theta, area, elong, half)
+
+    # -- Level 3 and 4 -------------------------------------------------------------------
+    def push(self, frame: ArrayLike, t_s: float | None = None) -> list[Event]:
+        """Process one frame; return the events it caused (often none).
+
+        Parameters
+        ----------
+        frame : (rows, cols) bool or float
+        t_s : float, optional
+            Timestamp (kept for the caller; events carry frame indices).
+        """
+        f = np.asarray(frame)
+        if f.shape != self.shape:
+            raise InputError(f"frame must have shape {self.shape}, got {f.shape}")
+        j = self.frame_index
+        self.frame_index += 1
+        cls, stats = self._classify(f)
+        self.classes.append(cls)
+        if stats:
+            self._stats[j] = stats
+        k = int(self.config.debounce_frames)
+        if cls == ContactClass.INDETERMINATE:
+            return []
+        before = len(self._state.events)
+        if cls == self._accepted:
+            self._candidate, self._cand_frames = None, []
+            if cls != ContactClass.NONE:
+                self._segment.append(j)
+                self._state.update(self._track(np.asarray(self._segment, dtype=np.intp)))
+        else:
+            if cls != self._candidate:
+                self._candidate, self._cand_frames = cls, []
+            self._cand_frames.append(j)
+            if len(self._cand_frames) < k:
+                return []
+            self._accepted = cls
+            self._segment = list(self._cand_frames)
+            self._candidate, self._cand_frames = None, []
+            idx = np.asarray(self._segment, dtype=np.intp)
+            track = self._track(idx) if cls != ContactClass.NONE else None
+            self._state.open_run(cls, j, track)
+        return self._state.events[before:]
+
+    def _track(self, idx: NDArray[np.intp]) -> SegmentTrack:
+        s = np.asarray([self._stats[int(i)] for i in idx], dtype=np.float64).reshape(-1, 6)
+        return SegmentTrack(idx, s[:, 0:2], s[:, 2], s[:, 3], s[:, 4], s[:, 5])
+
+    def result(self) -> Recognition:
+        """Everything so far as a :class:`Recognition`."""
+        return _finish(np.asarray(self.classes, dtype=np.int8), list(self._state.events))

@@ -1,0 +1,342 @@
+"""Level 3 of the smart sensor: debounced contact segments and the tactemes they produce.
+
+Debounce (paper 001, Section 3, Level 3)
+    A new contact class is accepted after it has been seen ``k`` times in a row
+    (``k = 3`` in the paper); indeterminate images are skipped: they neither
+    count nor break a run, and never start a tacteme. Shorter runs are
+    spurious and ignored. Accepted runs of one class separated only by
+    spurious images form one *segment*.
+
+Tactemes of a segment (thresholds in :class:`TactemeConfig`, all on smoothed
+values: the mean of the last ``k`` frames of the segment, against the mean of
+its first ``k`` frames)
+    - PC, LC, AC: a point, line or area segment is accepted.
+    - PC moves / LCM / AC moves: the centre of contact moves more than
+      ``move_mm``; "AC moves" also needs the area to stay within
+      ``area_tolerance`` (a sliding face keeps its footprint, a face tipping
+      onto an edge shrinks).
+    - PC takes an orthogonal turn: after moving, the point leaves the farthest
+      point of its first run in a direction 60-120 deg away from that run.
+    - LCMP: the line has moved ``parallel_move_mm`` with its orientation
+      within ``parallel_tol_deg`` of the start.
+    - LCMT: the line's orientation changes by more than ``turn_deg``; then
+      the least-squares common point of all lines seen so far (the pivot) is
+      compared with the line: within ``pivot_end_ratio`` half-lengths of the
+      line's centre it is "about one end" (a cone's apex), farther it is "in
+      an arc" (a truncated cone's virtual apex).
+    - AC rotates: the orientation of an elongated area turns by more than
+      ``area_rotate_deg`` with its area unchanged.
+    - LC -> AC, AC -> LC, and LC -> AC -> LC with the two lines parallel or
+      at 90 deg (a square face) or at 60/120 deg (a triangular face).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.errors import InputError, check_positive
+from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.tacteme_table import Tacteme
+
+__all__ = [
+    "SegmentTrack",
+    "TactemeConfig",
+    "accepted_runs",
+    "segment_tactemes",
+    "transition_tactemes",
+]
+
+_INDET = int(ContactClass.INDETERMINATE)
+
+
+@dataclass(frozen=True)
+class TactemeConfig:
+    """Thresholds of Level 3, with units.
+
+    Parameters
+    ----------
+    debounce_frames : int
+        ``k``: repetitions before a new class is accepted (paper: 3).
+    move_mm : float
+        Centre displacement that counts as motion, mm (a little more than one
+        Bonneville pitch, 1.76 mm, so a contact flickering between two taxels
+        does not move).
+    parallel_move_mm : float
+        Displacement before a line may be called parallel, mm: long enough for
+        a truncated cone's turn (at least 12 deg over 5 mm for the default
+        sizes) to show.
+    parallel_tol_deg : float
+        Largest orientation change of a parallel move, deg.
+    turn_deg : float
+        Orientation change of a turning line, deg.
+    pivot_end_ratio : float
+        Pivot within this many half-lengths of the line's centre: about one end.
+    orthogonal_min_deg, orthogonal_max_deg : float
+        Window of the angle between a point's two runs for an orthogonal turn, deg.
+    area_tolerance : float
+        Relative area change a sliding face may show.
+    area_rotate_deg : float
+        Orientation change of a rotating area, deg.
+    area_min_elongation : float
+        Orientation of an area is trusted only above this elongation.
+    edge_angle_tol_deg : float
+        Tolerance of the 0/90 and 60 deg angles between two edges, deg.
+    """
+
+    debounce_frames: int = 3
+    move_mm: float = 2.0
+    parallel_move_mm: float = 5.0
+    parallel_tol_deg: float = 6.0
+    turn_deg: float = 12.0
+    pivot_end_ratio: float = 1.6
+    orthogonal_min_deg: float = 60.0
+    orthogonal_max_deg: float = 120.0
+    area_tolerance: float = 0.25
+    area_rotate_deg: float = 10.0
+    area_min_elongation: float = 1.3
+    edge_angle_tol_deg: float = 15.0
+
+    def __post_init__(self) -> None:
+        if int(self.debounce_frames) < 1:
+            raise InputError(f"debounce_frames must be >= 1, got {self.debounce_frames!r}")
+        for name in (
+            "move_mm",
+            "parallel_move_mm",
+            "parallel_tol_deg",
+            "turn_deg",
+            "pivot_end_ratio",
+            "area_tolerance",
+            "area_rotate_deg",
+            "area_min_elongation",
+            "edge_angle_tol_deg",
+        ):
+            check_positive(name, getattr(self, name))
+
+
+def accepted_runs(classes: NDArray[np.integer], k: int) -> list[tuple[int, int, NDArray[np.intp]]]:
+    """Debounced segments of a whole class sequence, vectorised.
+
+    Parameters
+    ----------
+    classes : (T,) int
+        :class:`~taxelkit.smart.contact_classes.ContactClass` codes.
+    k : int
+        Debounce count.
+
+    Returns
+    -------
+    list of (class, accept_frame, frames)
+        In order: the accepted class, the frame at which it was accepted (its
+        ``k``-th repetition) and the frames of that class that belong to the
+        segment (spurious and indeterminate frames excluded). A segment of the
+        class already accepted merges with it; the state before the first frame
+        is "none".
+    """
+    c_all = np.asarray(classes)
+    idx = np.flatnonzero(c_all != _INDET)
+    c = c_all[idx]
+    if c.size == 0:
+        return []
+    cut = np.flatnonzero(np.diff(c)) + 1
+    starts = np.concatenate([[0], cut])
+    ends = np.concatenate([cut, [c.size]])
+    keep = (ends - starts) >= k
+    out: list[tuple[int, int, NDArray[np.intp]]] = []
+    current = int(ContactClass.NONE)
+    for s, e in zip(starts[keep], ends[keep], strict=True):  # accepted runs: few per recording
+        cls = int(c[s])
+        frames = idx[s:e]
+        if cls == current and out:
+            prev_cls, prev_acc, prev_frames = out[-1]
+            out[-1] = (prev_cls, prev_acc, np.concatenate([prev_frames, frames]))
+        elif cls != current:
+            out.append((cls, int(idx[s + k - 1]), frames))
+            current = cls
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class SegmentTrack:
+    """Level 1 statistics of one segment's frames, in order.
+
+    Attributes
+    ----------
+    frames : (n,) int
+        Frame indices.
+    centre_mm : (n, 2) float
+    orientation_deg : (n,) float
+    area_mm2 : (n,) float
+    elongation : (n,) float
+    half_length_mm : (n,) float
+        ``sqrt(3 lambda_max)``: half the length of a uniform line with the
+        contact's largest second moment.
+    """
+
+    frames: NDArray[np.intp]
+    centre_mm: NDArray[np.float64]
+    orientation_deg: NDArray[np.float64]
+    area_mm2: NDArray[np.float64]
+    elongation: NDArray[np.float64]
+    half_length_mm: NDArray[np.float64]
+
+
+def _rolling_mean(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
+    """Mean of the last ``w`` rows (fewer at the start), along axis 0."""
+    c = np.cumsum(x, axis=0)
+    out = c.copy()
+    out[w:] -= c[:-w]
+    n = np.minimum(np.arange(1, x.shape[0] + 1), w).reshape((-1,) + (1,) * (x.ndim - 1))
+    result: NDArray[np.float64] = out / n
+    return result
+
+
+def _axis_vectors(theta_deg: NDArray[np.float64]) -> NDArray[np.float64]:
+    t = np.deg2rad(2.0 * theta_deg)
+    return np.stack([np.cos(t), np.sin(t)], axis=-1)
+
+
+def _axis_angle_deg(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    out: NDArray[np.float64] = 0.5 * np.rad2deg(np.arctan2(v[..., 1], v[..., 0]))
+    return out
+
+
+def _axis_difference_deg(a: NDArray[np.float64], b: float) -> NDArray[np.float64]:
+    """Smallest difference between line orientations, in [0, 90] deg."""
+    d = np.abs((a - b + 90.0) % 180.0 - 90.0)
+    out: NDArray[np.float64] = d
+    return out
+
+
+def _first(mask: NDArray[np.bool_], start: int) -> int | None:
+    hits = np.flatnonzero(mask[start:])
+    return None if hits.size == 0 else int(hits[0]) + start
+
+
+def _pivot(track: SegmentTrack, upto: int) -> NDArray[np.float64] | None:
+    """Least-squares common point of the lines 0..upto."""
+    t = np.deg2rad(track.orientation_deg[: upto + 1])
+    n = np.stack([-np.sin(t), np.cos(t)], axis=1)  # line normals
+    c = track.centre_mm[: upto + 1]
+    a = n.T @ n
+    if np.linalg.cond(a) > 1e6:
+        return None
+    b = n.T @ np.sum(n * c, axis=1)
+    out: NDArray[np.float64] = np.linalg.solve(a, b)
+    return out
+
+
+def segment_tactemes(
+    cls: int, track: SegmentTrack, config: TactemeConfig
+) -> list[tuple[Tacteme, int]]:
+    """Motion tactemes of one segment and the frame at which each is seen.
+
+    Parameters
+    ----------
+    cls : int
+        The segment's contact class.
+    track : SegmentTrack
+        Its frames' statistics (the frames seen so far, for streaming).
+    config : TactemeConfig
+
+    Returns
+    -------
+    list of (Tacteme, frame)
+        Each tacteme at most once, in order of frame.
+    """
+    k = int(config.debounce_frames)
+    n = track.frames.size
+    if n < k or cls not in (ContactClass.POINT, ContactClass.LINE, ContactClass.AREA):
+        return []
+    centre = _rolling_mean(track.centre_mm, k)
+    axis = _rolling_mean(_axis_vectors(track.orientation_deg), k)
+    angle = _axis_angle_deg(axis)
+    ref_c, ref_angle = centre[k - 1], float(angle[k - 1])
+    moved = np.hypot(*(centre - ref_c).T)
+    turned = _axis_difference_deg(angle, ref_angle)
+    out: list[tuple[Tacteme, int]] = []
+
+    def emit(t: Tacteme, j: int | None) -> None:
+        if j is not None:
+            out.append((t, int(track.frames[j])))
+
+    if cls == ContactClass.POINT:
+        j_move = _first(moved > config.move_mm, k - 1)
+        emit(Tacteme.PC_MOVES, j_move)
+        if j_move is not None:
+            d1 = (centre[j_move] - ref_c) / moved[j_move]
+            along = (centre - ref_c) @ d1
+            # farthest point of the first run so far: index of the running maximum
+            is_max = along >= np.maximum.accumulate(along)
+            corner_idx = np.maximum.accumulate(np.where(is_max, np.arange(n), 0))
+            leg = centre - centre[corner_idx]
+            leg_len = np.hypot(*leg.T)
+            cos = np.divide(leg @ d1, leg_len, out=np.ones(n), where=leg_len > 0)
+            ang = np.rad2deg(np.arccos(np.clip(cos, -1, 1)))
+            ok = (
+                (leg_len > config.move_mm)
+                & (ang >= config.orthogonal_min_deg)
+                & (ang <= config.orthogonal_max_deg)
+            )
+            emit(Tacteme.PC_ORTHOGONAL_TURN, _first(ok, j_move + 1))
+    elif cls == ContactClass.LINE:
+        emit(Tacteme.LCM, _first(moved > config.move_mm, k - 1))
+        parallel = (moved >= config.parallel_move_mm) & (turned <= config.parallel_tol_deg)
+        j_par = _first(parallel, k - 1)
+        j_turn = _first(turned > config.turn_deg, k - 1)
+        if j_par is not None and (j_turn is None or j_par < j_turn):
+            emit(Tacteme.LCMP, j_par)
+        if j_turn is not None:
+            emit(Tacteme.LCMT, j_turn)
+            pivot = _pivot(track, j_turn)
+            half = float(np.median(track.half_length_mm[: j_turn + 1]))
+            if pivot is not None and half > 0:
+                ratio = float(np.hypot(*(pivot - track.centre_mm[j_turn]))) / half
+                about_end = ratio <= config.pivot_end_ratio
+                emit(Tacteme.LCMT_ABOUT_END if about_end else Tacteme.LCMT_ARC, j_turn)
+    else:
+        ref_area = float(np.mean(track.area_mm2[:k]))
+        area = _rolling_mean(track.area_mm2, k)
+        same = np.abs(area / ref_area - 1.0) <= config.area_tolerance
+        emit(Tacteme.AC_MOVES, _first((moved > config.move_mm) & same, k - 1))
+        elong = _rolling_mean(track.elongation, k)
+        oriented = (elong >= config.area_min_elongation) & (
+            float(elong[k - 1]) >= config.area_min_elongation
+        )
+        emit(Tacteme.AC_ROTATES, _first((turned > config.area_rotate_deg) & same & oriented, k - 1))
+    out.sort(key=lambda item: item[1])
+    return out
+
+
+def transition_tactemes(history: list[tuple[int, float]], config: TactemeConfig) -> list[Tacteme]:
+    """Tactemes of the latest change of accepted class.
+
+    Parameters
+    ----------
+    history : list of (class, orientation_deg)
+        Accepted non-empty segments of the current contact, oldest first; the
+        orientation is the line's (mean of its frames next to the change).
+    config : TactemeConfig
+
+    Returns
+    -------
+    list of Tacteme
+    """
+    if len(history) < 2:
+        return []
+    (c1, _), (c2, o2) = history[-2], history[-1]
+    out: list[Tacteme] = []
+    if c1 == ContactClass.LINE and c2 == ContactClass.AREA:
+        out.append(Tacteme.LC_TO_AC)
+    if c1 == ContactClass.AREA and c2 == ContactClass.LINE:
+        out.append(Tacteme.AC_TO_LC)
+        if len(history) >= 3 and history[-3][0] == ContactClass.LINE:
+            d = float(_axis_difference_deg(np.array([o2]), history[-3][1])[0])
+            tol = config.edge_angle_tol_deg
+            if d <= tol or d >= 90.0 - tol:
+                out.append(Tacteme.LC_AC_LC_SQUARE)
+            elif abs(d - 60.0) <= tol:
+                out.append(Tacteme.LC_AC_LC_TRIANGLE)
+    return out
