@@ -19,11 +19,15 @@ its first ``k`` frames)
       point of its first run in a direction 60-120 deg away from that run.
     - LCMP: the line has moved ``parallel_move_mm`` with its orientation
       within ``parallel_tol_deg`` of the start.
-    - LCMT: the line's orientation changes by more than ``turn_deg``; then
-      the least-squares common point of all lines seen so far (the pivot) is
-      compared with the line: within ``pivot_end_ratio`` half-lengths of the
-      line's centre it is "about one end" (a cone's apex), farther it is "in
-      an arc" (a truncated cone's virtual apex).
+    - LCMT: the line's orientation changes by more than ``turn_deg``; once it
+      has turned ``pivot_turn_deg`` the least-squares common point of the
+      lines seen so far (the pivot) is compared with the line: within
+      ``pivot_end_ratio`` half-lengths of the line's centre it is "about one
+      end" (a cone's apex), farther it is "in an arc" (a truncated cone's
+      virtual apex).
+
+    References re-anchor whenever the area jumps by more than ``area_step``
+    from one frame to the next (see :class:`TactemeConfig`).
     - AC rotates: the orientation of an elongated area turns by more than
       ``area_rotate_deg`` with its area unchanged.
     - LC -> AC, AC -> LC, and LC -> AC -> LC with the two lines parallel or
@@ -84,6 +88,15 @@ class TactemeConfig:
         Orientation of an area is trusted only above this elongation.
     edge_angle_tol_deg : float
         Tolerance of the 0/90 and 60 deg angles between two edges, deg.
+    area_step : float
+        A frame-to-frame area change above this fraction re-anchors the motion
+        references of lines and areas: a rolling contact keeps its area, while
+        placing, lifting and tipping change it, and their centre shifts are not
+        motion. (Point contacts cover 1-4 taxels; their area jumps as they cross
+        taxels, so they are never re-anchored.)
+    pivot_turn_deg : float
+        Turn of the line before the pivot is located (about one end / in an
+        arc), deg: the common point of nearly parallel lines is ill-conditioned.
     """
 
     debounce_frames: int = 3
@@ -98,6 +111,8 @@ class TactemeConfig:
     area_rotate_deg: float = 10.0
     area_min_elongation: float = 1.3
     edge_angle_tol_deg: float = 15.0
+    area_step: float = 0.3
+    pivot_turn_deg: float = 20.0
 
     def __post_init__(self) -> None:
         if int(self.debounce_frames) < 1:
@@ -112,6 +127,8 @@ class TactemeConfig:
             "area_rotate_deg",
             "area_min_elongation",
             "edge_angle_tol_deg",
+            "area_step",
+            "pivot_turn_deg",
         ):
             check_positive(name, getattr(self, name))
 
@@ -131,9 +148,9 @@ def accepted_runs(classes: NDArray[np.integer], k: int) -> list[tuple[int, int, 
     list of (class, accept_frame, frames)
         In order: the accepted class, the frame at which it was accepted (its
         ``k``-th repetition) and the frames of that class that belong to the
-        segment (spurious and indeterminate frames excluded). A segment of the
-        class already accepted merges with it; the state before the first frame
-        is "none".
+        segment (spurious and indeterminate frames excluded): every later frame
+        of the accepted class, however short its run, belongs to it, exactly
+        as in the streaming form. The state before the first frame is "none".
     """
     c_all = np.asarray(classes)
     idx = np.flatnonzero(c_all != _INDET)
@@ -141,20 +158,26 @@ def accepted_runs(classes: NDArray[np.integer], k: int) -> list[tuple[int, int, 
     if c.size == 0:
         return []
     cut = np.flatnonzero(np.diff(c)) + 1
-    starts = np.concatenate([[0], cut])
-    ends = np.concatenate([cut, [c.size]])
-    keep = (ends - starts) >= k
+    starts = np.concatenate([[0], cut]).tolist()
+    ends = np.concatenate([cut, [c.size]]).tolist()
     out: list[tuple[int, int, NDArray[np.intp]]] = []
     current = int(ContactClass.NONE)
-    for s, e in zip(starts[keep], ends[keep], strict=True):  # accepted runs: few per recording
+    pending: list[NDArray[np.intp]] = []
+    for s, e in zip(starts, ends, strict=True):  # one step per run of equal classes
         cls = int(c[s])
-        frames = idx[s:e]
-        if cls == current and out:
-            prev_cls, prev_acc, prev_frames = out[-1]
-            out[-1] = (prev_cls, prev_acc, np.concatenate([prev_frames, frames]))
-        elif cls != current:
-            out.append((cls, int(idx[s + k - 1]), frames))
+        if cls == current:  # the accepted class goes on, spurious runs between excluded
+            if out:
+                pending.append(idx[s:e])
+        elif e - s >= k:  # a new class seen k times in a row: accepted
+            if out and pending:
+                prev_cls, prev_acc, _ = out[-1]
+                out[-1] = (prev_cls, prev_acc, np.concatenate(pending))
+            pending = [idx[s:e]]
+            out.append((cls, int(idx[s + k - 1]), idx[s:e]))
             current = cls
+    if out and pending:
+        prev_cls, prev_acc, _ = out[-1]
+        out[-1] = (prev_cls, prev_acc, np.concatenate(pending))
     return out
 
 
@@ -215,11 +238,18 @@ def _first(mask: NDArray[np.bool_], start: int) -> int | None:
     return None if hits.size == 0 else int(hits[0]) + start
 
 
-def _pivot(track: SegmentTrack, upto: int) -> NDArray[np.float64] | None:
-    """Least-squares common point of the lines 0..upto."""
-    t = np.deg2rad(track.orientation_deg[: upto + 1])
+def _turn(angle: NDArray[np.float64], ref: NDArray[np.intp]) -> NDArray[np.float64]:
+    """Orientation change from each frame's reference, in [0, 90] deg."""
+    d = np.abs((angle - angle[ref] + 90.0) % 180.0 - 90.0)
+    out: NDArray[np.float64] = d
+    return out
+
+
+def _pivot(track: SegmentTrack, start: int, upto: int) -> NDArray[np.float64] | None:
+    """Least-squares common point of the lines start..upto."""
+    t = np.deg2rad(track.orientation_deg[start : upto + 1])
     n = np.stack([-np.sin(t), np.cos(t)], axis=1)  # line normals
-    c = track.centre_mm[: upto + 1]
+    c = track.centre_mm[start : upto + 1]
     a = n.T @ n
     if np.linalg.cond(a) > 1e6:
         return None
@@ -253,9 +283,16 @@ def segment_tactemes(
     centre = _rolling_mean(track.centre_mm, k)
     axis = _rolling_mean(_axis_vectors(track.orientation_deg), k)
     angle = _axis_angle_deg(axis)
-    ref_c, ref_angle = centre[k - 1], float(angle[k - 1])
-    moved = np.hypot(*(centre - ref_c).T)
-    turned = _axis_difference_deg(angle, ref_angle)
+    area = _rolling_mean(track.area_mm2, k)
+    raw_area = track.area_mm2
+    step = np.zeros(n, bool)
+    if cls != ContactClass.POINT:
+        step[1:] = np.abs(raw_area[1:] / raw_area[:-1] - 1.0) > config.area_step
+    anchor = np.maximum.accumulate(np.where(step, np.arange(n), 0))
+    ref = np.minimum(anchor + k - 1, n - 1)  # first full window after the anchor
+    valid = np.arange(n) >= anchor + k - 1
+    moved = np.where(valid, np.hypot(*(centre - centre[ref]).T), 0.0)
+    turned = np.where(valid, _turn(angle, ref), 0.0)
     out: list[tuple[Tacteme, int]] = []
 
     def emit(t: Tacteme, j: int | None) -> None:
@@ -263,11 +300,13 @@ def segment_tactemes(
             out.append((t, int(track.frames[j])))
 
     if cls == ContactClass.POINT:
-        j_move = _first(moved > config.move_mm, k - 1)
+        j_move = _first(moved > config.move_mm, 0)
         emit(Tacteme.PC_MOVES, j_move)
         if j_move is not None:
+            ref_c = centre[ref[j_move]]
             d1 = (centre[j_move] - ref_c) / moved[j_move]
             along = (centre - ref_c) @ d1
+            along[: ref[j_move]] = -np.inf  # the run starts at the reference
             # farthest point of the first run so far: index of the running maximum
             is_max = along >= np.maximum.accumulate(along)
             corner_idx = np.maximum.accumulate(np.where(is_max, np.arange(n), 0))
@@ -279,33 +318,35 @@ def segment_tactemes(
                 (leg_len > config.move_mm)
                 & (ang >= config.orthogonal_min_deg)
                 & (ang <= config.orthogonal_max_deg)
+                & (anchor == anchor[j_move])
             )
             emit(Tacteme.PC_ORTHOGONAL_TURN, _first(ok, j_move + 1))
     elif cls == ContactClass.LINE:
-        emit(Tacteme.LCM, _first(moved > config.move_mm, k - 1))
+        emit(Tacteme.LCM, _first(moved > config.move_mm, 0))
         parallel = (moved >= config.parallel_move_mm) & (turned <= config.parallel_tol_deg)
-        j_par = _first(parallel, k - 1)
-        j_turn = _first(turned > config.turn_deg, k - 1)
+        j_par = _first(parallel, 0)
+        j_turn = _first(turned > config.turn_deg, 0)
         if j_par is not None and (j_turn is None or j_par < j_turn):
             emit(Tacteme.LCMP, j_par)
         if j_turn is not None:
             emit(Tacteme.LCMT, j_turn)
-            pivot = _pivot(track, j_turn)
-            half = float(np.median(track.half_length_mm[: j_turn + 1]))
-            if pivot is not None and half > 0:
-                ratio = float(np.hypot(*(pivot - track.centre_mm[j_turn]))) / half
-                about_end = ratio <= config.pivot_end_ratio
-                emit(Tacteme.LCMT_ABOUT_END if about_end else Tacteme.LCMT_ARC, j_turn)
+            j_piv = _first((turned > config.pivot_turn_deg) & (anchor == anchor[j_turn]), j_turn)
+            if j_piv is not None:
+                start = int(anchor[j_piv])
+                pivot = _pivot(track, start, j_piv)
+                half = float(np.median(track.half_length_mm[start : j_piv + 1]))
+                if pivot is not None and half > 0:
+                    ratio = float(np.hypot(*(pivot - track.centre_mm[j_piv]))) / half
+                    about_end = ratio <= config.pivot_end_ratio
+                    emit(Tacteme.LCMT_ABOUT_END if about_end else Tacteme.LCMT_ARC, j_piv)
     else:
-        ref_area = float(np.mean(track.area_mm2[:k]))
-        area = _rolling_mean(track.area_mm2, k)
-        same = np.abs(area / ref_area - 1.0) <= config.area_tolerance
-        emit(Tacteme.AC_MOVES, _first((moved > config.move_mm) & same, k - 1))
+        same = np.abs(area / area[ref] - 1.0) <= config.area_tolerance
+        emit(Tacteme.AC_MOVES, _first((moved > config.move_mm) & same, 0))
         elong = _rolling_mean(track.elongation, k)
         oriented = (elong >= config.area_min_elongation) & (
-            float(elong[k - 1]) >= config.area_min_elongation
+            elong[ref] >= config.area_min_elongation
         )
-        emit(Tacteme.AC_ROTATES, _first((turned > config.area_rotate_deg) & same & oriented, k - 1))
+        emit(Tacteme.AC_ROTATES, _first((turned > config.area_rotate_deg) & same & oriented, 0))
     out.sort(key=lambda item: item[1])
     return out
 

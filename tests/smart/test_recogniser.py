@@ -1,0 +1,120 @@
+"""Levels 3-4 of the smart sensor on hand-made contact images."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from taxelkit.frames import TactileFrames
+from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.elimination import Eliminator
+from taxelkit.smart.recogniser import SmartSensor, recognise
+from taxelkit.smart.tacteme_table import OBJECTS, TABLE, Tacteme
+from taxelkit.smart.tactemes import TactemeConfig, accepted_runs
+
+N = 16
+PITCH = 28.2 / 16
+
+
+def blank() -> np.ndarray:
+    return np.zeros((N, N), bool)
+
+
+def point(r: int, c: int) -> np.ndarray:
+    f = blank()
+    f[r : r + 2, c : c + 2] = True
+    return f
+
+
+def line_v(c: int, r0: int = 3, r1: int = 13) -> np.ndarray:
+    f = blank()
+    f[r0:r1, c] = True
+    return f
+
+
+def area(r0: int = 4, r1: int = 12, c0: int = 4, c1: int = 12) -> np.ndarray:
+    f = blank()
+    f[r0:r1, c0:c1] = True
+    return f
+
+
+def fig3_sequence() -> np.ndarray:
+    """The paper's Fig. 3 story: nothing, area, a spurious line, point, line moving parallel."""
+    frames = [blank()] * 3 + [area()] * 4 + [line_v(7)] + [point(7, 7)] * 6
+    frames += [line_v(c) for c in (3, 3, 3, 4, 4, 5, 6, 7, 8, 9, 10)]
+    return np.stack(frames)
+
+
+def test_fig3_story_identifies_the_cylinder_and_ignores_the_spurious_line() -> None:
+    rec = recognise(TactileFrames(fig3_sequence(), pitch_mm=PITCH))
+    names = [n for n, _ in rec.tactemes]
+    assert names[:3] == ["AC", "PC", "LC"]
+    assert "LCMP" in names
+    assert rec.identified == "cylinder"
+    assert rec.classes[7] == ContactClass.LINE  # the spurious image was classified ...
+    frames_of_lc = [f for n, f in rec.tactemes if n == "LC"]
+    assert frames_of_lc == [16]  # ... but LC starts only after 3 line images (frames 14-16)
+
+
+def test_debounce_skips_indeterminate_and_short_runs() -> None:
+    n, i, p, ln = (
+        ContactClass.NONE,
+        ContactClass.INDETERMINATE,
+        ContactClass.POINT,
+        ContactClass.LINE,
+    )
+    seq = np.array([n, p, p, i, p, ln, p, p, ln, ln, i, ln, n, n, n], dtype=np.int8)
+    runs = accepted_runs(seq, 3)
+    assert [(c, a) for c, a, _ in runs] == [(p, 4), (ln, 11), (n, 14)]
+    # the point segment holds all point frames, the spurious line at 5 excluded
+    assert runs[0][2].tolist() == [1, 2, 4, 6, 7]
+    assert next((c, a) for c, a, _ in accepted_runs(seq, 2)) == (p, 2)
+
+
+def test_batch_and_streaming_give_the_same_events() -> None:
+    frames = fig3_sequence()
+    batch = recognise(TactileFrames(frames, pitch_mm=PITCH))
+    sensor = SmartSensor((N, N), pitch_mm=PITCH)
+    streamed = [e for f in frames for e in sensor.push(f)]
+    assert streamed == list(batch.events)
+    np.testing.assert_array_equal(sensor.result().classes, batch.classes)
+    assert sensor.result().identified == batch.identified
+
+
+def test_elimination_identifies_reports_unknown_and_keeps_candidates() -> None:
+    e = Eliminator()
+    e.apply(Tacteme.LC, 0)
+    assert "sphere" not in e.candidates and e.outcome is None
+    e.apply(Tacteme.LCMP, 1)
+    assert e.outcome == "cylinder"
+    e.apply(Tacteme.AC_MOVES, 2)  # the "cylinder" slid: nothing fits any more
+    assert e.outcome == "unknown"
+
+
+def test_sliding_face_is_never_identified() -> None:
+    frames = [blank()] * 2 + [area(4, 10, c, c + 6) for c in range(2, 10) for _ in range(2)]
+    rec = recognise(TactileFrames(np.stack(frames), pitch_mm=PITCH))
+    assert "AC moves" in [n for n, _ in rec.tactemes]
+    assert rec.identified == "unknown"
+
+
+def test_lift_off_reports_the_candidates_left() -> None:
+    frames = [point(7, 7)] * 5 + [blank()] * 4
+    rec = recognise(TactileFrames(np.stack(frames), pitch_mm=PITCH))
+    assert rec.identified is None
+    assert set(rec.candidates) == set(OBJECTS)  # a still point rules nothing out
+    assert rec.events[-1].kind == "lifted"
+
+
+def test_every_tacteme_has_a_row_and_a_reason() -> None:
+    assert {r.tacteme for r in TABLE} == set(Tacteme)
+    assert all(r.reason and r.eliminates <= set(OBJECTS) for r in TABLE)
+
+
+def test_recognise_rejects_a_bare_array_without_pitch() -> None:
+    from taxelkit.errors import InputError
+
+    with pytest.raises(InputError, match="pitch_mm"):
+        recognise(fig3_sequence())
+    with pytest.raises(InputError, match="debounce_frames"):
+        TactemeConfig(debounce_frames=0)
