@@ -155,8 +155,10 @@ def sensors() -> None:
 
 from taxelkit.cli_paper000 import memorise, reproduce, trace  # noqa: E402  (sub-commands)
 from taxelkit.cli_simulate import demo, simulate  # noqa: E402
+from taxelkit.cli_smart import recognize, roll  # noqa: E402
 
-for _command in (simulate, demo, reproduce, trace, memorise):
+simulate.add_command(roll)
+for _command in (simulate, demo, reproduce, trace, memorise, recognize):
     cli.add_command(_command)
 
 

@@ -470,7 +470,7 @@ def _stats_from_sums(sums: NDArray[np.float64], pitch: float) -> ImageStats:
     radius = np.hypot(half_diff, cuv)
     lam_max = 0.5 * (cuu + cvv) + radius
     lam_min = (cuu * cvv - cuv * cuv) / lam_max  # det / lambda_max: no cancellation
-    elongation = np.sqrt(lam_max / lam_min)
+    elongation = np.sqrt(np.maximum(lam_max / lam_min, 1.0))  # >= 1 despite rounding
     theta = 0.5 * np.degrees(np.arctan2(2.0 * cuv, cuu - cvv))
     theta = np.where(theta <= -90.0, theta + 180.0, theta)
     p2 = pitch * pitch

@@ -319,7 +319,7 @@ class SmartSensor:
         radius = math.hypot(0.5 * (cuu - cvv), cuv)
         lam_max = 0.5 * (cuu + cvv) + radius
         lam_min = (cuu * cvv - cuv * cuv) / lam_max
-        elong = math.sqrt(lam_max / lam_min)
+        elong = math.sqrt(max(lam_max / lam_min, 1.0))  # >= 1 despite rounding
         theta = 0.5 * math.degrees(math.atan2(2.0 * cuv, cuu - cvv))
         if theta <= -90.0:
             theta += 180.0

@@ -77,7 +77,9 @@ class TactemeConfig:
     turn_deg : float
         Orientation change of a turning line, deg.
     pivot_end_ratio : float
-        Pivot within this many half-lengths of the line's centre: about one end.
+        Pivot within this many half-lengths of the line's centre: about one end
+        (a cone: ideally 1; a truncated cone with top/bottom radius ratio q:
+        1 + 2q / (1 - q), at least 1.86 for q >= 0.3; measured cones <= 1.31).
     orthogonal_min_deg, orthogonal_max_deg : float
         Window of the angle between a point's two runs for an orthogonal turn, deg.
     area_tolerance : float
@@ -104,7 +106,7 @@ class TactemeConfig:
     parallel_move_mm: float = 5.0
     parallel_tol_deg: float = 6.0
     turn_deg: float = 12.0
-    pivot_end_ratio: float = 1.6
+    pivot_end_ratio: float = 1.45
     orthogonal_min_deg: float = 60.0
     orthogonal_max_deg: float = 120.0
     area_tolerance: float = 0.25

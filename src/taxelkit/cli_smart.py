@@ -1,0 +1,124 @@
+"""``taxelkit recognize`` and ``taxelkit simulate roll``: the smart sensor of paper 001."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+
+from taxelkit.errors import InputError
+
+__all__ = ["recognize", "roll"]
+
+
+@click.command()
+@click.argument("file", type=click.Path(path_type=Path), required=False)
+@click.option(
+    "--threshold",
+    type=float,
+    default=None,
+    help="Contact threshold for float frames (default 0.03 mm).",
+)
+@click.option("--pitch-mm", type=float, default=None, help="Override the recording's pitch.")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+@click.option(
+    "--live",
+    default=None,
+    help="Read a live stream instead: serial:/dev/ttyUSB0[@baud] or udp:HOST:PORT.",
+)
+@click.option(
+    "--max-frames",
+    type=click.IntRange(1),
+    default=None,
+    help="Stop a live stream after this many frames.",
+)
+@click.option(
+    "--timeout-s",
+    type=float,
+    default=10.0,
+    show_default=True,
+    help="Stop a live stream after this long without data.",
+)
+def recognize(
+    file: Path | None,
+    threshold: float | None,
+    pitch_mm: float | None,
+    as_json: bool,
+    live: str | None,
+    max_frames: int | None,
+    timeout_s: float,
+) -> int:
+    """Identify the object rolling on the sensor from a recording (paper 001).
+
+    Works on any valid recording (bool contact images or float deflections, any
+    array size and pitch). The recogniser sees only the frames, their
+    timestamps and the pitch.
+    """
+    if live is not None:
+        if file is not None:
+            raise InputError("give either FILE or --live SOURCE, not both")
+        from taxelkit.cli_live import recognize_live
+
+        code: int = recognize_live(
+            live,
+            pitch_mm=pitch_mm,
+            threshold=threshold,
+            max_frames=max_frames,
+            timeout_s=timeout_s,
+            echo=click.echo,
+        )
+        return code
+    if file is None:
+        raise InputError("give a recording FILE or --live SOURCE")
+    from taxelkit.io.recordings import read_recording
+    from taxelkit.smart.recogniser import recognise
+
+    rec = read_recording(file, pitch_mm=pitch_mm)
+    result = recognise(rec, threshold=threshold)
+    if as_json:
+        click.echo(json.dumps(result.to_json()))
+        return 0
+    for e in result.events:
+        value = ", ".join(e.value) if isinstance(e.value, tuple) else e.value
+        click.echo(f"frame {e.frame:6d}  {e.kind:11s} {value}")
+    verdict = result.identified or f"undecided among {', '.join(result.candidates)}"
+    click.echo(f"identified: {verdict}")
+    return 0
+
+
+@click.command("roll")
+@click.option(
+    "--object",
+    "object_name",
+    required=True,
+    help="cube, sphere, cone, truncated-cone, cylinder, tetrahedron, or sliding.",
+)
+@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--contact", is_flag=True, help="Write binary contact images instead of mm.")
+@click.option("--no-noise", is_flag=True, help="Noise-free frames.")
+@click.option("--out", type=click.Path(path_type=Path), required=True, help=".npz/.h5/.csv")
+@click.option("--force", is_flag=True, help="Overwrite an existing output.")
+def roll(
+    object_name: str, seed: int, contact: bool, no_noise: bool, out: Path, force: bool
+) -> None:
+    """Roll a simulated object on the 16 x 16 Bonneville array (a randomised script)."""
+    from taxelkit.frames import TactileFrames
+    from taxelkit.io.recordings import write_recording
+    from taxelkit.motion.rolling import frames_from_scenario
+    from taxelkit.motion.scenarios import SCENARIO_NAMES, make_scenario
+    from taxelkit.sensors.presets import BONNEVILLE_16X16
+
+    if object_name not in SCENARIO_NAMES:
+        raise InputError(f"unknown object {object_name!r}; known: {', '.join(SCENARIO_NAMES)}")
+    scenario = make_scenario(object_name, rng=seed)
+    rec = frames_from_scenario(BONNEVILLE_16X16, scenario, rng=seed, add_noise=not no_noise)
+    if contact:
+        rec = TactileFrames(
+            BONNEVILLE_16X16.contact_from_displacement(rec.frames),
+            rec.t_s,
+            rec.pitch_mm,
+            sensor=rec.sensor,
+        )
+    write_recording(rec, out, force=force)
+    click.echo(f"wrote {out} ({rec.n_frames} frames, {rec.duration_s:.1f} s, {object_name})")
