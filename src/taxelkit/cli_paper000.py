@@ -50,8 +50,13 @@ def _check_outputs(paths: list[Path], force: bool) -> None:
 @click.argument("name")
 @click.option("--out", type=click.Path(path_type=Path), required=True, help="Output folder.")
 @click.option("--seed", type=int, default=0, show_default=True)
-@click.option("--trials", type=click.IntRange(1), default=50, show_default=True,
-              help="Trials per shape (recall-vs-s).")  # fmt: skip
+@click.option(
+    "--trials",
+    type=click.IntRange(1),
+    default=50,
+    show_default=True,
+    help="Trials per shape (recall-vs-s, tacteme-table; smart-sensor: at least 100).",
+)
 @click.option("--workers", type=click.IntRange(1), default=None, help="Worker processes.")
 @click.option("--force", is_flag=True, help="Overwrite existing outputs.")
 def reproduce(
@@ -71,6 +76,10 @@ def reproduce(
         kwargs: dict[str, Any] = {"seed": seed}
         if n == "recall-vs-s":
             kwargs.update(n_trials=trials, workers=workers)
+        elif n in ("smart-sensor", "tacteme-table"):
+            kwargs.update(
+                n_trials=max(trials, 100) if n == "smart-sensor" else trials, workers=workers
+            )
         t0 = time.perf_counter()
         with tqdm(desc=n, unit="run", leave=False) as bar:
 
@@ -228,11 +237,20 @@ def trace(
 
 
 @click.command()
-@click.option("--specimen", "specimens", type=click.Path(path_type=Path), multiple=True,
-              help="Heightmap .npz to trace and store (repeatable).")  # fmt: skip
+@click.option(
+    "--specimen",
+    "specimens",
+    type=click.Path(path_type=Path),
+    multiple=True,
+    help="Heightmap .npz to trace and store (repeatable).",
+)
 @click.option("--name", "names", multiple=True, help="Name for each --specimen, in order.")
-@click.option("--base", type=click.Path(path_type=Path), default=None,
-              help="Start from this memory file instead of the five built-in shapes.")  # fmt: skip
+@click.option(
+    "--base",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Start from this memory file instead of the five built-in shapes.",
+)
 @click.option("--rule", default="masked_projection", show_default=True)
 @click.option("--seed", type=int, default=0, show_default=True)
 @click.option("--out", type=click.Path(path_type=Path), required=True, help="Memory file (.npz).")

@@ -62,6 +62,24 @@ def _recall_vs_s(**kw: Any) -> ExperimentResult:
     return run_recall_vs_s(**kw)
 
 
+def _cylinder(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.paper001 import run_cylinder
+
+    return run_cylinder(**kw)
+
+
+def _smart_sensor(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.paper001 import run_smart_sensor
+
+    return run_smart_sensor(**kw)
+
+
+def _tacteme_table(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.paper001 import run_tacteme_table
+
+    return run_tacteme_table(**kw)
+
+
 #: All registered experiments, in the order ``reproduce all`` runs them.
 EXPERIMENTS: dict[str, Experiment] = {
     e.name: e
@@ -70,6 +88,9 @@ EXPERIMENTS: dict[str, Experiment] = {
         Experiment("fig8", "Paper 000 Fig. 8: tracing the five 200 um specimens", _fig8),
         Experiment("fig9", "Paper 000 Fig. 9: correlation against arc length", _fig9),
         Experiment("recall-vs-s", "Paper 000: recognition rate against s", _recall_vs_s),
+        Experiment("cylinder", "Paper 001 Fig. 3: the rolling cylinder", _cylinder),
+        Experiment("smart-sensor", "Paper 001: randomised trials, confusion", _smart_sensor),
+        Experiment("tacteme-table", "Paper 001 Table 1 checked by simulation", _tacteme_table),
     )
 }
 

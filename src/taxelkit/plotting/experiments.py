@@ -12,8 +12,12 @@ __all__ = ["plot_experiment"]
 
 def _plotters() -> dict[str, Callable[[Any], Figure]]:
     from taxelkit.plotting.paper000 import plot_fig7, plot_fig8, plot_fig9, plot_recall_vs_s
+    from taxelkit.plotting.paper001 import plot_cylinder, plot_smart_sensor, plot_tacteme_table
 
     return {
+        "cylinder": plot_cylinder,
+        "smart-sensor": plot_smart_sensor,
+        "tacteme-table": plot_tacteme_table,
         "fig7": plot_fig7,
         "fig8": plot_fig8,
         "fig9": plot_fig9,
