@@ -36,6 +36,7 @@ its first ``k`` frames)
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -70,10 +71,12 @@ class TactemeConfig:
         does not move).
     parallel_move_mm : float
         Displacement before a line may be called parallel, mm: long enough for
-        a truncated cone's turn (at least 12 deg over 5 mm for the default
-        sizes) to show.
+        a truncated cone's turn to show (its line turns by at least 6 deg over
+        4 mm for the widest frustum simulated, top/bottom radius 0.65 and
+        sizes +30 %, whose virtual apex lies about 38 mm from the line's centre).
     parallel_tol_deg : float
-        Largest orientation change of a parallel move, deg.
+        Largest orientation change of a parallel move, deg (a cylinder's line
+        jitters by about +-1.5 deg from frame to frame, +-1 deg smoothed).
     turn_deg : float
         Orientation change of a turning line, deg.
     pivot_end_ratio : float
@@ -96,6 +99,9 @@ class TactemeConfig:
         placing, lifting and tipping change it, and their centre shifts are not
         motion. (Point contacts cover 1-4 taxels; their area jumps as they cross
         taxels, so they are never re-anchored.)
+    turn_leg_mm : float
+        Leg length of a point's path when looking for an orthogonal turn, mm
+        (the sphere scripts roll 4-9 mm between turns).
     pivot_turn_deg : float
         Turn of the line before the pivot is located (about one end / in an
         arc), deg: the common point of nearly parallel lines is ill-conditioned.
@@ -103,17 +109,18 @@ class TactemeConfig:
 
     debounce_frames: int = 3
     move_mm: float = 2.0
-    parallel_move_mm: float = 5.0
-    parallel_tol_deg: float = 6.0
+    parallel_move_mm: float = 4.0
+    parallel_tol_deg: float = 4.0
     turn_deg: float = 12.0
     pivot_end_ratio: float = 1.45
     orthogonal_min_deg: float = 60.0
     orthogonal_max_deg: float = 120.0
     area_tolerance: float = 0.25
     area_rotate_deg: float = 10.0
-    area_min_elongation: float = 1.3
+    area_min_elongation: float = 1.6
     edge_angle_tol_deg: float = 15.0
     area_step: float = 0.3
+    turn_leg_mm: float = 3.0
     pivot_turn_deg: float = 20.0
 
     def __post_init__(self) -> None:
@@ -130,6 +137,7 @@ class TactemeConfig:
             "area_min_elongation",
             "edge_angle_tol_deg",
             "area_step",
+            "turn_leg_mm",
             "pivot_turn_deg",
         ):
             check_positive(name, getattr(self, name))
@@ -260,6 +268,41 @@ def _pivot(track: SegmentTrack, start: int, upto: int) -> NDArray[np.float64] | 
     return out
 
 
+def _orthogonal_turn(centre: NDArray[np.float64], start: int, config: TactemeConfig) -> int | None:
+    """First frame at which a point's path has turned by 60-120 deg.
+
+    The smoothed path from ``start`` is cut into legs of ``turn_leg_mm``
+    (a breakpoint each time the point is that far from the last one); a turn
+    is the angle between the legs before and after the leg that holds the
+    corner (or between consecutive legs), so a corner falling inside a leg
+    still shows its full angle. The legs are much longer than the taxel-sized
+    jumps of a point contact's centre.
+    """
+    pts = centre.tolist()
+    leg = config.turn_leg_mm
+    lo, hi = (
+        np.cos(np.deg2rad(config.orthogonal_max_deg)),
+        np.cos(np.deg2rad(config.orthogonal_min_deg)),
+    )
+    bx, by = pts[start]
+    legs: list[tuple[float, float]] = []
+    for j in range(start + 1, len(pts)):  # a scan along the path; legs are few
+        x, y = pts[j]
+        dx, dy = x - bx, y - by
+        d = math.hypot(dx, dy)
+        if d < leg:
+            continue
+        legs.append((dx / d, dy / d))
+        bx, by = x, y
+        for back in (2, 3):  # compare with the leg before last and the one before that
+            if len(legs) >= back:
+                ux, uy = legs[-back]
+                c = ux * legs[-1][0] + uy * legs[-1][1]
+                if lo <= c <= hi:
+                    return j
+    return None
+
+
 def segment_tactemes(
     cls: int, track: SegmentTrack, config: TactemeConfig
 ) -> list[tuple[Tacteme, int]]:
@@ -305,24 +348,7 @@ def segment_tactemes(
         j_move = _first(moved > config.move_mm, 0)
         emit(Tacteme.PC_MOVES, j_move)
         if j_move is not None:
-            ref_c = centre[ref[j_move]]
-            d1 = (centre[j_move] - ref_c) / moved[j_move]
-            along = (centre - ref_c) @ d1
-            along[: ref[j_move]] = -np.inf  # the run starts at the reference
-            # farthest point of the first run so far: index of the running maximum
-            is_max = along >= np.maximum.accumulate(along)
-            corner_idx = np.maximum.accumulate(np.where(is_max, np.arange(n), 0))
-            leg = centre - centre[corner_idx]
-            leg_len = np.hypot(*leg.T)
-            cos = np.divide(leg @ d1, leg_len, out=np.ones(n), where=leg_len > 0)
-            ang = np.rad2deg(np.arccos(np.clip(cos, -1, 1)))
-            ok = (
-                (leg_len > config.move_mm)
-                & (ang >= config.orthogonal_min_deg)
-                & (ang <= config.orthogonal_max_deg)
-                & (anchor == anchor[j_move])
-            )
-            emit(Tacteme.PC_ORTHOGONAL_TURN, _first(ok, j_move + 1))
+            emit(Tacteme.PC_ORTHOGONAL_TURN, _orthogonal_turn(centre, int(ref[j_move]), config))
     elif cls == ContactClass.LINE:
         emit(Tacteme.LCM, _first(moved > config.move_mm, 0))
         parallel = (moved >= config.parallel_move_mm) & (turned <= config.parallel_tol_deg)
