@@ -94,7 +94,7 @@ class TactemeConfig:
     edge_angle_tol_deg : float
         Tolerance of the 0/90 and 60 deg angles between two edges, deg.
     area_step : float
-        A frame-to-frame area change above this fraction re-anchors the motion
+        A frame-to-frame change of the smoothed area above this fraction re-anchors the motion
         references of lines and areas: a rolling contact keeps its area, while
         placing, lifting and tipping change it, and their centre shifts are not
         motion. (Point contacts cover 1-4 taxels; their area jumps as they cross
@@ -329,10 +329,9 @@ def segment_tactemes(
     axis = _rolling_mean(_axis_vectors(track.orientation_deg), k)
     angle = _axis_angle_deg(axis)
     area = _rolling_mean(track.area_mm2, k)
-    raw_area = track.area_mm2
     step = np.zeros(n, bool)
-    if cls != ContactClass.POINT:
-        step[1:] = np.abs(raw_area[1:] / raw_area[:-1] - 1.0) > config.area_step
+    if cls != ContactClass.POINT:  # on the smoothed area: taxel flicker averages out
+        step[1:] = np.abs(area[1:] / area[:-1] - 1.0) > config.area_step
     anchor = np.maximum.accumulate(np.where(step, np.arange(n), 0))
     ref = np.minimum(anchor + k - 1, n - 1)  # first full window after the anchor
     valid = np.arange(n) >= anchor + k - 1
