@@ -113,12 +113,18 @@ __all__ = [
     "FIG3_YAW_RAD",
     "SCENARIO_NAMES",
     "SLIDING_OBJECTS",
+    "SPHERE_MAX_CONTACT_RADIUS_MM",
     "cylinder_fig3_scenario",
     "make_scenario",
 ]
 
 #: Registry of random scripts: one per solid of paper 001, plus ``"sliding"``.
 SCENARIO_NAMES: tuple[str, ...] = (*SOLID_NAMES, "sliding")
+#: Largest geometric contact radius of a sphere, sqrt(2 R d), mm: about one
+#: Bonneville pitch (1.76 mm), so a ball reads as a point contact. A ball pressed
+#: deeper makes a disc as large as the smallest flat face (the truncated cone's
+#: top), which a binary image cannot tell from an area contact.
+SPHERE_MAX_CONTACT_RADIUS_MM = 2.0
 
 #: Solids the sliding script may drag or spin on a flat face.
 SLIDING_OBJECTS: tuple[str, ...] = ("cube", "tetrahedron", "cylinder", "cone", "truncated-cone")
@@ -139,6 +145,10 @@ _N_DRAWS = 256
 # one (half-angle >= 6 deg), so that it rolls in an arc (radius <= 45 mm at the far
 # rim) visibly tighter than a cylinder's straight roll.
 _TOP_OVER_BOTTOM_MAX = 0.65
+# A frustum whose top radius is a small fraction q of its bottom is nearly a
+# cone: its virtual apex lies 2q / (1 - q) half-lengths beyond the line's end.
+# q >= 0.35 keeps that at least 1.08 half-lengths (pivot ratio >= 2.08).
+_TOP_OVER_BOTTOM_MIN = 0.35
 
 
 @dataclass(frozen=True)
@@ -324,8 +334,9 @@ def _random_solid(name: str, gen: np.random.Generator, jitter: float) -> Analyti
         for f in solid_size_names(name)
     }
     if name == "truncated-cone":
-        top = min(sizes["top_radius_mm"], _TOP_OVER_BOTTOM_MAX * sizes["bottom_radius_mm"])
-        sizes["top_radius_mm"] = top
+        bottom = sizes["bottom_radius_mm"]
+        top = min(sizes["top_radius_mm"], _TOP_OVER_BOTTOM_MAX * bottom)
+        sizes["top_radius_mm"] = max(top, _TOP_OVER_BOTTOM_MIN * bottom)
     return make_solid(name, **sizes)
 
 
@@ -435,6 +446,8 @@ def make_scenario(
     object_name = SLIDING_OBJECTS[int(gen.integers(len(SLIDING_OBJECTS)))] if slides else name
     solid = _random_solid(object_name, gen, jitter)
     depth = depth0 * gen.uniform(1.0 - djit, 1.0 + djit)
+    if isinstance(solid, Sphere):  # a rolling ball is pressed lightly: a point contact
+        depth = min(depth, SPHERE_MAX_CONTACT_RADIUS_MM**2 / (2.0 * solid.radius_mm))
     flip = slides and isinstance(solid, TruncatedCone) and bool(gen.integers(2))
     rotation0 = matrix_from_axis_angle([1.0, 0.0, 0.0], math.pi if flip else 0.0)
     return _assemble(

@@ -103,6 +103,11 @@ class _Levels34:
         self.in_contact = False
         self.events: list[Event] = []
         self._open: tuple[int, set[Tacteme]] | None = None  # class, motion tactemes emitted
+        self._last_frame = -1  # last frame of the previous contact segment
+        self._gap = 0  # frames between the previous contact segment and the open one
+        self._len = 0  # frames of the open (then previous) segment
+        self._prev_len = 0
+        self._transitions_done = True
 
     def open_run(self, cls: int, accept: int, track: SegmentTrack | None) -> None:
         """A new class was accepted at frame ``accept``."""
@@ -118,9 +123,11 @@ class _Levels34:
         self.in_contact = True
         self.events.append(Event("contact", accept, ContactClass(cls).name.lower()))
         self.history.append((cls, _mean_axis_deg(track.orientation_deg[: self.k])))
-        for tac in [_BASIC[cls], *transition_tactemes(self.history, self.config)]:
-            self.events.extend(self.elim.apply(tac, accept))
+        self._gap = int(track.frames[0]) - self._last_frame - 1
+        self._prev_len = self._len
+        self.events.extend(self.elim.apply(_BASIC[cls], accept))
         self._open = (cls, set())
+        self._transitions_done = False
         self.update(track)
 
     def update(self, track: SegmentTrack) -> None:
@@ -128,11 +135,35 @@ class _Levels34:
         if self._open is None:
             return
         cls, done = self._open
+        # Transitions need a held edge (2 k frames of line): a round face tipping
+        # onto its rim shrinks through a lens that reads as a line for a moment.
+        held = 2 * self.k
+        line_before = self.history[-2][0] == ContactClass.LINE if len(self.history) > 1 else False
+        ready = (
+            track.frames.size >= held
+            if cls == ContactClass.LINE
+            else (not line_before or self._prev_len >= held)
+        )
+        if not self._transitions_done and ready:
+            self._transitions_done = True
+            at = (
+                int(track.frames[min(track.frames.size, held) - 1])
+                if cls == ContactClass.LINE
+                else (
+                    int(track.frames[self.k - 1])
+                    if track.frames.size >= self.k
+                    else int(track.frames[-1])
+                )
+            )
+            for tac in transition_tactemes(self.history, self.config, gap_frames=self._gap):
+                self.events.extend(self.elim.apply(tac, at))
         for tac, frame in segment_tactemes(cls, track, self.config):
             if tac not in done:
                 done.add(tac)
                 self.events.extend(self.elim.apply(tac, frame))
+        self._len = int(track.frames.size)
         self.history[-1] = (cls, _mean_axis_deg(track.orientation_deg[-self.k :]))
+        self._last_frame = int(track.frames[-1])
 
     def close_run(self) -> None:
         """The open segment ended."""

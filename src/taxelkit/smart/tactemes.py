@@ -9,7 +9,8 @@ Debounce (paper 001, Section 3, Level 3)
 
 Tactemes of a segment (thresholds in :class:`TactemeConfig`, all on smoothed
 values: the mean of the last ``k`` frames of the segment, against the mean of
-its first ``k`` frames)
+its first ``k`` frames; like a class, a motion must hold for ``k`` frames in
+a row, so the one-frame collapse of a contact that tips away is not motion)
     - PC, LC, AC: a point, line or area segment is accepted.
     - PC moves / LCM / AC moves: the centre of contact moves more than
       ``move_mm``; "AC moves" also needs the area to stay within
@@ -31,7 +32,11 @@ its first ``k`` frames)
     - AC rotates: the orientation of an elongated area turns by more than
       ``area_rotate_deg`` with its area unchanged.
     - LC -> AC, AC -> LC, and LC -> AC -> LC with the two lines parallel or
-      at 90 deg (a square face) or at 60/120 deg (a triangular face).
+      at 90 deg (a square face) or at 60/120 deg (a triangular face); the
+      line must be a held edge (at least ``2 k`` frames) and the change direct
+      (at most ``2 k`` frames between the segments). A round body's end face
+      tipping onto its rim shrinks through a lens that reads as a line for a
+      few frames, and its side reaches a face through a rim-point phase.
 """
 
 from __future__ import annotations
@@ -248,6 +253,15 @@ def _first(mask: NDArray[np.bool_], start: int) -> int | None:
     return None if hits.size == 0 else int(hits[0]) + start
 
 
+def _sustained(mask: NDArray[np.bool_], k: int) -> NDArray[np.bool_]:
+    """True where ``mask`` has held for the last ``k`` frames (motion is debounced too)."""
+    c = np.cumsum(mask.astype(np.int64))
+    run = c.copy()
+    run[k:] -= c[:-k]
+    out: NDArray[np.bool_] = run >= k
+    return out
+
+
 def _turn(angle: NDArray[np.float64], ref: NDArray[np.intp]) -> NDArray[np.float64]:
     """Orientation change from each frame's reference, in [0, 90] deg."""
     d = np.abs((angle - angle[ref] + 90.0) % 180.0 - 90.0)
@@ -344,15 +358,15 @@ def segment_tactemes(
             out.append((t, int(track.frames[j])))
 
     if cls == ContactClass.POINT:
-        j_move = _first(moved > config.move_mm, 0)
+        j_move = _first(_sustained(moved > config.move_mm, k), 0)
         emit(Tacteme.PC_MOVES, j_move)
         if j_move is not None:
             emit(Tacteme.PC_ORTHOGONAL_TURN, _orthogonal_turn(centre, int(ref[j_move]), config))
     elif cls == ContactClass.LINE:
-        emit(Tacteme.LCM, _first(moved > config.move_mm, 0))
+        emit(Tacteme.LCM, _first(_sustained(moved > config.move_mm, k), 0))
         parallel = (moved >= config.parallel_move_mm) & (turned <= config.parallel_tol_deg)
-        j_par = _first(parallel, 0)
-        j_turn = _first(turned > config.turn_deg, 0)
+        j_par = _first(_sustained(parallel, k), 0)
+        j_turn = _first(_sustained(turned > config.turn_deg, k), 0)
         if j_par is not None and (j_turn is None or j_par < j_turn):
             emit(Tacteme.LCMP, j_par)
         if j_turn is not None:
@@ -368,17 +382,20 @@ def segment_tactemes(
                     emit(Tacteme.LCMT_ABOUT_END if about_end else Tacteme.LCMT_ARC, j_piv)
     else:
         same = np.abs(area / area[ref] - 1.0) <= config.area_tolerance
-        emit(Tacteme.AC_MOVES, _first((moved > config.move_mm) & same, 0))
+        emit(Tacteme.AC_MOVES, _first(_sustained((moved > config.move_mm) & same, k), 0))
         elong = _rolling_mean(track.elongation, k)
         oriented = (elong >= config.area_min_elongation) & (
             elong[ref] >= config.area_min_elongation
         )
-        emit(Tacteme.AC_ROTATES, _first((turned > config.area_rotate_deg) & same & oriented, 0))
+        rotated = (turned > config.area_rotate_deg) & same & oriented
+        emit(Tacteme.AC_ROTATES, _first(_sustained(rotated, k), 0))
     out.sort(key=lambda item: item[1])
     return out
 
 
-def transition_tactemes(history: list[tuple[int, float]], config: TactemeConfig) -> list[Tacteme]:
+def transition_tactemes(
+    history: list[tuple[int, float]], config: TactemeConfig, *, gap_frames: int = 0
+) -> list[Tacteme]:
     """Tactemes of the latest change of accepted class.
 
     Parameters
@@ -387,12 +404,18 @@ def transition_tactemes(history: list[tuple[int, float]], config: TactemeConfig)
         Accepted non-empty segments of the current contact, oldest first; the
         orientation is the line's (mean of its frames next to the change).
     config : TactemeConfig
+    gap_frames : int
+        Frames between the last frame of the previous segment and the first of
+        the new one. LC -> AC and AC -> LC mean a direct change: a polyhedron's
+        edge lands on a face at once, while a round body between its side and
+        a flat face passes through a rim-point phase, even when that phase
+        reads as indeterminate. Gaps above ``2 k`` frames give no transition.
 
     Returns
     -------
     list of Tacteme
     """
-    if len(history) < 2:
+    if len(history) < 2 or gap_frames > 2 * int(config.debounce_frames):
         return []
     (c1, _), (c2, o2) = history[-2], history[-1]
     out: list[Tacteme] = []
