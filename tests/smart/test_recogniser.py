@@ -74,11 +74,15 @@ def test_debounce_skips_indeterminate_and_short_runs() -> None:
 def test_batch_and_streaming_give_the_same_events() -> None:
     frames = fig3_sequence()
     batch = recognise(TactileFrames(frames, pitch_mm=PITCH))
-    sensor = SmartSensor((N, N), pitch_mm=PITCH)
+    sensor = SmartSensor((N, N), pitch_mm=PITCH, evaluate_every=1)
     streamed = [e for f in frames for e in sensor.push(f)]
-    assert streamed == list(batch.events)
+    assert streamed == list(batch.events)  # every event on its own frame
     np.testing.assert_array_equal(sensor.result().classes, batch.classes)
     assert sensor.result().identified == batch.identified
+    lazy = SmartSensor((N, N), pitch_mm=PITCH)  # default: looks every 8 frames
+    early = [e for f in frames for e in lazy.push(f)]
+    assert list(lazy.result().events) == list(batch.events)
+    assert early == list(batch.events)[: len(early)]  # never out of order, only later
 
 
 def test_elimination_identifies_reports_unknown_and_keeps_candidates() -> None:
