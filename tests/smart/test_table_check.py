@@ -68,8 +68,8 @@ def test_streaming_equals_batch_on_simulated_rolls(
     for name in OBJECTS:
         rec, batch = simulated[name][0]
         sensor = SmartSensor((16, 16), pitch_mm=rec.pitch_mm)
-        for f in rec.frames:
-            sensor.push(f)
+        for f, t in zip(rec.frames, rec.t_s, strict=True):
+            sensor.push(f, t)
         assert list(sensor.result().events) == list(batch.events), name  # type: ignore[attr-defined]
 
 

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import InputError, check_positive
-from taxelkit.frames import TactileFrames
+from taxelkit.frames import DEFAULT_FRAME_INTERVAL_S, TactileFrames
 from taxelkit.smart.contact_classes import (
     DEFAULT_CONFIDENCE,
     HAND_SET,
@@ -107,6 +107,8 @@ class _Levels34:
         self._gap = 0  # frames between the previous contact segment and the open one
         self._len = 0  # frames of the open (then previous) segment
         self._prev_len = 0
+        self._held = 0
+        self._prev_held = 0
         self._transitions_done = True
 
     def open_run(self, cls: int, accept: int, track: SegmentTrack | None) -> None:
@@ -125,6 +127,7 @@ class _Levels34:
         self.history.append((cls, _mean_axis_deg(track.orientation_deg[: self.k])))
         self._gap = int(track.frames[0]) - self._last_frame - 1
         self._prev_len = self._len
+        self._prev_held = self._held
         self.events.extend(self.elim.apply(_BASIC[cls], accept))
         self._open = (cls, set())
         self._transitions_done = False
@@ -137,12 +140,12 @@ class _Levels34:
         cls, done = self._open
         # Transitions need a held edge (2 k frames of line): a round face tipping
         # onto its rim shrinks through a lens that reads as a line for a moment.
-        held = 2 * self.k
+        held = track.frames_for(self.config.edge_hold_s, self.k)
         line_before = self.history[-2][0] == ContactClass.LINE if len(self.history) > 1 else False
         ready = (
             track.frames.size >= held
             if cls == ContactClass.LINE
-            else (not line_before or self._prev_len >= held)
+            else (not line_before or self._prev_len >= self._prev_held)
         )
         if not self._transitions_done and ready:
             self._transitions_done = True
@@ -155,13 +158,18 @@ class _Levels34:
                     else int(track.frames[-1])
                 )
             )
-            for tac in transition_tactemes(self.history, self.config, gap_frames=self._gap):
+            max_gap = max(2 * self.k, track.frames_for(self.config.transition_gap_s, self.k))
+            found = transition_tactemes(
+                self.history, self.config, gap_frames=self._gap, max_gap_frames=max_gap
+            )
+            for tac in found:
                 self.events.extend(self.elim.apply(tac, at))
         for tac, frame in segment_tactemes(cls, track, self.config):
             if tac not in done:
                 done.add(tac)
                 self.events.extend(self.elim.apply(tac, frame))
         self._len = int(track.frames.size)
+        self._held = held
         self.history[-1] = (cls, _mean_axis_deg(track.orientation_deg[-self.k :]))
         self._last_frame = int(track.frames[-1])
 
@@ -241,9 +249,11 @@ def recognise(
     cfg = TactemeConfig() if config is None else config
     if isinstance(recording, TactileFrames):
         frames = recording.frames
+        t_s = np.asarray(recording.t_s, dtype=np.float64)
         pitch = recording.pitch_mm if pitch_mm is None else check_positive("pitch_mm", pitch_mm)
     else:
         frames = np.asarray(recording)
+        t_s = np.arange(frames.shape[0], dtype=np.float64) * DEFAULT_FRAME_INTERVAL_S
         if pitch_mm is None:
             raise InputError("pitch_mm is required when recording is a bare array")
         pitch = check_positive("pitch_mm", pitch_mm)
@@ -260,6 +270,7 @@ def recognise(
             stats.area_mm2[idx],
             stats.elongation[idx],
             half[idx],
+            t_s[idx],
         )
 
     runs = accepted_runs(classes, int(cfg.debounce_frames))
@@ -388,7 +399,9 @@ class SmartSensor:
         ----------
         frame : (rows, cols) bool or float
         t_s : float, optional
-            Timestamp (kept for the caller; events carry frame indices).
+            Timestamp, s (default: the frame index times
+            :data:`~taxelkit.frames.DEFAULT_FRAME_INTERVAL_S`, as for a
+            recording without ``t_s``). Events carry frame indices.
         """
         f = np.asarray(frame)
         if f.shape != self.shape:
@@ -397,8 +410,9 @@ class SmartSensor:
         self.frame_index += 1
         cls, stats = self._classify(f)
         self.classes.append(cls)
+        t = float(j) * DEFAULT_FRAME_INTERVAL_S if t_s is None else float(t_s)
         if stats:
-            self._stats[j] = stats
+            self._stats[j] = (*stats, t)
         k = int(self.config.debounce_frames)
         if cls == ContactClass.INDETERMINATE:
             return []
@@ -429,8 +443,8 @@ class SmartSensor:
             self._state.update(self._track(np.asarray(self._segment, dtype=np.intp)))
 
     def _track(self, idx: NDArray[np.intp]) -> SegmentTrack:
-        s = np.asarray([self._stats[int(i)] for i in idx], dtype=np.float64).reshape(-1, 6)
-        return SegmentTrack(idx, s[:, 0:2], s[:, 2], s[:, 3], s[:, 4], s[:, 5])
+        s = np.asarray([self._stats[int(i)] for i in idx], dtype=np.float64).reshape(-1, 7)
+        return SegmentTrack(idx, s[:, 0:2], s[:, 2], s[:, 3], s[:, 4], s[:, 5], s[:, 6])
 
     def result(self) -> Recognition:
         """Everything so far as a :class:`Recognition` (pending detections included)."""

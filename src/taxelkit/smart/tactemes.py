@@ -104,6 +104,15 @@ class TactemeConfig:
         placing, lifting and tipping change it, and their centre shifts are not
         motion. (Point contacts cover 1-4 taxels; their area jumps as they cross
         taxels, so they are never re-anchored.)
+    motion_hold_s : float
+        A motion must hold for ``max(k frames, motion_hold_s)``, s: at 240 Hz
+        three frames are 12 ms, less than a contact takes to tip away.
+    edge_hold_s : float
+        A line counts as a held edge for the transition tactemes after
+        ``max(k frames, edge_hold_s)``, s.
+    transition_gap_s : float
+        LC -> AC and AC -> LC need the two segments at most
+        ``max(2 k frames, transition_gap_s)`` apart, s.
     turn_leg_mm : float
         Leg length of a point's path when looking for an orthogonal turn, mm
         (the sphere scripts roll 4-9 mm between turns).
@@ -125,6 +134,9 @@ class TactemeConfig:
     area_min_elongation: float = 1.6
     edge_angle_tol_deg: float = 15.0
     area_step: float = 0.3
+    motion_hold_s: float = 0.15
+    edge_hold_s: float = 0.3
+    transition_gap_s: float = 0.3
     turn_leg_mm: float = 3.0
     pivot_turn_deg: float = 20.0
 
@@ -142,6 +154,9 @@ class TactemeConfig:
             "area_min_elongation",
             "edge_angle_tol_deg",
             "area_step",
+            "motion_hold_s",
+            "edge_hold_s",
+            "transition_gap_s",
             "turn_leg_mm",
             "pivot_turn_deg",
         ):
@@ -211,6 +226,8 @@ class SegmentTrack:
     half_length_mm : (n,) float
         ``sqrt(3 lambda_max)``: half the length of a uniform line with the
         contact's largest second moment.
+    t_s : (n,) float, s
+        Timestamps of the frames.
     """
 
     frames: NDArray[np.intp]
@@ -219,6 +236,17 @@ class SegmentTrack:
     area_mm2: NDArray[np.float64]
     elongation: NDArray[np.float64]
     half_length_mm: NDArray[np.float64]
+    t_s: NDArray[np.float64]
+
+    def frame_interval_s(self, k: int) -> float:
+        """Frame interval from the segment's first ``k`` frames (fixed once accepted), s."""
+        head = self.t_s[: max(2, k)]
+        return float(np.median(np.diff(head))) if head.size > 1 else 1.0
+
+    def frames_for(self, seconds: float, k: int) -> int:
+        """Frames covering ``seconds`` at this segment's rate, at least ``k``."""
+        dt = self.frame_interval_s(k)
+        return max(k, math.ceil(seconds / dt - 1e-9)) if dt > 0 else k
 
 
 def _rolling_mean(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
@@ -337,6 +365,7 @@ def segment_tactemes(
     """
     k = int(config.debounce_frames)
     n = track.frames.size
+    hold = track.frames_for(config.motion_hold_s, k)
     if n < k or cls not in (ContactClass.POINT, ContactClass.LINE, ContactClass.AREA):
         return []
     centre = _rolling_mean(track.centre_mm, k)
@@ -358,15 +387,15 @@ def segment_tactemes(
             out.append((t, int(track.frames[j])))
 
     if cls == ContactClass.POINT:
-        j_move = _first(_sustained(moved > config.move_mm, k), 0)
+        j_move = _first(_sustained(moved > config.move_mm, hold), 0)
         emit(Tacteme.PC_MOVES, j_move)
         if j_move is not None:
             emit(Tacteme.PC_ORTHOGONAL_TURN, _orthogonal_turn(centre, int(ref[j_move]), config))
     elif cls == ContactClass.LINE:
-        emit(Tacteme.LCM, _first(_sustained(moved > config.move_mm, k), 0))
+        emit(Tacteme.LCM, _first(_sustained(moved > config.move_mm, hold), 0))
         parallel = (moved >= config.parallel_move_mm) & (turned <= config.parallel_tol_deg)
-        j_par = _first(_sustained(parallel, k), 0)
-        j_turn = _first(_sustained(turned > config.turn_deg, k), 0)
+        j_par = _first(_sustained(parallel, hold), 0)
+        j_turn = _first(_sustained(turned > config.turn_deg, hold), 0)
         if j_par is not None and (j_turn is None or j_par < j_turn):
             emit(Tacteme.LCMP, j_par)
         if j_turn is not None:
@@ -382,19 +411,23 @@ def segment_tactemes(
                     emit(Tacteme.LCMT_ABOUT_END if about_end else Tacteme.LCMT_ARC, j_piv)
     else:
         same = np.abs(area / area[ref] - 1.0) <= config.area_tolerance
-        emit(Tacteme.AC_MOVES, _first(_sustained((moved > config.move_mm) & same, k), 0))
+        emit(Tacteme.AC_MOVES, _first(_sustained((moved > config.move_mm) & same, hold), 0))
         elong = _rolling_mean(track.elongation, k)
         oriented = (elong >= config.area_min_elongation) & (
             elong[ref] >= config.area_min_elongation
         )
         rotated = (turned > config.area_rotate_deg) & same & oriented
-        emit(Tacteme.AC_ROTATES, _first(_sustained(rotated, k), 0))
+        emit(Tacteme.AC_ROTATES, _first(_sustained(rotated, hold), 0))
     out.sort(key=lambda item: item[1])
     return out
 
 
 def transition_tactemes(
-    history: list[tuple[int, float]], config: TactemeConfig, *, gap_frames: int = 0
+    history: list[tuple[int, float]],
+    config: TactemeConfig,
+    *,
+    gap_frames: int = 0,
+    max_gap_frames: int | None = None,
 ) -> list[Tacteme]:
     """Tactemes of the latest change of accepted class.
 
@@ -409,13 +442,17 @@ def transition_tactemes(
         the new one. LC -> AC and AC -> LC mean a direct change: a polyhedron's
         edge lands on a face at once, while a round body between its side and
         a flat face passes through a rim-point phase, even when that phase
-        reads as indeterminate. Gaps above ``2 k`` frames give no transition.
+        reads as indeterminate. Gaps above ``max_gap_frames`` (default
+        ``2 k``; the recogniser passes ``max(2 k frames, transition_gap_s)``)
+        give no transition.
+    max_gap_frames : int, optional
 
     Returns
     -------
     list of Tacteme
     """
-    if len(history) < 2 or gap_frames > 2 * int(config.debounce_frames):
+    limit = 2 * int(config.debounce_frames) if max_gap_frames is None else max_gap_frames
+    if len(history) < 2 or gap_frames > limit:
         return []
     (c1, _), (c2, o2) = history[-2], history[-1]
     out: list[Tacteme] = []
