@@ -297,10 +297,12 @@ class SmartSensor:
     config : TactemeConfig, optional
     evaluate_every : int
         The open segment's motion tactemes are looked for every this many of
-        its frames (and whenever it ends). Detection is causal, so the events
-        and their frame numbers are those of :func:`recognise`; only their
-        emission waits up to ``evaluate_every - 1`` frames (33 ms at 240 Hz
-        for the default 8). 1 emits every event on its own frame.
+        its frames, or every 1/32 of its length so far if that is more (the
+        look is O(length): this keeps the cost per frame constant), and
+        whenever it ends. Detection is causal, so the events and their frame
+        numbers are those of :func:`recognise`; only their emission waits (33 ms
+        at 240 Hz for the default 8, at most 3 % of the segment's age for long
+        segments). 1 emits every event on its own frame.
 
     Examples
     --------
@@ -338,13 +340,30 @@ class SmartSensor:
         v = np.arange(rows) - (rows - 1) / 2.0
         uu, vv = np.meshgrid(u, v)
         self._basis = np.stack(
-            [np.ones(rows * cols), uu.ravel(), vv.ravel(), uu.ravel() ** 2, vv.ravel() ** 2,
-             (uu * vv).ravel()], axis=1,
-        )  # fmt: skip
-        self._w_hidden = network.w_hidden.tolist()
-        self._b_hidden = network.b_hidden.tolist()
-        self._w_output = network.w_output.tolist()
-        self._b_output = network.b_output.tolist()
+            [
+                np.ones(rows * cols),
+                uu.ravel(),
+                vv.ravel(),
+                uu.ravel() ** 2,
+                vv.ravel() ** 2,
+                (uu * vv).ravel(),
+            ],
+            axis=1,
+        )
+        # the network as plain floats: per hidden unit (w_area, w_elong, bias),
+        # per output its weight column and bias (one frame is too small for NumPy)
+        self._hidden = list(
+            zip(
+                network.w_hidden[0].tolist(),
+                network.w_hidden[1].tolist(),
+                network.b_hidden.tolist(),
+                strict=True,
+            )
+        )
+        self._outputs = list(
+            zip(network.w_output.T.tolist(), network.b_output.tolist(), strict=True)
+        )
+        self._basis_t = np.ascontiguousarray(self._basis.T)
         self.reset()
 
     def reset(self) -> None:
@@ -354,14 +373,17 @@ class SmartSensor:
         self._accepted = int(ContactClass.NONE)
         self._candidate: int | None = None
         self._cand_frames: list[int] = []
-        self._stats: dict[int, tuple[float, ...]] = {}
-        self._segment: list[int] = []
+        self._cand_rows: list[tuple[float, ...]] = []  # statistics of the candidate frames
+        # the open segment's frames and statistics, in growing buffers (amortised O(1))
+        self._seg_idx = np.empty(64, dtype=np.intp)
+        self._seg_rows = np.empty((64, 7))
+        self._seg_n = 0
         self._state = _Levels34(self.config)
 
     # -- Level 1 and 2 for one frame --------------------------------------------------
     def _classify(self, frame: NDArray[Any]) -> tuple[int, tuple[float, ...]]:
         b = frame if frame.dtype == bool else frame > self.threshold
-        n, su, sv, suu, svv, suv = (b.ravel() @ self._basis).tolist()
+        n, su, sv, suu, svv, suv = (self._basis_t @ b.ravel()).tolist()
         if n == 0:
             return int(ContactClass.NONE), ()
         p = self.pitch_mm
@@ -377,17 +399,16 @@ class SmartSensor:
             theta += 180.0
         area = n * p * p
         x0, x1 = math.log(area / REFERENCE_AREA_MM2), math.log(elong)
-        wh, bh = self._w_hidden, self._b_hidden
-        h = [math.tanh(x0 * wh[0][i] + x1 * wh[1][i] + bh[i]) for i in range(len(bh))]
-        wo, bo = self._w_output, self._b_output
-        z = [sum(h[i] * wo[i][j] for i in range(len(h))) + bo[j] for j in range(len(bo))]
+        tanh = math.tanh
+        h = [tanh(x0 * wa + x1 * we + bb) for wa, we, bb in self._hidden]
+        z = [math.fsum(map(float.__mul__, h, w)) + bo for w, bo in self._outputs]
         top = max(z)
         e = [math.exp(v - top) for v in z]
         best = max(range(len(e)), key=e.__getitem__)
         prob = e[best] / sum(e)
-        cls = int(OUTPUT_CLASSES[best]) if prob > self.confidence else int(
-            ContactClass.INDETERMINATE
-        )  # fmt: skip
+        cls = (
+            int(OUTPUT_CLASSES[best]) if prob > self.confidence else int(ContactClass.INDETERMINATE)
+        )
         half = math.sqrt(3.0 * lam_max * p * p)
         return cls, (su / n * p, sv / n * p, theta, area, elong, half)
 
@@ -411,40 +432,53 @@ class SmartSensor:
         cls, stats = self._classify(f)
         self.classes.append(cls)
         t = float(j) * DEFAULT_FRAME_INTERVAL_S if t_s is None else float(t_s)
-        if stats:
-            self._stats[j] = (*stats, t)
+        row = (*stats, t) if stats else ()
         k = int(self.config.debounce_frames)
         if cls == ContactClass.INDETERMINATE:
             return []
         before = len(self._state.events)
         if cls == self._accepted:
-            self._candidate, self._cand_frames = None, []
+            self._candidate, self._cand_frames, self._cand_rows = None, [], []
             if cls != ContactClass.NONE:
-                self._segment.append(j)
-                if len(self._segment) % self.evaluate_every == 0:
+                self._append(j, row)
+                if self._seg_n % max(self.evaluate_every, self._seg_n // 32) == 0:
                     self._flush()
         else:
             if cls != self._candidate:
-                self._candidate, self._cand_frames = cls, []
+                self._candidate, self._cand_frames, self._cand_rows = cls, [], []
             self._cand_frames.append(j)
+            self._cand_rows.append(row)
             if len(self._cand_frames) < k:
                 return []
             self._flush()  # the open segment ends: its last motion tactemes first
             self._accepted = cls
-            self._segment = list(self._cand_frames)
-            self._candidate, self._cand_frames = None, []
-            idx = np.asarray(self._segment, dtype=np.intp)
-            track = self._track(idx) if cls != ContactClass.NONE else None
+            self._seg_n = 0
+            if cls != ContactClass.NONE:
+                for jj, rr in zip(self._cand_frames, self._cand_rows, strict=True):
+                    self._append(jj, rr)
+            self._candidate, self._cand_frames, self._cand_rows = None, [], []
+            track = self._track() if cls != ContactClass.NONE else None
             self._state.open_run(cls, j, track)
         return self._state.events[before:]
 
-    def _flush(self) -> None:
-        if self._accepted != ContactClass.NONE and self._segment:
-            self._state.update(self._track(np.asarray(self._segment, dtype=np.intp)))
+    def _append(self, j: int, row: tuple[float, ...]) -> None:
+        if self._seg_n == self._seg_idx.size:  # grow by doubling
+            self._seg_idx = np.concatenate([self._seg_idx, np.empty_like(self._seg_idx)])
+            self._seg_rows = np.concatenate([self._seg_rows, np.empty_like(self._seg_rows)])
+        self._seg_idx[self._seg_n] = j
+        self._seg_rows[self._seg_n] = row
+        self._seg_n += 1
 
-    def _track(self, idx: NDArray[np.intp]) -> SegmentTrack:
-        s = np.asarray([self._stats[int(i)] for i in idx], dtype=np.float64).reshape(-1, 7)
-        return SegmentTrack(idx, s[:, 0:2], s[:, 2], s[:, 3], s[:, 4], s[:, 5], s[:, 6])
+    def _flush(self) -> None:
+        if self._accepted != ContactClass.NONE and self._seg_n:
+            self._state.update(self._track())
+
+    def _track(self) -> SegmentTrack:
+        n = self._seg_n
+        r = self._seg_rows[:n]
+        return SegmentTrack(
+            self._seg_idx[:n].copy(), r[:, 0:2], r[:, 2], r[:, 3], r[:, 4], r[:, 5], r[:, 6]
+        )
 
     def result(self) -> Recognition:
         """Everything so far as a :class:`Recognition` (pending detections included)."""

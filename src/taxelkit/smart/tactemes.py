@@ -41,6 +41,7 @@ a row, so the one-frame collapse of a contact that tips away is not motion)
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -240,8 +241,12 @@ class SegmentTrack:
 
     def frame_interval_s(self, k: int) -> float:
         """Frame interval from the segment's first ``k`` frames (fixed once accepted), s."""
-        head = self.t_s[: max(2, k)]
-        return float(np.median(np.diff(head))) if head.size > 1 else 1.0
+        head = self.t_s[: max(2, k)].tolist()  # a few numbers: plain Python is faster
+        if len(head) < 2:
+            return 1.0
+        steps = sorted(b - a for a, b in itertools.pairwise(head))
+        mid = len(steps) // 2
+        return float(steps[mid] if len(steps) % 2 else 0.5 * (steps[mid - 1] + steps[mid]))
 
     def frames_for(self, seconds: float, k: int) -> int:
         """Frames covering ``seconds`` at this segment's rate, at least ``k``."""
