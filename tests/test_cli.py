@@ -206,6 +206,8 @@ def test_demo_writes_figures_and_recordings(
     ):
         assert (tmp_path / "d" / name).stat().st_size > 0
     assert "recognised as 'star'" in out  # paper 000 end to end
+    assert "Fig. 3 cylinder -> tactemes AC, PC, LC, LCM, LCMP; identified: cylinder" in out
+    assert (tmp_path / "d" / "demo-smart.png").stat().st_size > 0
     solids = read_recording(tmp_path / "d" / "demo-solids.npz")
     assert solids.is_contact and solids.n_frames == 18
     # every one of the 18 presses touches the sensor

@@ -61,6 +61,8 @@ __all__ = [
 ]
 
 _INDET = int(ContactClass.INDETERMINATE)
+#: A motion must be seen on at least this many frames (a one-frame collapse is not motion).
+MOTION_MIN_FRAMES = 2
 
 
 @dataclass(frozen=True)
@@ -77,8 +79,8 @@ class TactemeConfig:
         does not move).
     parallel_move_mm : float
         Displacement before a line may be called parallel, mm: long enough for
-        a truncated cone's turn to show (its line turns by at least 6 deg over
-        4 mm for the widest frustum simulated, top/bottom radius 0.65 and
+        a truncated cone's turn to show (its line turns by at least 5.3 deg over
+        3.5 mm for the widest frustum simulated, top/bottom radius 0.65 and
         sizes +30 %, whose virtual apex lies about 38 mm from the line's centre).
     parallel_tol_deg : float
         Largest orientation change of a parallel move, deg (a cylinder's line
@@ -106,8 +108,9 @@ class TactemeConfig:
         motion. (Point contacts cover 1-4 taxels; their area jumps as they cross
         taxels, so they are never re-anchored.)
     motion_hold_s : float
-        A motion must hold for ``max(k frames, motion_hold_s)``, s: at 240 Hz
-        three frames are 12 ms, less than a contact takes to tip away.
+        A motion must hold for ``max(2 frames, motion_hold_s)``, s: a contact
+        tipping away collapses within 0.15 s, one frame at 1 Hz, three at 20 Hz,
+        36 at 240 Hz.
     edge_hold_s : float
         A line counts as a held edge for the transition tactemes after
         ``max(k frames, edge_hold_s)``, s.
@@ -124,7 +127,7 @@ class TactemeConfig:
 
     debounce_frames: int = 3
     move_mm: float = 2.0
-    parallel_move_mm: float = 4.0
+    parallel_move_mm: float = 3.5
     parallel_tol_deg: float = 4.0
     turn_deg: float = 12.0
     pivot_end_ratio: float = 1.45
@@ -248,10 +251,14 @@ class SegmentTrack:
         mid = len(steps) // 2
         return float(steps[mid] if len(steps) % 2 else 0.5 * (steps[mid - 1] + steps[mid]))
 
-    def frames_for(self, seconds: float, k: int) -> int:
-        """Frames covering ``seconds`` at this segment's rate, at least ``k``."""
+    def frames_for(self, seconds: float, k: int, *, minimum: int | None = None) -> int:
+        """Frames covering ``seconds`` at this segment's rate, at least ``minimum`` (default k).
+
+        The rate comes from the first ``k`` frames.
+        """
+        floor = k if minimum is None else minimum
         dt = self.frame_interval_s(k)
-        return max(k, math.ceil(seconds / dt - 1e-9)) if dt > 0 else k
+        return max(floor, math.ceil(seconds / dt - 1e-9)) if dt > 0 else floor
 
 
 def _rolling_mean(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
@@ -370,7 +377,7 @@ def segment_tactemes(
     """
     k = int(config.debounce_frames)
     n = track.frames.size
-    hold = track.frames_for(config.motion_hold_s, k)
+    hold = track.frames_for(config.motion_hold_s, k, minimum=MOTION_MIN_FRAMES)
     if n < k or cls not in (ContactClass.POINT, ContactClass.LINE, ContactClass.AREA):
         return []
     centre = _rolling_mean(track.centre_mm, k)

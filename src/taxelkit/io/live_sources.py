@@ -1,0 +1,792 @@
+"""Live frame sources (serial port, UDP socket, any file descriptor) and a simulated device.
+
+A source turns what a device sends, in the protocol of
+:mod:`taxelkit.io.frame_protocol`, into :class:`~taxelkit.io.frame_protocol.DecodedFrame`
+objects. Sources are named on the command line as
+
+``serial:PORT[@BAUD]``
+    A serial port read with pyserial (``serial:/dev/ttyUSB0``,
+    ``serial:/dev/ttyACM0@921600``, ``serial:COM3@115200``); default
+    :data:`DEFAULT_BAUD`. Needs the optional dependency: ``pip install "taxelkit[live]"``.
+``udp:HOST:PORT``
+    Listen for datagrams on a local address (``udp:0.0.0.0:9000`` on every
+    interface, ``udp:127.0.0.1:9000``, ``udp:[::1]:9000``).
+
+:class:`SimulatedDevice` plays a recording into a pseudo-terminal or to a UDP
+address from a background thread, optionally damaging a seeded fraction of
+the packets, so that the whole chain can be tested without hardware.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import importlib
+import os
+import select
+import socket
+import threading
+import time
+from abc import ABC, abstractmethod
+from collections import deque
+from collections.abc import Iterator
+from dataclasses import dataclass
+from types import ModuleType, TracebackType
+from typing import Any, Literal, Self
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from taxelkit.errors import InputError, TaxelkitError, check_in_range, check_ndim, check_positive
+from taxelkit.io.frame_protocol import (
+    DEFAULT_MAX_TAXELS,
+    MAGIC,
+    DecodedFrame,
+    DecoderStats,
+    FrameDecoder,
+    PayloadType,
+    encode_frame,
+    to_wire,
+)
+
+__all__ = [
+    "CORRUPTION_KINDS",
+    "DEFAULT_BAUD",
+    "ByteStreamSource",
+    "Corruption",
+    "FrameSource",
+    "LiveDependencyError",
+    "LiveSourceError",
+    "LiveTimeoutError",
+    "PseudoTerminal",
+    "SerialSource",
+    "SimulatedDevice",
+    "SourceSpec",
+    "SourceSpecError",
+    "UdpSource",
+    "open_pseudo_terminal",
+    "open_source",
+    "parse_source",
+]
+
+#: Serial baud rate when ``serial:PORT`` names none: the common 115200 Bd.
+DEFAULT_BAUD = 115_200
+#: Bytes asked for per read of a byte stream.
+_READ_SIZE = 65_536
+#: Receive buffer asked for on UDP sockets, bytes (the kernel may grant less).
+_UDP_RCVBUF_BYTES = 4 * 2**20
+#: Datagrams drained per :meth:`UdpSource.poll`, bounding the latency of one call.
+_MAX_DATAGRAMS_PER_POLL = 4096
+_SOURCE_SYNTAX = "serial:PORT[@BAUD] or udp:HOST:PORT"
+_INSTALL_HINT = 'pip install "taxelkit[live]"'
+
+
+class LiveSourceError(TaxelkitError):
+    """A live source cannot be opened or read."""
+
+
+class SourceSpecError(LiveSourceError, InputError):
+    """A SOURCE string does not follow ``serial:PORT[@BAUD]`` or ``udp:HOST:PORT``."""
+
+
+class LiveDependencyError(LiveSourceError, ImportError):
+    """An optional dependency of live sources (pyserial) is not installed."""
+
+
+class LiveTimeoutError(LiveSourceError, TimeoutError):
+    """No frame arrived within the allowed time."""
+
+
+# ----------------------------------------------------------------------------- specs
+@dataclass(frozen=True)
+class SourceSpec:
+    """A parsed SOURCE string.
+
+    Attributes
+    ----------
+    kind : {"serial", "udp"}
+    address : str
+        Serial port name, or the host to listen on.
+    port : int
+        UDP port (0 for serial).
+    baud : int
+        Serial baud rate (0 for UDP).
+    """
+
+    kind: Literal["serial", "udp"]
+    address: str
+    port: int = 0
+    baud: int = 0
+
+    def __str__(self) -> str:
+        if self.kind == "serial":
+            return f"serial:{self.address}@{self.baud}"
+        host = f"[{self.address}]" if ":" in self.address else self.address
+        return f"udp:{host}:{self.port}"
+
+
+def parse_source(spec: str) -> SourceSpec:
+    """Parse ``serial:PORT[@BAUD]`` or ``udp:HOST:PORT``.
+
+    Raises
+    ------
+    SourceSpecError
+        With a one-line message giving the expected syntax and the string received.
+
+    Examples
+    --------
+    >>> parse_source("serial:/dev/ttyUSB0@921600")
+    SourceSpec(kind='serial', address='/dev/ttyUSB0', port=0, baud=921600)
+    >>> parse_source("udp:127.0.0.1:9000")
+    SourceSpec(kind='udp', address='127.0.0.1', port=9000, baud=0)
+    """
+
+    def bad(why: str) -> SourceSpecError:
+        return SourceSpecError(f"SOURCE must be {_SOURCE_SYNTAX} ({why}), got {spec!r}")
+
+    if not isinstance(spec, str):
+        raise bad("not a string")
+    kind, sep, rest = spec.partition(":")
+    if not sep or kind.lower() not in ("serial", "udp"):
+        raise bad("unknown kind")
+    if any(c.isspace() for c in rest) or not rest:
+        raise bad("empty or blank address")
+    if kind.lower() == "serial":
+        port, at, baud_text = rest.rpartition("@")
+        if not at:
+            return SourceSpec("serial", rest, baud=DEFAULT_BAUD)
+        if not port or not baud_text.isdigit() or int(baud_text) < 1:
+            raise bad("BAUD must be a positive integer")
+        return SourceSpec("serial", port, baud=int(baud_text))
+    host, colon, port_text = rest.rpartition(":")
+    if host.startswith("[") and host.endswith("]"):
+        host = host[1:-1]
+    if not colon or not host or not port_text.isdigit() or int(port_text) > 65_535:
+        raise bad("PORT must be an integer in 0..65535")
+    return SourceSpec("udp", host, port=int(port_text))
+
+
+def open_source(
+    spec: str | SourceSpec,
+    *,
+    shape: tuple[int, int] | None = None,
+    max_taxels: int = DEFAULT_MAX_TAXELS,
+) -> FrameSource:
+    """Open the source named by a SOURCE string (see the module docstring).
+
+    Parameters
+    ----------
+    spec : str or SourceSpec
+    shape, max_taxels
+        Passed to the :class:`~taxelkit.io.frame_protocol.FrameDecoder`.
+
+    Raises
+    ------
+    SourceSpecError, LiveDependencyError, LiveSourceError
+    """
+    s = parse_source(spec) if isinstance(spec, str) else spec
+    if s.kind == "serial":
+        return SerialSource(s.address, s.baud, shape=shape, max_taxels=max_taxels)
+    return UdpSource(s.address, s.port, shape=shape, max_taxels=max_taxels)
+
+
+# ----------------------------------------------------------------------------- sources
+class FrameSource(ABC):
+    """Something that yields decoded frames; a context manager that closes it."""
+
+    #: How the source is named in messages, e.g. ``"udp:127.0.0.1:9000"``.
+    description: str
+
+    def __init__(self, description: str, decoder: FrameDecoder) -> None:
+        self.description = description
+        self.decoder = decoder
+        self.at_end = False
+        self._backlog: deque[DecodedFrame] = deque()  # decoded but not yet yielded
+
+    @abstractmethod
+    def poll(self, timeout_s: float) -> list[DecodedFrame]:
+        """Wait up to ``timeout_s`` for data; return the frames it completed (maybe none).
+
+        At the end of the stream :attr:`at_end` becomes True and later calls return [].
+        """
+
+    @abstractmethod
+    def close(self) -> None:
+        """Release the port, socket or descriptor (idempotent)."""
+
+    @property
+    def stats(self) -> DecoderStats:
+        """The decoder's counters."""
+        return self.decoder.stats
+
+    def frames(
+        self, *, max_frames: int | None = None, idle_timeout_s: float | None = None
+    ) -> Iterator[DecodedFrame]:
+        """Yield frames until ``max_frames``, the end of the stream, or a timeout.
+
+        Frames decoded together with the last one asked for are kept for the
+        next call, so consecutive calls see every frame once.
+
+        Parameters
+        ----------
+        max_frames : int, optional
+            Stop after this many frames.
+        idle_timeout_s : float, optional
+            Longest wait for the next frame, s; None waits for ever.
+
+        Raises
+        ------
+        LiveTimeoutError
+            When no frame arrived for ``idle_timeout_s``; the message gives the
+            byte and damage counts, which tell a silent device from a wrong baud rate.
+        """
+        if max_frames is not None and max_frames < 1:
+            return
+        idle = None if idle_timeout_s is None else check_positive("idle_timeout_s", idle_timeout_s)
+        count = 0
+        last = time.monotonic()
+        while True:
+            if not self._backlog:
+                if self.at_end:
+                    return
+                wait = 0.1 if idle is None else max(0.0, min(0.1, last + idle - time.monotonic()))
+                self._backlog.extend(self.poll(wait))
+            if not self._backlog:
+                if idle is not None and time.monotonic() - last >= idle and not self.at_end:
+                    s = self.stats
+                    raise LiveTimeoutError(
+                        f"no frame from {self.description} for {idle:g} s ({s.bytes_received} "
+                        f"bytes received, {s.frames} frames, {s.corrupted} damaged packets)"
+                    )
+                continue
+            while self._backlog:
+                yield self._backlog.popleft()
+                count += 1
+                if max_frames is not None and count >= max_frames:
+                    return
+            last = time.monotonic()  # the wait starts once the consumer is done
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.close()
+
+
+class _StreamSource(FrameSource):
+    """A source of bytes without packet boundaries: the magic delimits packets."""
+
+    @abstractmethod
+    def _read(self, timeout_s: float) -> bytes | None:
+        """Bytes that arrived within ``timeout_s`` (maybe b""), or None at the end."""
+
+    def poll(self, timeout_s: float) -> list[DecodedFrame]:
+        if self.at_end:
+            return []
+        data = self._read(timeout_s)
+        if data is None:
+            self.at_end = True
+            return self.decoder.flush()
+        return self.decoder.feed(data) if data else []
+
+
+class ByteStreamSource(_StreamSource):
+    """Frames from a readable file descriptor: a pipe, a pseudo-terminal, a serial device.
+
+    Parameters
+    ----------
+    fd : int
+        Open descriptor (POSIX: anything :func:`select.select` accepts). A
+        terminal must be in raw mode (:func:`open_pseudo_terminal` does it).
+    description : str, optional
+        Name in messages; default ``"fd:<fd>"``.
+    close_fd : bool
+        Close ``fd`` in :meth:`close` (default False: the caller owns it).
+    shape, max_taxels
+        Passed to the :class:`~taxelkit.io.frame_protocol.FrameDecoder`.
+
+    Notes
+    -----
+    End of file, and ``EIO`` from a terminal whose other end has closed, end
+    the stream.
+    """
+
+    def __init__(
+        self,
+        fd: int,
+        *,
+        description: str | None = None,
+        close_fd: bool = False,
+        shape: tuple[int, int] | None = None,
+        max_taxels: int = DEFAULT_MAX_TAXELS,
+    ) -> None:
+        super().__init__(
+            description or f"fd:{fd}", FrameDecoder(shape=shape, max_taxels=max_taxels)
+        )
+        self.fd = fd
+        self._close_fd = close_fd
+        self._closed = False
+
+    def _read(self, timeout_s: float) -> bytes | None:
+        try:
+            ready, _, _ = select.select([self.fd], [], [], max(0.0, timeout_s))
+            if not ready:
+                return b""
+            data = os.read(self.fd, _READ_SIZE)
+        except OSError as e:
+            if e.errno == errno.EIO:  # the other end of a terminal has closed
+                return None
+            raise LiveSourceError(f"cannot read {self.description}: {e.strerror or e}") from e
+        return data if data else None
+
+    def close(self) -> None:
+        if self._close_fd and not self._closed:
+            os.close(self.fd)
+        self._closed = True
+
+
+def _import_pyserial() -> ModuleType:
+    try:
+        return importlib.import_module("serial")
+    except ImportError:
+        raise LiveDependencyError(
+            f"serial sources need pyserial, which is not installed: {_INSTALL_HINT}"
+        ) from None
+
+
+class SerialSource(_StreamSource):
+    """Frames from a serial port, read with pyserial.
+
+    Parameters
+    ----------
+    port : str
+        ``/dev/ttyUSB0``, ``/dev/ttyACM0``, ``COM3``, a pseudo-terminal name, ...
+    baud : int
+        Baud rate, 8 data bits, no parity, 1 stop bit.
+    shape, max_taxels
+        Passed to the :class:`~taxelkit.io.frame_protocol.FrameDecoder`.
+
+    Raises
+    ------
+    LiveDependencyError
+        If pyserial is not installed (``pip install "taxelkit[live]"``).
+    LiveSourceError
+        If the port cannot be opened.
+    """
+
+    def __init__(
+        self,
+        port: str,
+        baud: int = DEFAULT_BAUD,
+        *,
+        shape: tuple[int, int] | None = None,
+        max_taxels: int = DEFAULT_MAX_TAXELS,
+    ) -> None:
+        if int(baud) < 1:
+            raise InputError(f"baud must be a positive integer, got {baud!r}")
+        serial = _import_pyserial()
+        description = f"serial:{port}@{int(baud)}"
+        super().__init__(description, FrameDecoder(shape=shape, max_taxels=max_taxels))
+        self._error: type[BaseException] = serial.SerialException
+        try:
+            self._port: Any = serial.Serial(port, baudrate=int(baud), timeout=0)
+        except (self._error, OSError, ValueError) as e:
+            raise LiveSourceError(f"cannot open {description}: {_one_line(e)}") from e
+
+    def _read(self, timeout_s: float) -> bytes | None:
+        try:
+            self._port.timeout = max(0.0, timeout_s)
+            first: bytes = self._port.read(1)  # waits up to timeout_s for a byte
+            if not first:
+                return b""
+            return first + bytes(self._port.read(self._port.in_waiting))
+        except (self._error, OSError) as e:
+            raise LiveSourceError(f"cannot read {self.description}: {_one_line(e)}") from e
+
+    def close(self) -> None:
+        self._port.close()
+
+
+class UdpSource(FrameSource):
+    """Frames from UDP datagrams sent to a local address, one packet per datagram.
+
+    Parameters
+    ----------
+    host : str
+        Local address to listen on: ``"0.0.0.0"`` (all IPv4 interfaces),
+        ``"127.0.0.1"``, ``"::1"``, ...
+    port : int
+        UDP port; 0 lets the system choose (see :attr:`address`).
+    shape, max_taxels
+        Passed to the :class:`~taxelkit.io.frame_protocol.FrameDecoder`.
+
+    Raises
+    ------
+    LiveSourceError
+        If the address cannot be bound (in use, not local, ...).
+    """
+
+    def __init__(
+        self,
+        host: str,
+        port: int,
+        *,
+        shape: tuple[int, int] | None = None,
+        max_taxels: int = DEFAULT_MAX_TAXELS,
+    ) -> None:
+        if not 0 <= int(port) <= 65_535:
+            raise InputError(f"port must be in 0..65535, got {port!r}")
+        family = socket.AF_INET6 if ":" in host else socket.AF_INET
+        shown = f"[{host}]" if family == socket.AF_INET6 else host
+        super().__init__(f"udp:{shown}:{port}", FrameDecoder(shape=shape, max_taxels=max_taxels))
+        self._sock = socket.socket(family, socket.SOCK_DGRAM)
+        try:
+            self._sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, _UDP_RCVBUF_BYTES)
+            self._sock.bind((host, int(port)))
+        except OSError as e:
+            self._sock.close()
+            raise LiveSourceError(f"cannot listen on {self.description}: {_one_line(e)}") from e
+        self._sock.setblocking(False)
+        bound = self._sock.getsockname()
+        self.address: tuple[str, int] = (str(bound[0]), int(bound[1]))
+        self.description = f"udp:{shown}:{self.address[1]}"
+
+    def poll(self, timeout_s: float) -> list[DecodedFrame]:
+        out: list[DecodedFrame] = []
+        try:
+            ready, _, _ = select.select([self._sock], [], [], max(0.0, timeout_s))
+            if not ready:
+                return out
+            for _ in range(_MAX_DATAGRAMS_PER_POLL):
+                data = self._sock.recv(_MAX_DATAGRAM_RECV)
+                frame = self.decoder.decode_datagram(data)
+                if frame is not None:
+                    out.append(frame)
+        except BlockingIOError:
+            pass  # drained
+        except OSError as e:
+            raise LiveSourceError(f"cannot read {self.description}: {_one_line(e)}") from e
+        return out
+
+    def close(self) -> None:
+        self._sock.close()
+
+
+#: Receive size: larger than any datagram, so that none is cut short by the read.
+_MAX_DATAGRAM_RECV = 65_536
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split()) or type(exc).__name__
+
+
+# ----------------------------------------------------------------------------- simulated device
+#: Ways :class:`SimulatedDevice` damages a packet.
+CORRUPTION_KINDS = ("flip", "truncate", "drop")
+#: Bytes gathered before one write to a stream when no pacing is asked for.
+_WRITE_CHUNK_BYTES = 65_536
+#: Longest single wait of the device thread, s: how quickly it notices stop() or its deadline.
+_WAKE_S = 0.05
+
+
+@dataclass(frozen=True)
+class Corruption:
+    """One packet the simulated device damages.
+
+    Attributes
+    ----------
+    packet : int
+        Position in the transmission, 0-based.
+    index : int
+        Frame index in the packet's header.
+    kind : {"flip", "truncate", "drop"}
+        ``flip``: one byte after the magic is XOR-ed with a nonzero value;
+        ``truncate``: the packet is cut after the magic and before its end;
+        ``drop``: the packet is not sent.
+    """
+
+    packet: int
+    index: int
+    kind: str
+
+
+@dataclass(frozen=True)
+class PseudoTerminal:
+    """A pseudo-terminal pair in raw mode: write to ``master_fd``, read ``slave_fd``.
+
+    ``slave_name`` (e.g. ``/dev/pts/3``) can be opened as a serial port.
+    Close it only after the reader has drained it: closing the master drops
+    bytes still buffered for the slave.
+    """
+
+    master_fd: int
+    slave_fd: int
+    slave_name: str
+
+    def close(self) -> None:
+        """Close both ends (idempotent)."""
+        for fd in (self.master_fd, self.slave_fd):
+            with contextlib.suppress(OSError):  # already closed
+                os.close(fd)
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.close()
+
+
+def open_pseudo_terminal() -> PseudoTerminal:
+    """Open a pseudo-terminal pair with the slave in raw mode (binary-safe, no echo).
+
+    Raises
+    ------
+    LiveSourceError
+        On systems without pseudo-terminals (Windows).
+    """
+    try:
+        import tty
+
+        master, slave = os.openpty()
+    except (ImportError, AttributeError, OSError) as e:
+        raise LiveSourceError(f"cannot open a pseudo-terminal: {_one_line(e)}") from e
+    tty.setraw(slave)
+    return PseudoTerminal(master, slave, os.ttyname(slave))
+
+
+class SimulatedDevice:
+    """A tactile sensor that sends frames in the live protocol from a background thread.
+
+    Parameters
+    ----------
+    frames : (T, rows, cols) bool, integer or float
+        Frames to send, in order.
+    t_s : (T,) float, s, optional
+        Their timestamps; default ``0, 1, 2, ...`` s.
+    payload_type : PayloadType, optional
+        Default from the dtype (see :func:`~taxelkit.io.frame_protocol.to_wire`).
+    corrupt_fraction : float
+        Fraction of packets to damage, in [0, 1]; exactly
+        ``round(corrupt_fraction * n_packets)`` are chosen.
+    corruption_kinds : sequence of {"flip", "truncate", "drop"}
+        Damage drawn uniformly for each chosen packet.
+    cycles : int
+        Times to play the frames; indices keep counting and timestamps shift
+        by one recording length per cycle.
+    start_index : int
+        Frame index of the first packet.
+    interval_s : float
+        Pace, s between packets; 0 sends as fast as the receiver takes them.
+    max_duration_s : float
+        The thread stops after this long whatever is left.
+    rng : int, Generator or None
+        Seed of the damage plan; same seed, same plan and same bytes.
+
+    Attributes
+    ----------
+    corruptions : tuple of Corruption
+        The damage plan, known before sending.
+    n_packets : int
+        ``T * cycles``.
+    packets_done : int
+        Packets written, damaged or dropped so far.
+    error : OSError or None
+        What stopped the thread early, if anything.
+    """
+
+    def __init__(
+        self,
+        frames: ArrayLike,
+        t_s: ArrayLike | None = None,
+        *,
+        payload_type: PayloadType | int | None = None,
+        corrupt_fraction: float = 0.0,
+        corruption_kinds: tuple[str, ...] = CORRUPTION_KINDS,
+        cycles: int = 1,
+        start_index: int = 0,
+        interval_s: float = 0.0,
+        max_duration_s: float = 30.0,
+        rng: int | np.random.Generator | None = None,
+    ) -> None:
+        arr = check_ndim("frames", frames, 3, "(T, rows, cols)")
+        if arr.shape[0] < 1:
+            raise InputError("frames must hold at least one frame, got 0")
+        self._wire, self.payload_type = to_wire(arr, payload_type)
+        n = int(arr.shape[0])
+        times = np.arange(n, dtype=np.float64) if t_s is None else np.asarray(t_s, np.float64)
+        if times.shape != (n,) or not np.all(np.isfinite(times)):
+            raise InputError(f"t_s must be {n} finite timestamps, got shape {times.shape}")
+        self._t_s = times
+        self._period_s = float(times[-1] - times[0]) + (
+            float(np.median(np.diff(times))) if n > 1 else 1.0
+        )
+        if int(cycles) < 1:
+            raise InputError(f"cycles must be >= 1, got {cycles!r}")
+        bad = [k for k in corruption_kinds if k not in CORRUPTION_KINDS]
+        if bad or not corruption_kinds:
+            raise InputError(
+                f"corruption_kinds must be a non-empty subset of {CORRUPTION_KINDS}, "
+                f"got {corruption_kinds!r}"
+            )
+        fraction = check_in_range("corrupt_fraction", corrupt_fraction, 0.0, 1.0)
+        self.interval_s = check_positive("interval_s", interval_s, allow_zero=True)
+        self.max_duration_s = check_positive("max_duration_s", max_duration_s)
+        self.start_index = int(start_index)
+        self.n_packets = n * int(cycles)
+        gen = np.random.default_rng(rng)
+        chosen = np.sort(
+            gen.choice(self.n_packets, round(fraction * self.n_packets), replace=False)
+        )
+        kinds = gen.integers(0, len(corruption_kinds), chosen.size)
+        where = gen.random((chosen.size, 2))
+        self.corruptions = tuple(
+            Corruption(int(p), self._index(int(p)), corruption_kinds[int(k)])
+            for p, k in zip(chosen, kinds, strict=True)
+        )
+        self._damage = {
+            c.packet: (c.kind, float(u), float(v))
+            for c, (u, v) in zip(self.corruptions, where, strict=True)
+        }
+        self.packets_done = 0
+        self.error: OSError | None = None
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+
+    def _index(self, packet: int) -> int:
+        return (self.start_index + packet) % 2**32
+
+    def packet(self, k: int) -> bytes:
+        """Packet ``k`` of the transmission, as sent (damaged per the plan; b"" if dropped)."""
+        n = self._wire.shape[0]
+        t = float(self._t_s[k % n]) + (k // n) * self._period_s
+        data = encode_frame(
+            self._wire[k % n], index=self._index(k), t_s=t, payload_type=self.payload_type
+        )
+        if k not in self._damage:
+            return data
+        kind, u, v = self._damage[k]
+        head = len(MAGIC)
+        if kind == "drop":
+            return b""
+        if kind == "truncate":
+            return data[: head + int(u * (len(data) - head))]
+        damaged = bytearray(data)
+        damaged[head + int(u * (len(data) - head))] ^= 1 + int(v * 255)
+        return bytes(damaged)
+
+    # -- running -----------------------------------------------------------------------
+    @property
+    def finished(self) -> bool:
+        """The thread has ended (all sent, stopped, out of time, or failed)."""
+        return self._thread is not None and not self._thread.is_alive()
+
+    @property
+    def completed(self) -> bool:
+        """Every packet has been written (or dropped per the plan)."""
+        return self.packets_done == self.n_packets
+
+    def start_fd(self, fd: int) -> None:
+        """Send to a writable descriptor, e.g. a pty master (it is made non-blocking)."""
+        self._check_not_started()
+        os.set_blocking(fd, False)
+        self._start(self._run_stream, fd)
+
+    def start_udp(self, address: tuple[str, int]) -> None:
+        """Send one datagram per packet to ``(host, port)``."""
+        self._check_not_started()
+        family = socket.AF_INET6 if ":" in address[0] else socket.AF_INET
+        self._start(self._run_udp, family, (address[0], int(address[1])))
+
+    def _check_not_started(self) -> None:
+        if self._thread is not None:
+            raise LiveSourceError("a SimulatedDevice can be started only once")
+
+    def _start(self, target: Any, *args: Any) -> None:
+        self._deadline = time.monotonic() + self.max_duration_s
+        self._thread = threading.Thread(target=target, args=args, daemon=True, name="taxelkit-sim")
+        self._thread.start()
+
+    def stop(self) -> None:
+        """Ask the thread to stop; returns at once (use :meth:`join` to wait)."""
+        self._stop.set()
+
+    def join(self, timeout_s: float | None = None) -> bool:
+        """Wait for the thread to end; True if it has."""
+        if self._thread is not None:
+            self._thread.join(timeout_s)
+        return self.finished
+
+    def _halted(self) -> bool:
+        return self._stop.is_set() or time.monotonic() >= self._deadline
+
+    def _pace(self, k: int, t0: float) -> bool:
+        """Wait until packet ``k`` is due; False if told to stop meanwhile."""
+        if self.interval_s > 0:
+            delay = t0 + k * self.interval_s - time.monotonic()
+            if delay > 0 and self._stop.wait(
+                min(delay, max(0.0, self._deadline - time.monotonic()))
+            ):
+                return False
+        return not self._halted()
+
+    def _run_stream(self, fd: int) -> None:
+        pending = bytearray()
+        t0 = time.monotonic()
+        try:
+            for k in range(self.n_packets):
+                if not self._pace(k, t0):
+                    return
+                pending += self.packet(k)
+                if (
+                    self.interval_s > 0
+                    or len(pending) >= _WRITE_CHUNK_BYTES
+                    or k == self.n_packets - 1
+                ):
+                    if not self._write_all(fd, bytes(pending)):
+                        return
+                    pending.clear()
+                    self.packets_done = k + 1
+        except OSError as e:
+            self.error = e
+
+    def _write_all(self, fd: int, data: bytes) -> bool:
+        view = memoryview(data)
+        while view:
+            if self._halted():
+                return False
+            _, ready, _ = select.select([], [fd], [], _WAKE_S)
+            if ready:
+                try:
+                    view = view[os.write(fd, view) :]
+                except BlockingIOError:
+                    continue
+        return True
+
+    def _run_udp(self, family: socket.AddressFamily, address: tuple[str, int]) -> None:
+        t0 = time.monotonic()
+        try:
+            with socket.socket(family, socket.SOCK_DGRAM) as sock:
+                sock.settimeout(_WAKE_S)
+                for k in range(self.n_packets):
+                    if not self._pace(k, t0):
+                        return
+                    data = self.packet(k)
+                    while data and not self._halted():
+                        try:
+                            sock.sendto(data, address)
+                            break
+                        except TimeoutError:
+                            continue
+                    self.packets_done = k + 1
+        except OSError as e:
+            self.error = e
