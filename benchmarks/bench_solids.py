@@ -237,6 +237,19 @@ def main(argv: list[str] | None = None) -> int:
         "frames/s on one core; 'agree' = taxels with equal contact in the ray-cast baseline "
         "and the batched path (no noise)"
     )
+    # The point/edge dimple of the skin (sensors/skin.py) is extra physics; show its cost.
+    from dataclasses import replace
+
+    plain = replace(sensor, skin=replace(sensor.skin, point_dimple=False))
+    rot, pos, indent = random_poses(rng, n)
+    which = rng.integers(0, len(solids), size=n)
+
+    def run_plain() -> None:
+        batched_frames(plain, solids, which, rot, pos, indent, noise=False, seed=args.seed)
+
+    print(
+        f"mix without the point/edge dimple: {n / best_time(run_plain, args.repeat):,.0f} frames/s"
+    )
     return 0
 
 

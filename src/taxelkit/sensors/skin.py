@@ -236,19 +236,18 @@ def dimple_mm(
     ends = np.asarray(ends_mm, dtype=np.float64)
     depth = np.maximum(np.asarray(depth_mm, dtype=np.float64), 0.0)
     n = ends.shape[0]
-    out = np.zeros((n, y.size, x.size), dtype=x.dtype)
     if skin.spread_mm == 0.0 or not skin.point_dimple:
-        return out
+        return np.zeros((n, y.size, x.size), dtype=x.dtype)
     scale = -0.5 / skin.spread_mm**2
     a, d = ends[:, 0], ends[:, 1] - ends[:, 0]
+    # every pose first as a point at its first end (separable, cheap) ...
+    gx = np.exp(ftype(scale) * (x[None, :] - a[:, 0:1].astype(x.dtype)) ** 2)
+    gy = np.exp(ftype(scale) * (y[None, :] - a[:, 1:2].astype(x.dtype)) ** 2)
+    gy *= depth[:, None].astype(x.dtype)
+    out: NDArray[np.floating[Any]] = gy[:, :, None] * gx[:, None, :]
+    # ... then the true segments (edges, generators) by their distance field
     length2 = np.sum(d * d, axis=1)
-    line = length2 > 1e-12
-    pt = np.flatnonzero(~line)
-    if pt.size:
-        gx = np.exp(ftype(scale) * (x[None, :] - a[pt, 0:1].astype(x.dtype)) ** 2)
-        gy = np.exp(ftype(scale) * (y[None, :] - a[pt, 1:2].astype(x.dtype)) ** 2)
-        out[pt] = (gy * depth[pt, None].astype(x.dtype))[:, :, None] * gx[:, None, :]
-    ln = np.flatnonzero(line)
+    ln = np.flatnonzero(length2 > 1e-12)
     if ln.size:
         rx = x[None, None, :] - a[ln, 0, None, None]  # (L, 1, W)
         ry = y[None, :, None] - a[ln, 1, None, None]  # (L, H, 1)

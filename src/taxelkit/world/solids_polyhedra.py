@@ -123,18 +123,19 @@ def polytope_lowest_segment_mm(
         face is sampled well and needs no groove), relative to the reference point.
     """
     rot = as_rotation_batch(rotations)
-    pts = np.einsum("pij,vj->pvi", rot, vertices_mm)  # (P, V, 3)
-    z = pts[..., 2]
+    z = rot[:, 2, :] @ vertices_mm.T  # (P, V) heights of the rotated vertices
     tied = z <= z.min(axis=1, keepdims=True) + LOWEST_TIE_MM
-    d2 = np.sum((pts[:, :, None, :] - pts[:, None, :, :]) ** 2, axis=-1)
-    d2 = np.where(tied[:, :, None] & tied[:, None, :], d2, -1.0)
-    flat = np.argmax(d2.reshape(d2.shape[0], -1), axis=1)
-    i, j = np.divmod(flat, pts.shape[1])
-    rows = np.arange(pts.shape[0])
-    out: NDArray[np.float64] = np.stack([pts[rows, i], pts[rows, j]], axis=1)
-    centre = (pts * tied[..., None]).sum(axis=1) / tied.sum(axis=1)[:, None]
-    not_edge = tied.sum(axis=1) != 2
-    out[not_edge] = centre[not_edge, None, :]
+    count = tied.sum(axis=1)
+    first = np.argmax(tied, axis=1)
+    last = tied.shape[1] - 1 - np.argmax(tied[:, ::-1], axis=1)
+    weights = tied / count[:, None]
+    centre = weights @ vertices_mm  # mean of the tied vertices, body frame
+    edge = count == 2
+    a = np.where(edge[:, None], vertices_mm[first], centre)
+    b = np.where(edge[:, None], vertices_mm[last], centre)
+    out: NDArray[np.float64] = np.stack(
+        [np.einsum("pij,pj->pi", rot, a), np.einsum("pij,pj->pi", rot, b)], axis=1
+    )
     return out
 
 
