@@ -19,6 +19,7 @@ import pytest
 from taxelkit.cli_live import EXIT_OK, recognize_live
 from taxelkit.errors import InputError, TaxelkitError
 from taxelkit.io.frame_protocol import DecodedFrame, FrameDecoder, PayloadType, encode_frame
+from taxelkit.io.live_device import SimulatedDevice, open_pseudo_terminal
 from taxelkit.io.live_sources import (
     DEFAULT_BAUD,
     ByteStreamSource,
@@ -27,11 +28,9 @@ from taxelkit.io.live_sources import (
     LiveSourceError,
     LiveTimeoutError,
     SerialSource,
-    SimulatedDevice,
     SourceSpec,
     SourceSpecError,
     UdpSource,
-    open_pseudo_terminal,
     open_source,
     parse_source,
 )
