@@ -13,10 +13,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from os import PathLike
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 from taxelkit.errors import (
     CorruptRecordingError,
@@ -25,12 +25,7 @@ from taxelkit.errors import (
     check_finite_array,
     check_positive,
 )
-from taxelkit.world.solids_polyhedra import (
-    polytope_bottom_mm,
-    polytope_lowest_point_mm,
-    polytope_lowest_segment_mm,
-    polytope_lowest_z_mm,
-)
+from taxelkit.world.solids_polyhedra import PolytopeSolidMethods
 
 if TYPE_CHECKING:
     import trimesh
@@ -55,7 +50,7 @@ _UNIT_TOL = 1e-6
 
 
 @dataclass(frozen=True, eq=False)
-class MeshSolid:
+class MeshSolid(PolytopeSolidMethods):
     """A convex polyhedron given by its vertices and face planes.
 
     Build it with :meth:`from_trimesh` or :func:`load_mesh_solid`.
@@ -165,47 +160,10 @@ class MeshSolid:
         np.maximum.at(merged, inverse.ravel(), offsets)
         return cls(vertices, normals[first_index], merged, label=label)
 
-    def lowest_z_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Lowest z of the rotated mesh body, mm: its lowest vertex.
-
-        Parameters
-        ----------
-        rotations : (P, 3, 3) float
-
-        Returns
-        -------
-        (P,) float64, mm
-        """
-        return polytope_lowest_z_mm(self.vertices_mm, rotations)
-
-    def lowest_point_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Lowest point of the rotated body, ``(P, 3)`` mm (mean of tied vertices)."""
-        return polytope_lowest_point_mm(self.vertices_mm, rotations)
-
-    def lowest_segment_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Ends of the lowest vertex or edge (a face's centre twice), ``(P, 2, 3)`` mm."""
-        return polytope_lowest_segment_mm(self.vertices_mm, rotations)
-
-    def bottom_mm(self, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[Any]:
-        """Bottom of the rotated mesh body on vertical lines through a grid.
-
-        Parameters
-        ----------
-        rotations : (P, 3, 3) float
-            Body-to-sensor rotation matrices.
-        x_mm : (P, W) float, mm
-            x of the grid columns relative to the reference point, per pose.
-        y_mm : (P, H) float, mm
-            y of the grid rows relative to the reference point, per pose.
-
-        Returns
-        -------
-        (P, H, W) float, mm
-            Lowest z of the body on each line relative to the reference point,
-            in the dtype of ``x_mm`` (float32 or float64); ``+inf`` where the
-            line misses.
-        """
-        return polytope_bottom_mm(self.normals, self.offsets_mm, rotations, x_mm, y_mm)
+    @property
+    def planes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Outward unit normals ``(F, 3)`` and offsets ``(F,)`` mm of the merged faces."""
+        return self.normals, self.offsets_mm
 
     def to_trimesh(self) -> trimesh.Trimesh:
         """The body as a triangle mesh (convex hull of the vertices), mm, centroid at 0."""

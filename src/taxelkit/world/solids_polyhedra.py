@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -37,6 +37,7 @@ __all__ = [
     "DEFAULT_TETRAHEDRON_EDGE_MM",
     "LOWEST_TIE_MM",
     "Cube",
+    "PolytopeSolidMethods",
     "Tetrahedron",
     "planes_from_vertices",
     "polytope_bottom_mm",
@@ -258,8 +259,65 @@ def _polytope_trimesh(vertices_mm: NDArray[np.float64]) -> trimesh.Trimesh:
     return hull
 
 
+class _PolytopeGeometry(Protocol):
+    @property
+    def vertices_mm(self) -> NDArray[np.float64]: ...
+
+    @property
+    def planes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+
+
+class PolytopeSolidMethods:
+    """The :class:`~taxelkit.world.base.Solid` methods of a convex polyhedron.
+
+    A subclass provides ``vertices_mm`` ``(V, 3)`` and ``planes`` (outward unit
+    normals ``(F, 3)`` and offsets ``(F,)``), relative to its reference point.
+    """
+
+    def lowest_z_mm(self: _PolytopeGeometry, rotations: ArrayLike) -> NDArray[np.float64]:
+        """Lowest z of the rotated body relative to its reference point, ``(P,)`` mm.
+
+        Parameters
+        ----------
+        rotations : (P, 3, 3) float
+            Body-to-sensor rotation matrices.
+        """
+        return polytope_lowest_z_mm(self.vertices_mm, rotations)
+
+    def lowest_point_mm(self: _PolytopeGeometry, rotations: ArrayLike) -> NDArray[np.float64]:
+        """Lowest point of the rotated body, ``(P, 3)`` mm (a mean where several tie)."""
+        return polytope_lowest_point_mm(self.vertices_mm, rotations)
+
+    def lowest_segment_mm(self: _PolytopeGeometry, rotations: ArrayLike) -> NDArray[np.float64]:
+        """Ends of the lowest point, edge or generator, ``(P, 2, 3)`` mm."""
+        return polytope_lowest_segment_mm(self.vertices_mm, rotations)
+
+    def bottom_mm(
+        self: _PolytopeGeometry, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike
+    ) -> NDArray[Any]:
+        """Bottom of the rotated body on vertical lines through a grid.
+
+        Parameters
+        ----------
+        rotations : (P, 3, 3) float
+            Body-to-sensor rotation matrices.
+        x_mm : (P, W) float, mm
+            x of the grid columns relative to the reference point, per pose.
+        y_mm : (P, H) float, mm
+            y of the grid rows relative to the reference point, per pose.
+
+        Returns
+        -------
+        (P, H, W) float, mm
+            Lowest z of the body on each line relative to the reference point,
+            in the dtype of ``x_mm`` (float32 or float64); ``+inf`` where the
+            line misses.
+        """
+        return polytope_bottom_mm(*self.planes, rotations, x_mm, y_mm)
+
+
 @dataclass(frozen=True)
-class Cube:
+class Cube(PolytopeSolidMethods):
     """A cube with faces aligned to the body axes; reference point at its centre.
 
     Parameters
@@ -290,55 +348,13 @@ class Cube:
         n = np.concatenate([np.eye(3), -np.eye(3)])
         return n, np.full(6, 0.5 * self.edge_mm)
 
-    def lowest_z_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Lowest z of the rotated cube, mm: its lowest corner.
-
-        Parameters
-        ----------
-        rotations : (P, 3, 3) float
-
-        Returns
-        -------
-        (P,) float64, mm
-        """
-        return polytope_lowest_z_mm(self.vertices_mm, rotations)
-
-    def lowest_point_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Lowest point of the rotated body, ``(P, 3)`` mm (mean of tied vertices)."""
-        return polytope_lowest_point_mm(self.vertices_mm, rotations)
-
-    def lowest_segment_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Ends of the lowest vertex or edge (a face's centre twice), ``(P, 2, 3)`` mm."""
-        return polytope_lowest_segment_mm(self.vertices_mm, rotations)
-
-    def bottom_mm(self, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[Any]:
-        """Bottom of the rotated cube on vertical lines through a grid.
-
-        Parameters
-        ----------
-        rotations : (P, 3, 3) float
-            Body-to-sensor rotation matrices.
-        x_mm : (P, W) float, mm
-            x of the grid columns relative to the reference point, per pose.
-        y_mm : (P, H) float, mm
-            y of the grid rows relative to the reference point, per pose.
-
-        Returns
-        -------
-        (P, H, W) float, mm
-            Lowest z of the body on each line relative to the reference point,
-            in the dtype of ``x_mm`` (float32 or float64); ``+inf`` where the
-            line misses.
-        """
-        return polytope_bottom_mm(*self.planes, rotations, x_mm, y_mm)
-
     def to_trimesh(self) -> trimesh.Trimesh:
         """The cube as a triangle mesh (12 triangles), for plots and baselines."""
         return _polytope_trimesh(self.vertices_mm)
 
 
 @dataclass(frozen=True)
-class Tetrahedron:
+class Tetrahedron(PolytopeSolidMethods):
     """A regular tetrahedron resting on a face; reference point at its centroid.
 
     Parameters
@@ -379,48 +395,6 @@ class Tetrahedron:
         """Outward unit normals ``(4, 3)`` and offsets ``(4,)`` mm of the faces."""
         faces = np.array([[0, 1, 2], [0, 1, 3], [1, 2, 3], [2, 0, 3]])
         return planes_from_vertices(self.vertices_mm, faces)
-
-    def lowest_z_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Lowest z of the rotated tetrahedron, mm: its lowest vertex.
-
-        Parameters
-        ----------
-        rotations : (P, 3, 3) float
-
-        Returns
-        -------
-        (P,) float64, mm
-        """
-        return polytope_lowest_z_mm(self.vertices_mm, rotations)
-
-    def lowest_point_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Lowest point of the rotated body, ``(P, 3)`` mm (mean of tied vertices)."""
-        return polytope_lowest_point_mm(self.vertices_mm, rotations)
-
-    def lowest_segment_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Ends of the lowest vertex or edge (a face's centre twice), ``(P, 2, 3)`` mm."""
-        return polytope_lowest_segment_mm(self.vertices_mm, rotations)
-
-    def bottom_mm(self, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[Any]:
-        """Bottom of the rotated tetrahedron on vertical lines through a grid.
-
-        Parameters
-        ----------
-        rotations : (P, 3, 3) float
-            Body-to-sensor rotation matrices.
-        x_mm : (P, W) float, mm
-            x of the grid columns relative to the reference point, per pose.
-        y_mm : (P, H) float, mm
-            y of the grid rows relative to the reference point, per pose.
-
-        Returns
-        -------
-        (P, H, W) float, mm
-            Lowest z of the body on each line relative to the reference point,
-            in the dtype of ``x_mm`` (float32 or float64); ``+inf`` where the
-            line misses.
-        """
-        return polytope_bottom_mm(*self.planes, rotations, x_mm, y_mm)
 
     def to_trimesh(self) -> trimesh.Trimesh:
         """The tetrahedron as a triangle mesh (4 triangles)."""

@@ -42,7 +42,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -61,6 +61,7 @@ __all__ = [
     "A_SIMPLE",
     "A_VERTICAL",
     "RevolutionProfile",
+    "RevolutionSolidMethods",
     "revolution_bottom_mm",
     "revolution_lowest_point_mm",
     "revolution_lowest_segment_mm",
@@ -391,3 +392,56 @@ def revolution_bottom_mm(
     rot = as_rotation_batch(rotations)
     grid = line_grid(x_mm, y_mm, rot.shape[0])
     return evaluate_bottom(grid, _revolution_groups(profile, rot))
+
+
+class _RevolutionGeometry(Protocol):
+    @property
+    def profile(self) -> RevolutionProfile: ...
+
+
+class RevolutionSolidMethods:
+    """The :class:`~taxelkit.world.base.Solid` methods of a body of revolution.
+
+    A subclass provides ``profile``, its :class:`RevolutionProfile`.
+    """
+
+    def lowest_z_mm(self: _RevolutionGeometry, rotations: ArrayLike) -> NDArray[np.float64]:
+        """Lowest z of the rotated body relative to its reference point, ``(P,)`` mm.
+
+        Parameters
+        ----------
+        rotations : (P, 3, 3) float
+            Body-to-sensor rotation matrices.
+        """
+        return revolution_lowest_z_mm(self.profile, rotations)
+
+    def lowest_point_mm(self: _RevolutionGeometry, rotations: ArrayLike) -> NDArray[np.float64]:
+        """Lowest point of the rotated body, ``(P, 3)`` mm (a mean where several tie)."""
+        return revolution_lowest_point_mm(self.profile, rotations)
+
+    def lowest_segment_mm(self: _RevolutionGeometry, rotations: ArrayLike) -> NDArray[np.float64]:
+        """Ends of the lowest point, edge or generator, ``(P, 2, 3)`` mm."""
+        return revolution_lowest_segment_mm(self.profile, rotations)
+
+    def bottom_mm(
+        self: _RevolutionGeometry, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike
+    ) -> NDArray[Any]:
+        """Bottom of the rotated body on vertical lines through a grid.
+
+        Parameters
+        ----------
+        rotations : (P, 3, 3) float
+            Body-to-sensor rotation matrices.
+        x_mm : (P, W) float, mm
+            x of the grid columns relative to the reference point, per pose.
+        y_mm : (P, H) float, mm
+            y of the grid rows relative to the reference point, per pose.
+
+        Returns
+        -------
+        (P, H, W) float, mm
+            Lowest z of the body on each line relative to the reference point,
+            in the dtype of ``x_mm`` (float32 or float64); ``+inf`` where the
+            line misses.
+        """
+        return revolution_bottom_mm(self.profile, rotations, x_mm, y_mm)

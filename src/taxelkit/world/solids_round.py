@@ -23,10 +23,7 @@ from taxelkit.errors import InputError, check_positive
 from taxelkit.world.solids_grid import PoseGroup, as_rotation_batch, evaluate_bottom, line_grid
 from taxelkit.world.solids_revolution import (
     RevolutionProfile,
-    revolution_bottom_mm,
-    revolution_lowest_point_mm,
-    revolution_lowest_segment_mm,
-    revolution_lowest_z_mm,
+    RevolutionSolidMethods,
 )
 
 if TYPE_CHECKING:
@@ -183,7 +180,7 @@ def _combine_sphere(slabs: NDArray[Any], work: Any, out: NDArray[Any], pv: NDArr
 
 
 @dataclass(frozen=True)
-class Cylinder:
+class Cylinder(RevolutionSolidMethods):
     """A circular cylinder standing on its base; reference point at its centre.
 
     Parameters
@@ -207,55 +204,13 @@ class Cylinder:
         """The cylinder as a :class:`RevolutionProfile`."""
         return _frustum_profile(float(self.radius_mm), float(self.radius_mm), float(self.height_mm))
 
-    def lowest_z_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Lowest z of the rotated cylinder, mm: the lowest point of a rim.
-
-        Parameters
-        ----------
-        rotations : (P, 3, 3) float
-
-        Returns
-        -------
-        (P,) float64, mm
-        """
-        return revolution_lowest_z_mm(self.profile, rotations)
-
-    def lowest_point_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Lowest point of the rotated body, ``(P, 3)`` mm (a rim point, or a mean of tied ones)."""
-        return revolution_lowest_point_mm(self.profile, rotations)
-
-    def lowest_segment_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Ends of the lowest rim point or generator, ``(P, 2, 3)`` mm."""
-        return revolution_lowest_segment_mm(self.profile, rotations)
-
-    def bottom_mm(self, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[Any]:
-        """Bottom of the rotated cylinder on vertical lines through a grid.
-
-        Parameters
-        ----------
-        rotations : (P, 3, 3) float
-            Body-to-sensor rotation matrices.
-        x_mm : (P, W) float, mm
-            x of the grid columns relative to the reference point, per pose.
-        y_mm : (P, H) float, mm
-            y of the grid rows relative to the reference point, per pose.
-
-        Returns
-        -------
-        (P, H, W) float, mm
-            Lowest z of the body on each line relative to the reference point,
-            in the dtype of ``x_mm`` (float32 or float64); ``+inf`` where the
-            line misses.
-        """
-        return revolution_bottom_mm(self.profile, rotations, x_mm, y_mm)
-
     def to_trimesh(self, *, sections: int = DEFAULT_SECTIONS) -> trimesh.Trimesh:
         """Inscribed prism with ``sections`` sides, for plots and baselines."""
         return _round_trimesh(self.profile.rims, sections)
 
 
 @dataclass(frozen=True)
-class TruncatedCone:
+class TruncatedCone(RevolutionSolidMethods):
     """A truncated circular cone (frustum); reference point at its centroid.
 
     Parameters
@@ -296,55 +251,13 @@ class TruncatedCone:
             float(self.bottom_radius_mm), float(self.top_radius_mm), float(self.height_mm)
         )
 
-    def lowest_z_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Lowest z of the rotated truncated cone, mm: the lowest point of a rim.
-
-        Parameters
-        ----------
-        rotations : (P, 3, 3) float
-
-        Returns
-        -------
-        (P,) float64, mm
-        """
-        return revolution_lowest_z_mm(self.profile, rotations)
-
-    def lowest_point_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Lowest point of the rotated body, ``(P, 3)`` mm (a rim point, or a mean of tied ones)."""
-        return revolution_lowest_point_mm(self.profile, rotations)
-
-    def lowest_segment_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Ends of the lowest rim point or generator, ``(P, 2, 3)`` mm."""
-        return revolution_lowest_segment_mm(self.profile, rotations)
-
-    def bottom_mm(self, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[Any]:
-        """Bottom of the rotated truncated cone on vertical lines through a grid.
-
-        Parameters
-        ----------
-        rotations : (P, 3, 3) float
-            Body-to-sensor rotation matrices.
-        x_mm : (P, W) float, mm
-            x of the grid columns relative to the reference point, per pose.
-        y_mm : (P, H) float, mm
-            y of the grid rows relative to the reference point, per pose.
-
-        Returns
-        -------
-        (P, H, W) float, mm
-            Lowest z of the body on each line relative to the reference point,
-            in the dtype of ``x_mm`` (float32 or float64); ``+inf`` where the
-            line misses.
-        """
-        return revolution_bottom_mm(self.profile, rotations, x_mm, y_mm)
-
     def to_trimesh(self, *, sections: int = DEFAULT_SECTIONS) -> trimesh.Trimesh:
         """Inscribed frustum with ``sections`` sides, for plots and baselines."""
         return _round_trimesh(self.profile.rims, sections)
 
 
 @dataclass(frozen=True)
-class Cone:
+class Cone(RevolutionSolidMethods):
     """A circular cone standing on its base, apex up; reference point at its centroid.
 
     Parameters
@@ -368,48 +281,6 @@ class Cone:
     def profile(self) -> RevolutionProfile:
         """The cone as a :class:`RevolutionProfile`."""
         return _frustum_profile(float(self.radius_mm), 0.0, float(self.height_mm))
-
-    def lowest_z_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Lowest z of the rotated cone, mm: the lowest point of the base rim or the apex.
-
-        Parameters
-        ----------
-        rotations : (P, 3, 3) float
-
-        Returns
-        -------
-        (P,) float64, mm
-        """
-        return revolution_lowest_z_mm(self.profile, rotations)
-
-    def lowest_point_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Lowest point of the rotated body, ``(P, 3)`` mm (a rim point, or a mean of tied ones)."""
-        return revolution_lowest_point_mm(self.profile, rotations)
-
-    def lowest_segment_mm(self, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Ends of the lowest rim point or generator, ``(P, 2, 3)`` mm."""
-        return revolution_lowest_segment_mm(self.profile, rotations)
-
-    def bottom_mm(self, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[Any]:
-        """Bottom of the rotated cone on vertical lines through a grid.
-
-        Parameters
-        ----------
-        rotations : (P, 3, 3) float
-            Body-to-sensor rotation matrices.
-        x_mm : (P, W) float, mm
-            x of the grid columns relative to the reference point, per pose.
-        y_mm : (P, H) float, mm
-            y of the grid rows relative to the reference point, per pose.
-
-        Returns
-        -------
-        (P, H, W) float, mm
-            Lowest z of the body on each line relative to the reference point,
-            in the dtype of ``x_mm`` (float32 or float64); ``+inf`` where the
-            line misses.
-        """
-        return revolution_bottom_mm(self.profile, rotations, x_mm, y_mm)
 
     def to_trimesh(self, *, sections: int = DEFAULT_SECTIONS) -> trimesh.Trimesh:
         """Inscribed pyramid with ``sections`` sides, for plots and baselines."""
