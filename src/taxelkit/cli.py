@@ -17,6 +17,10 @@ from typing import Any
 import click
 
 from taxelkit._version import __version__
+from taxelkit.cli_common import (
+    check_figure_suffix,
+    save_figure,
+)
 from taxelkit.errors import InputError, TaxelkitError
 from taxelkit.frames import TactileFrames
 
@@ -26,25 +30,6 @@ logger = logging.getLogger("taxelkit")
 
 
 # ----------------------------------------------------------------------------- helpers
-def _save_figure(fig: Any, out: Path, *, force: bool, dpi: int = 130) -> None:
-    from taxelkit.io.atomic import atomic_write
-
-    def writer(tmp: Path) -> None:
-        fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
-
-    try:
-        atomic_write(out, writer, force=force)
-    finally:
-        import matplotlib.pyplot as plt
-
-        plt.close(fig)
-
-
-def _check_figure_suffix(out: Path) -> None:
-    if out.suffix.lower() not in {".png", ".pdf", ".svg", ".jpg", ".jpeg"}:
-        raise InputError(f"--out must end in .png, .pdf, .svg or .jpg, got {out.name!r}")
-
-
 def _summary(rec: TactileFrames, path: Path) -> dict[str, Any]:
     frames = rec.frames
     out: dict[str, Any] = {
@@ -127,7 +112,7 @@ def show(
     from taxelkit.io.recordings import read_recording
     from taxelkit.plotting.strip import frame_indices_for_strip, plot_frame_strip
 
-    _check_figure_suffix(out)
+    check_figure_suffix(out)
     rec = read_recording(file)
     stop = rec.n_frames if stop is None else min(stop, rec.n_frames)
     if start >= stop:
@@ -136,7 +121,7 @@ def show(
         rec = TactileFrames(rec.contact(threshold), rec.t_s, rec.pitch_mm, sensor=rec.sensor)
     idx = start + frame_indices_for_strip(stop - start, max_frames)
     fig = plot_frame_strip(rec, indices=idx, title=f"{file.name} ({rec.sensor})")
-    _save_figure(fig, out, force=force)
+    save_figure(fig, out, force=force)
     click.echo(f"wrote {out}")
 
 

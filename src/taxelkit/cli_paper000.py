@@ -12,38 +12,16 @@ import click
 import numpy as np
 from tqdm import tqdm
 
+from taxelkit.cli_common import (
+    check_figure_suffix,
+    check_outputs,
+    pair,
+    save_figure,
+    write_text,
+)
 from taxelkit.errors import InputError
 
 __all__ = ["memorise", "reproduce", "trace"]
-
-
-def _pair(value: str | None, name: str) -> tuple[float, float] | None:
-    if value is None:
-        return None
-    try:
-        a, b = (float(v) for v in value.split(","))
-    except ValueError:
-        raise InputError(f"{name} must be two numbers X,Y, got {value!r}") from None
-    if not (np.isfinite(a) and np.isfinite(b)):
-        raise InputError(f"{name} must be finite, got {value!r}")
-    return (a, b)
-
-
-def _write_text(path: Path, text: str, force: bool) -> None:
-    from taxelkit.io.atomic import atomic_write
-
-    def writer(tmp: Path) -> None:
-        tmp.write_text(text)
-
-    atomic_write(path, writer, force=force)
-
-
-def _check_outputs(paths: list[Path], force: bool) -> None:
-    if force:
-        return
-    for p in paths:
-        if p.exists():
-            raise InputError(f"{p} exists; pass --force to overwrite")
 
 
 @click.command()
@@ -63,12 +41,11 @@ def reproduce(
     name: str, out: Path, seed: int, trials: int, workers: int | None, force: bool
 ) -> None:
     """Run a registered experiment (or 'all'): writes OUT/NAME.json and OUT/NAME.png."""
-    from taxelkit.cli import _save_figure
     from taxelkit.experiments.registry import EXPERIMENTS, get_experiment
     from taxelkit.plotting.experiments import plot_experiment
 
     names = list(EXPERIMENTS) if name == "all" else [get_experiment(name).name]
-    _check_outputs([out / f"{n}{ext}" for n in names for ext in (".json", ".png")], force)
+    check_outputs([out / f"{n}{ext}" for n in names for ext in (".json", ".png")], force)
     out.mkdir(parents=True, exist_ok=True)
     t_all = time.perf_counter()
     for n in names:
@@ -92,8 +69,8 @@ def reproduce(
         doc = result.to_json()
         doc["seed"] = seed
         doc["seconds"] = round(time.perf_counter() - t0, 2)
-        _write_text(out / f"{n}.json", json.dumps(doc, indent=2) + "\n", force)
-        _save_figure(plot_experiment(n, result), out / f"{n}.png", force=force)
+        write_text(out / f"{n}.json", json.dumps(doc, indent=2) + "\n", force)
+        save_figure(plot_experiment(n, result), out / f"{n}.png", force=force)
         click.echo(f"{n}: wrote {out / n}.json and .png in {doc['seconds']:.1f} s")
     if len(names) > 1:
         click.echo(f"all done in {time.perf_counter() - t_all:.1f} s")
@@ -140,7 +117,7 @@ def _specimen(
         heightmap = load_heightmap(specimen)
         x0, x1, y0, y1 = heightmap.extent_mm
         return heightmap, ((x0 + x1) / 2, (y0 + y1) / 2)
-    off = _pair(offset_mm, "--offset-mm") or (0.0, 0.0)
+    off = pair(offset_mm, "--offset-mm") or (0.0, 0.0)
     relief = relief_shape(
         str(shape),
         diameter_mm=diameter_mm,
@@ -194,18 +171,17 @@ def trace(
 
     Recognition uses only the trajectory the tracer produced, never the specimen.
     """
-    from taxelkit.cli import _check_figure_suffix, _save_figure
     from taxelkit.memory.contour_recall import recall_curve
     from taxelkit.motion.probe import SimulatedProbe
     from taxelkit.tracing.tracer import find_edge, trace_edge
 
     if plot is not None:
-        _check_figure_suffix(plot)
-        _check_outputs([plot], force)
+        check_figure_suffix(plot)
+        check_outputs([plot], force)
     relief, centre = _specimen(shape, specimen, rotate_deg, offset_mm, diameter_mm, step_height_um)
     mem = _load_memory(memory, rule)
     probe = SimulatedProbe(relief, rng=seed)
-    start = _pair(start_mm, "--start-mm")
+    start = pair(start_mm, "--start-mm")
     if start is None:
         start = tuple(find_edge(probe, centre))
     tr = trace_edge(probe, start)
@@ -224,7 +200,7 @@ def trace(
     if plot is not None:
         from taxelkit.plotting.paper000 import plot_trace_recall
 
-        _save_figure(plot_trace_recall(tr, curve, rule=rule), plot, force=force)
+        save_figure(plot_trace_recall(tr, curve, rule=rule), plot, force=force)
     if as_json:
         click.echo(json.dumps(doc))
     else:
@@ -275,7 +251,7 @@ def memorise(
         raise InputError(f"--out must end in .npz, got {out.name!r}")
     if len(specimens) != len(names):
         raise InputError(f"give one --name per --specimen ({len(specimens)} vs {len(names)})")
-    _check_outputs([out], force)
+    check_outputs([out], force)
     mem = _load_memory(base, rule)
     phases = 1 if rule == "hebbian" else 2
     for path, name in zip(specimens, names, strict=True):

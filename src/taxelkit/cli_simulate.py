@@ -11,30 +11,15 @@ import click
 import numpy as np
 from tqdm import tqdm
 
+from taxelkit.cli_common import (
+    pair,
+    save_figure,
+    triple,
+)
 from taxelkit.errors import InputError
 from taxelkit.frames import TactileFrames
 
 __all__ = ["demo", "simulate"]
-
-
-def _pair(value: str | None, name: str) -> tuple[float, float] | None:
-    if value is None:
-        return None
-    try:
-        a, b = (float(v) for v in value.split(","))
-    except ValueError:
-        raise InputError(f"{name} must be two numbers X,Y, got {value!r}") from None
-    if not (np.isfinite(a) and np.isfinite(b)):
-        raise InputError(f"{name} must be finite, got {value!r}")
-    return (a, b)
-
-
-def _triple(value: str, name: str) -> tuple[float, float, float]:
-    try:
-        a, b, c = (float(v) for v in value.split(","))
-    except ValueError:
-        raise InputError(f"{name} must be three numbers A,B,C, got {value!r}") from None
-    return (a, b, c)
 
 
 def _write(rec: TactileFrames, out: Path, force: bool) -> None:
@@ -147,12 +132,12 @@ def press(
             diameter_mm=diameter_mm,
             step_height_um=step_height_um,
             rotation_deg=rotate_deg,
-            offset_mm=_pair(offset_mm, "--offset-mm") or (0.0, 0.0),
+            offset_mm=pair(offset_mm, "--offset-mm") or (0.0, 0.0),
         )
     name = sensor_name or "optical-3axis"
     sensor = get_sensor(name)
-    start = np.array(_pair(at_mm, "--at"))
-    stop = _pair(to_mm, "--to")
+    start = np.array(pair(at_mm, "--at"))
+    stop = pair(to_mm, "--to")
     n = n_frames or (1 if stop is None else 30)
     end = start if stop is None else np.array(stop)
     positions = start + np.linspace(0.0, 1.0, n)[:, None] * (end - start)
@@ -212,8 +197,8 @@ def solid(
     sensor = get_sensor(name)
     n = n_frames or 1
     depth = np.full(n, indent_mm) if n == 1 else np.linspace(0.0, indent_mm, n)
-    rot = np.repeat(matrix_from_euler_xyz_deg(_triple(euler_deg, "--euler-deg"))[None], n, 0)
-    pos = np.repeat(np.array(_pair(at_mm, "--at"))[None], n, 0)
+    rot = np.repeat(matrix_from_euler_xyz_deg(triple(euler_deg, "--euler-deg"))[None], n, 0)
+    pos = np.repeat(np.array(pair(at_mm, "--at"))[None], n, 0)
     disp = displacement_from_solid(
         sensor, body, rot, pos, indent_mm=depth, add_noise=not no_noise, rng=seed
     )
@@ -226,7 +211,6 @@ def solid(
 @click.option("--force", is_flag=True, help="Overwrite existing outputs.")
 def demo(out: Path, seed: int, force: bool) -> None:
     """Run the main job: both papers' systems on the built-in simulated sensors, with figures."""
-    from taxelkit.cli import _save_figure
     from taxelkit.experiments.paper000_common import IMPROVED, reference_memory, trace_shape
     from taxelkit.experiments.paper001 import run_cylinder
     from taxelkit.experiments.simulator_demo import relief_slide, solid_presses
@@ -260,11 +244,11 @@ def demo(out: Path, seed: int, force: bool) -> None:
     with tqdm(total=8, desc="taxelkit demo", unit="step", leave=False) as bar:
         bar.set_postfix_str("simulator: relief slide (paper 000)")
         slide = relief_slide(rng=seed)
-        _save_figure(plot_relief_slide(slide), targets["relief_png"], force=force)
+        save_figure(plot_relief_slide(slide), targets["relief_png"], force=force)
         write_recording(slide.recording, targets["relief_rec"], force=force)
         bar.update()
         presses = solid_presses(rng=seed, progress=lambda s: bar.set_postfix_str(f"pressing {s}"))
-        _save_figure(plot_solid_presses(presses), targets["solids_png"], force=force)
+        save_figure(plot_solid_presses(presses), targets["solids_png"], force=force)
         write_recording(presses.recording, targets["solids_rec"], force=force)
         bar.update()
         bar.set_postfix_str("paper 000: tracing the five stored specimens")
@@ -273,13 +257,13 @@ def demo(out: Path, seed: int, force: bool) -> None:
         bar.set_postfix_str("paper 000: tracing an unknown specimen")
         trace = trace_shape("star", rotation_deg=23.0, offset_mm=(6.0, -4.0), seed=seed + 7)
         curve = recall_curve(trace.moves_mm, memory, phases=IMPROVED.phases)
-        _save_figure(
+        save_figure(
             plot_trace_recall(trace, curve, rule=IMPROVED.rule), targets["trace_png"], force=force
         )
         bar.update(2)
         bar.set_postfix_str("paper 001: the rolling cylinder of Fig. 3")
         cyl = run_cylinder(seed=seed)
-        _save_figure(plot_cylinder(cyl), targets["smart_png"], force=force)
+        save_figure(plot_cylinder(cyl), targets["smart_png"], force=force)
         write_recording(cyl.recording, targets["smart_rec"], force=force)
         bar.update()
         rolls = []
