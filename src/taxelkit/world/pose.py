@@ -101,7 +101,9 @@ def check_rotations(rotations: ArrayLike, *, atol: float = 1e-6) -> NDArray[np.f
         raise InputError(f"rotations must have shape (P, 3, 3), got {r.shape}")
     if not np.all(np.isfinite(r)):
         raise InputError("rotations must be finite")
-    eye_err: Any = np.abs(r @ np.swapaxes(r, 1, 2) - np.eye(3)).max(initial=0.0)
-    if eye_err > atol or np.any(np.linalg.det(r) < 0):
+    gram = np.einsum("pij,pkj->pik", r, r)  # R R^T, one pass for the whole batch
+    eye_err: Any = np.abs(gram - np.eye(3)).max(initial=0.0)
+    det = np.einsum("pi,pi->p", r[:, 0], np.cross(r[:, 1], r[:, 2]))  # triple product
+    if eye_err > atol or np.any(det < 0):
         raise InputError("rotations must be proper rotation matrices (R R^T = I, det R = +1)")
     return r
