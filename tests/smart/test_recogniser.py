@@ -79,7 +79,7 @@ def test_batch_and_streaming_give_the_same_events() -> None:
     assert streamed == list(batch.events)  # every event on its own frame
     np.testing.assert_array_equal(sensor.result().classes, batch.classes)
     assert sensor.result().identified == batch.identified
-    lazy = SmartSensor((N, N), pitch_mm=PITCH)  # default: looks every 8 frames
+    lazy = SmartSensor((N, N), pitch_mm=PITCH)  # default: looks every 16 frames
     early = [e for f in frames for e in lazy.push(f)]
     assert list(lazy.result().events) == list(batch.events)
     assert early == list(batch.events)[: len(early)]  # never out of order, only later

@@ -300,9 +300,9 @@ class SmartSensor:
         its frames, or every 1/32 of its length so far if that is more (the
         look is O(length): this keeps the cost per frame constant), and
         whenever it ends. Detection is causal, so the events and their frame
-        numbers are those of :func:`recognise`; only their emission waits (33 ms
-        at 240 Hz for the default 8, at most 3 % of the segment's age for long
-        segments). 1 emits every event on its own frame.
+        numbers are those of :func:`recognise`; only their emission waits (up
+        to 67 ms at 240 Hz for the default 16, at most 3 % of the segment's age
+        for long segments). 1 emits every event on its own frame.
 
     Examples
     --------
@@ -322,7 +322,7 @@ class SmartSensor:
         network: ContactNetwork = HAND_SET,
         confidence: float = DEFAULT_CONFIDENCE,
         config: TactemeConfig | None = None,
-        evaluate_every: int = 8,
+        evaluate_every: int = 16,
     ) -> None:
         rows, cols = int(shape[0]), int(shape[1])
         if int(evaluate_every) < 1:
