@@ -77,14 +77,20 @@ def reproduce(
 
 
 def _load_memory(path: Path | None, rule: str) -> Any:
-    from taxelkit.experiments.paper000_common import IMPROVED, RecallSetup, reference_memory
+    from taxelkit.experiments.paper000_common import (
+        FAITHFUL,
+        IMPROVED,
+        RecallSetup,
+        reference_memory,
+    )
     from taxelkit.memory.associatron import AssociativeMemory
     from taxelkit.memory.recall_rules import get_recall_rule
 
     get_recall_rule(rule)  # validates the name
     if path is None:
-        phases = 1 if rule == "hebbian" else IMPROVED.phases
-        return reference_memory(RecallSetup(rule, rule, phases))
+        if rule == "hebbian":
+            return reference_memory(FAITHFUL)
+        return reference_memory(RecallSetup(rule, rule, IMPROVED.phases, IMPROVED.config))
 
     if not path.is_file():
         raise InputError(f"{path}: no such memory file")
@@ -138,9 +144,10 @@ def _specimen(
 @click.option("--start-mm", default=None, help="Where the sensor first meets the edge, X,Y.")
 @click.option(
     "--rule",
-    default="masked_projection",
+    default="matched",
     show_default=True,
-    help="Recall rule: hebbian (paper), zero_mean, projection, masked_projection.",
+    help="Recall rule: hebbian (the paper, 12 x 4 code), matched (default), masked_projection, "
+    "projection, zero_mean (improved rules use a 24 x 8 code).",
 )
 @click.option(
     "--memory",
@@ -227,7 +234,7 @@ def trace(
     default=None,
     help="Start from this memory file instead of the five built-in shapes.",
 )
-@click.option("--rule", default="masked_projection", show_default=True)
+@click.option("--rule", default="matched", show_default=True)
 @click.option("--seed", type=int, default=0, show_default=True)
 @click.option("--out", type=click.Path(path_type=Path), required=True, help="Memory file (.npz).")
 @click.option("--force", is_flag=True)
@@ -261,7 +268,9 @@ def memorise(
         tr = trace_edge(probe, find_edge(probe, ((x0 + x1) / 2, (y0 + y1) / 2)))
         if not tr.closed:
             click.echo(f"warning: the trace of {path} did not close ({tr.stop_reason})", err=True)
-        code = memorise_contours([name], [tr.moves_mm], rule=rule, phases=phases).patterns[0]
+        code = memorise_contours(
+            [name], [tr.moves_mm], rule=rule, phases=phases, config=mem.config
+        ).patterns[0]
         mem = mem.with_pattern(name, code)
         click.echo(f"stored {name!r} from {path} ({tr.n_sections} sections)")
 

@@ -512,7 +512,9 @@ def test_from_arrays_rejects_bad_content(key: str, value: object, match: str) ->
 
 
 def test_unknown_rule_lists_the_names() -> None:
-    with pytest.raises(InputError, match="hebbian, masked_projection, projection, zero_mean"):
+    with pytest.raises(
+        InputError, match="hebbian, masked_projection, matched, projection, zero_mean"
+    ):
         get_recall_rule("nearest")
     with pytest.raises(InputError, match="rule must be one of"):
         memorise(SHAPES, np.ones((5, 48)), rule="nearest")
@@ -552,3 +554,18 @@ def test_query_validation(
 ) -> None:
     with pytest.raises(InputError, match=match):
         memories["hebbian"].recall(queries)  # type: ignore[arg-type]
+
+
+def test_matched_rule_scores_the_agreement_on_known_elements() -> None:
+    """The identity memory: c of Eq. 14 is the evidence, unknown elements add nothing."""
+    rng = np.random.default_rng(3)
+    patterns = np.where(rng.random((4, 48)) < 0.5, -1, 1).astype(np.int8)
+    memory = memorise(["a", "b", "c", "d"], patterns, rule="matched")
+    query = patterns[2].copy()
+    query[rng.random(48) < 0.5] = 0  # half unknown
+    result = memory.recall(query)
+    assert result.recognised[0] == "c"
+    known = query != 0
+    expected = np.sum(patterns[2][known] * query[known]) / 48
+    assert result.correlations[0, 2] == pytest.approx(expected)
+    np.testing.assert_allclose(result.correlations, result.evidence)

@@ -7,13 +7,14 @@ only what the probe returns.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from taxelkit.memory.associatron import AssociativeMemory
+from taxelkit.memory.chain_code import DEFAULT_CHAIN_CODE, ChainCodeConfig
 from taxelkit.memory.contour_recall import memorise_contours
 from taxelkit.motion.probe import MotionNoise, SimulatedProbe
 from taxelkit.tracing.tracer import Trace, TracerConfig, find_edge, trace_edge
@@ -22,6 +23,7 @@ from taxelkit.world.relief import SHAPE_NAMES, relief_shape
 __all__ = [
     "FAITHFUL",
     "IMPROVED",
+    "IMPROVED_CHAIN_CODE",
     "SHAPE_DIAMETER_MM",
     "SHAPE_STEP_UM",
     "RecallSetup",
@@ -50,17 +52,28 @@ class RecallSetup:
         Recall rule of :mod:`taxelkit.memory.recall_rules`.
     phases : int
         Sector phases (1 = the paper's binning).
+    config : ChainCodeConfig
+        Sectors ``m``, levels ``l`` and thresholds of the chain code.
     """
 
     label: str
     rule: str
     phases: int
+    config: ChainCodeConfig = field(default=DEFAULT_CHAIN_CODE)
 
 
-#: The paper: Hebbian storage, one-step recall, Eq. 13 codes.
+#: Chain code of the improved setup: 24 sectors of 15 deg and 8 levels
+#: (thresholds (j - 1/2)/24: every multiple of 1/24 up to 1/3, so a half-traced
+#: star's directions (about 0.1 each) already rise above a circle's 1/24, and a
+#: triangle's 1/3 stays apart from a hexagon's 1/6).
+IMPROVED_CHAIN_CODE = ChainCodeConfig(m=24, l=8)
+#: The paper: Hebbian storage, one-step recall, Eq. 13 codes (m = 12, l = 4).
 FAITHFUL = RecallSetup("faithful (hebbian)", "hebbian", 1)
-#: taxelkit's improved recall: masked projection, 0 = unknown, two sector phases.
-IMPROVED = RecallSetup("improved (masked projection, 2 phases)", "masked_projection", 2)
+#: taxelkit's improved recall: template matching on the known elements of a
+#: 0 = unknown partial code, 24 x 8 chain code, two sector phases.
+IMPROVED = RecallSetup(
+    "improved (matched, 24 x 8 code, 2 phases)", "matched", 2, IMPROVED_CHAIN_CODE
+)
 
 
 def trace_shape(
@@ -120,5 +133,9 @@ def reference_memory(setup: RecallSetup, seed: int = REFERENCE_SEED) -> Associat
     """Memory of the five traced specimens (paper 000: "first stored in the memory matrix")."""
     traces = reference_traces(seed)
     return memorise_contours(
-        SHAPE_NAMES, [t.moves_mm for t in traces], rule=setup.rule, phases=setup.phases
+        SHAPE_NAMES,
+        [t.moves_mm for t in traces],
+        rule=setup.rule,
+        phases=setup.phases,
+        config=setup.config,
     )

@@ -42,6 +42,15 @@ Rules (:data:`RECALL_RULES`):
     a value no stored pattern has). It needs a ``K x K`` solve per input and shift
     (batched, no Python loop), so it is slower than the single-matrix rules.
 
+``"matched"`` (template matching; the identity memory)
+    ``h = y``: no association between elements, so ``Z = Phi(y)`` and Eq. 14
+    becomes the agreement of each stored pattern with the query on its known
+    elements, best over the m rotations (a matched filter, or nearest stored
+    code in Hamming distance over the known elements). On partial traces the
+    associative rules can recall a vector unrelated to every stored pattern
+    (all correlations negative); matching the evidence directly cannot, and it
+    is the most reliable rule on partial contours in ``recall-vs-s``.
+
 Every real-valued rule uses :data:`FIELD_TOLERANCE` as ``epsilon`` so that
 fields that are zero in exact arithmetic give 0, not a random sign.
 """
@@ -209,6 +218,12 @@ def _projection(patterns: NDArray[np.float64]) -> RecallOperator:
     return LinearRecall(weights=w, input_offset=zero, output_bias=zero, epsilon=FIELD_TOLERANCE)
 
 
+def _matched(patterns: NDArray[np.float64]) -> RecallOperator:
+    n = patterns.shape[1]
+    zero = np.zeros(n)
+    return LinearRecall(weights=np.eye(n), input_offset=zero, output_bias=zero, epsilon=0.0)
+
+
 def _masked_projection(patterns: NDArray[np.float64]) -> RecallOperator:
     return MaskedProjectionRecall(patterns=patterns.copy(), epsilon=FIELD_TOLERANCE)
 
@@ -263,6 +278,12 @@ RECALL_RULES: Mapping[str, RecallRuleSpec] = MappingProxyType(
             _masked_projection,
             False,
             "projection rule fitted on the known elements only (taxelkit)",
+        ),
+        "matched": RecallRuleSpec(
+            "matched",
+            _matched,
+            False,
+            "identity memory: template matching on the known elements (taxelkit)",
         ),
     }
 )
