@@ -196,7 +196,9 @@ def displacement_from_penetration(
     along_y = np.swapaxes(along_x, 1, 2).reshape(k * cols, hh) @ by
     spread = np.swapaxes(along_y.reshape(k, cols, rows), 1, 2)
     centre = flat[:, m : m + rows, m : m + cols]
-    out: NDArray[np.floating[Any]] = np.maximum(centre, p.dtype.type(skin.coupling) * spread)
+    if skin.coupling != 1.0:  # the default 1 needs no multiplication
+        spread = spread * p.dtype.type(skin.coupling)
+    out: NDArray[np.floating[Any]] = np.maximum(centre, spread)
     return out.reshape(*lead, rows, cols)
 
 
