@@ -80,6 +80,12 @@ def _tacteme_table(**kw: Any) -> ExperimentResult:
     return run_tacteme_table(**kw)
 
 
+def _contact_classes(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.contact_classes import run_contact_classes
+
+    return run_contact_classes(**kw)
+
+
 #: All registered experiments, in the order ``reproduce all`` runs them.
 EXPERIMENTS: dict[str, Experiment] = {
     e.name: e
@@ -88,6 +94,7 @@ EXPERIMENTS: dict[str, Experiment] = {
         Experiment("fig8", "Paper 000 Fig. 8: tracing the five 200 um specimens", _fig8),
         Experiment("fig9", "Paper 000 Fig. 9: correlation against arc length", _fig9),
         Experiment("recall-vs-s", "Paper 000: recognition rate against s", _recall_vs_s),
+        Experiment("contact-classes", "Paper 001 Level 2: hand-set and trained", _contact_classes),
         Experiment("cylinder", "Paper 001 Fig. 3: the rolling cylinder", _cylinder),
         Experiment("smart-sensor", "Paper 001: randomised trials, confusion", _smart_sensor),
         Experiment("tacteme-table", "Paper 001 Table 1 checked by simulation", _tacteme_table),
