@@ -21,7 +21,7 @@ from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.motion.scenarios import cylinder_fig3_scenario, make_scenario
 from taxelkit.sensors.presets import BONNEVILLE_16X16
 from taxelkit.smart.recogniser import Recognition, recognise
-from taxelkit.smart.tacteme_table import OBJECTS, TABLE, Tacteme, eliminated_by
+from taxelkit.smart.tacteme_table import OBJECTS, TABLE
 
 __all__ = [
     "CylinderResult",
@@ -244,7 +244,3 @@ def run_tacteme_table(
             counts[index[t], OBJECTS.index(name)] += 1
     return TactemeTableResult(counts, n_trials)
 
-
-def eliminates(tacteme: str, obj: str) -> bool:
-    """True if the table says ``obj`` cannot produce ``tacteme``."""
-    return obj in eliminated_by(Tacteme(tacteme))
