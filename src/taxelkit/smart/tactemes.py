@@ -109,6 +109,10 @@ class TactemeConfig:
         placing, lifting and tipping change it, and their centre shifts are not
         motion. (Point contacts cover 1-4 taxels; their area jumps as they cross
         taxels, so they are never re-anchored.)
+    area_step_s : float
+        Time over which an area step is measured, s (at least one frame): one
+        frame at 20 Hz; at 240 Hz a face landing grows over many frames, each
+        a small change.
     motion_hold_s : float
         A motion must hold for ``max(2 frames, motion_hold_s)``, s: a contact
         tipping away collapses within 0.15 s, one frame at 1 Hz, three at 20 Hz,
@@ -140,6 +144,7 @@ class TactemeConfig:
     area_min_elongation: float = 1.6
     edge_angle_tol_deg: float = 15.0
     area_step: float = 0.3
+    area_step_s: float = 0.05
     motion_hold_s: float = 0.15
     edge_hold_s: float = 0.3
     transition_gap_s: float = 0.3
@@ -160,6 +165,7 @@ class TactemeConfig:
             "area_min_elongation",
             "edge_angle_tol_deg",
             "area_step",
+            "area_step_s",
             "motion_hold_s",
             "edge_hold_s",
             "transition_gap_s",
@@ -388,7 +394,9 @@ def segment_tactemes(
     area = _rolling_mean(track.area_mm2, k)
     step = np.zeros(n, bool)
     if cls != ContactClass.POINT:  # on the smoothed area: taxel flicker averages out
-        step[1:] = np.abs(area[1:] / area[:-1] - 1.0) > config.area_step
+        w = track.frames_for(config.area_step_s, k, minimum=1)  # the step's time base
+        if w < n:
+            step[w:] = np.abs(area[w:] / area[:-w] - 1.0) > config.area_step
     anchor = np.maximum.accumulate(np.where(step, np.arange(n), 0))
     ref = np.minimum(anchor + k - 1, n - 1)  # first full window after the anchor
     valid = np.arange(n) >= anchor + k - 1
