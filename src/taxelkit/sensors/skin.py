@@ -57,6 +57,11 @@ __all__ = [
     "displacement_from_penetration",
 ]
 
+#: Smallest exponent of the dimple's Gaussian: exp(-40) = 4e-18 of the depth is
+#: nothing measurable, and stopping there keeps float32 out of denormal numbers.
+DIMPLE_MIN_EXPONENT = -40.0
+_EXP_FLOOR = DIMPLE_MIN_EXPONENT
+
 #: The Gaussian coupling kernel is truncated at this many standard deviations
 #: (weights beyond 3 sigma are below 1.2 % of the peak).
 KERNEL_TRUNCATION_SIGMAS = 3.0
@@ -243,8 +248,14 @@ def dimple_mm(
     scale = -0.5 / skin.spread_mm**2
     a, d = ends[:, 0], ends[:, 1] - ends[:, 0]
     # every pose first as a point at its first end (separable, cheap) ...
-    gx = np.exp(ftype(scale) * (x[None, :] - a[:, 0:1].astype(x.dtype)) ** 2)
-    gy = np.exp(ftype(scale) * (y[None, :] - a[:, 1:2].astype(x.dtype)) ** 2)
+    # exponents clamped at DIMPLE_MIN_EXPONENT: far taxels would otherwise underflow
+    # through denormal numbers, which are some hundred times slower to compute
+    gx = np.exp(
+        np.maximum(ftype(scale) * (x[None, :] - a[:, 0:1].astype(x.dtype)) ** 2, _EXP_FLOOR)
+    )
+    gy = np.exp(
+        np.maximum(ftype(scale) * (y[None, :] - a[:, 1:2].astype(x.dtype)) ** 2, _EXP_FLOOR)
+    )
     gy *= depth[:, None].astype(x.dtype)
     out: NDArray[np.floating[Any]] = gy[:, :, None] * gx[:, None, :]
     # ... then the true segments (edges, generators) by their distance field
@@ -256,5 +267,7 @@ def dimple_mm(
         dx, dy = d[ln, 0, None, None], d[ln, 1, None, None]
         t = np.clip((rx * dx + ry * dy) / length2[ln, None, None], 0.0, 1.0)
         r2 = (rx - t * dx) ** 2 + (ry - t * dy) ** 2
-        out[ln] = (depth[ln, None, None] * np.exp(scale * r2)).astype(x.dtype)
+        out[ln] = (depth[ln, None, None] * np.exp(np.maximum(scale * r2, _EXP_FLOOR))).astype(
+            x.dtype
+        )
     return out
