@@ -243,4 +243,3 @@ def run_tacteme_table(
         for t in tactemes:
             counts[index[t], OBJECTS.index(name)] += 1
     return TactemeTableResult(counts, n_trials)
-
