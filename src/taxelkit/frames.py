@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from taxelkit._arrays import readonly_copy
 from taxelkit.errors import InputError, check_finite_array, check_ndim, check_positive
 
 __all__ = [
@@ -28,12 +29,6 @@ DEFAULT_FRAME_INTERVAL_S = 1.0
 #: Pitch assumed when a recording has no ``pitch_mm``: 1 mm, so that physical
 #: quantities read as taxel units. Override it wherever the true pitch is known.
 DEFAULT_PITCH_MM = 1.0
-
-
-def _readonly(a: NDArray[Any]) -> NDArray[Any]:
-    a = np.array(a, copy=True)
-    a.setflags(write=False)
-    return a
 
 
 @dataclass(frozen=True, eq=False)
@@ -116,8 +111,8 @@ class TactileFrames:
             u = DEFAULT_UNITS if units is None else str(units)
             if u == CONTACT_UNITS:
                 raise InputError("units 'contact' requires bool frames")
-        object.__setattr__(self, "frames", _readonly(f))
-        object.__setattr__(self, "t_s", _readonly(t))
+        object.__setattr__(self, "frames", readonly_copy(f))
+        object.__setattr__(self, "t_s", readonly_copy(t))
         object.__setattr__(self, "pitch_mm", pitch)
         object.__setattr__(self, "units", u)
         object.__setattr__(self, "sensor", str(sensor))

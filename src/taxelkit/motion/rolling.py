@@ -46,6 +46,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from taxelkit._arrays import readonly_copy
 from taxelkit.errors import InputError, check_finite_array, check_ndim, check_positive
 from taxelkit.frames import TactileFrames
 from taxelkit.motion.contact_truth import contact_types, slip_from_poses
@@ -324,12 +325,6 @@ def translate(pose: Pose, offsets_mm: ArrayLike) -> tuple[NDArray[np.float64], N
     return rots, cents
 
 
-def _readonly(a: NDArray[Any]) -> NDArray[Any]:
-    a = np.array(a, copy=True)
-    a.setflags(write=False)
-    return a
-
-
 @dataclass(frozen=True, eq=False)
 class Scenario:
     """A solid moved over the sensor: poses per frame plus ground truth.
@@ -392,7 +387,7 @@ class Scenario:
             arrays[field] = v
         for field, v in arrays.items():
             check_finite_array(field, v)
-            object.__setattr__(self, field, _readonly(v))
+            object.__setattr__(self, field, readonly_copy(v))
         if n > 1 and not np.all(np.diff(arrays["t_s"]) > 0):
             raise InputError("t_s must be strictly increasing")
         phase = tuple(str(p) for p in self.phase)

@@ -73,6 +73,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from taxelkit._arrays import readonly_copy
 from taxelkit.errors import InputError, check_in_range, check_positive
 from taxelkit.smart.moments import ImageStats
 
@@ -170,12 +171,6 @@ DEFAULT_CONFIDENCE = 0.7
 _N_OUT = 3
 
 
-def _readonly(a: ArrayLike) -> NDArray[np.float64]:
-    out = np.array(a, dtype=np.float64, copy=True)
-    out.setflags(write=False)
-    return out
-
-
 @dataclass(frozen=True, eq=False)
 class ContactNetwork:
     """A 2 -> H -> 3 network over scaled (area, elongation).
@@ -217,7 +212,7 @@ class ContactNetwork:
             if got != shape:
                 raise InputError(f"{name} must have shape {shape}, got {got}")
         for name in ("w_hidden", "b_hidden", "w_output", "b_output"):
-            value = _readonly(getattr(self, name))
+            value = readonly_copy(getattr(self, name), np.float64)
             if not np.all(np.isfinite(value)):
                 raise InputError(f"{name} must be finite, got NaN/Inf")
             object.__setattr__(self, name, value)

@@ -58,6 +58,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from taxelkit._arrays import readonly_copy
 from taxelkit.errors import InputError, check_finite_array, check_ndim, check_positive
 from taxelkit.frames import TactileFrames
 
@@ -323,12 +324,6 @@ class FrameStats:
         return self.n_taxels == 0
 
 
-def _readonly(a: NDArray[Any]) -> NDArray[Any]:
-    a = np.array(a, copy=True)
-    a.setflags(write=False)
-    return a
-
-
 @dataclass(frozen=True, eq=False)
 class ImageStats:
     """Level 1 statistics of a sequence of contact images, one entry per frame.
@@ -386,11 +381,11 @@ class ImageStats:
             value = np.asarray(getattr(self, name))
             if value.shape != n:
                 raise InputError(f"{name} must have shape {n}, got {value.shape}")
-            object.__setattr__(self, name, _readonly(value))
+            object.__setattr__(self, name, readonly_copy(value))
         centre = np.asarray(self.centre_mm)
         if centre.shape != (*n, 2):
             raise InputError(f"centre_mm must have shape ({n[0]}, 2), got {centre.shape}")
-        object.__setattr__(self, "centre_mm", _readonly(centre))
+        object.__setattr__(self, "centre_mm", readonly_copy(centre))
 
     @property
     def n_frames(self) -> int:
