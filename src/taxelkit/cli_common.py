@@ -14,6 +14,7 @@ __all__ = [
     "check_outputs",
     "pair",
     "save_figure",
+    "specimen_from_options",
     "triple",
     "write_text",
 ]
@@ -73,3 +74,39 @@ def check_outputs(paths: list[Path], force: bool) -> None:
     for p in paths:
         if p.exists():
             raise InputError(f"{p} exists; pass --force to overwrite")
+
+
+def specimen_from_options(
+    shape: str | None,
+    specimen: Path | None,
+    rotate_deg: float,
+    offset_mm: str,
+    diameter_mm: float,
+    step_height_um: float,
+) -> tuple[Any, tuple[float, float]]:
+    """The relief named by ``--shape``/``--specimen`` and the point to search its edge from.
+
+    Raises
+    ------
+    InputError
+        Unless exactly one of ``shape`` and ``specimen`` is given.
+    """
+    from taxelkit.world.base import Relief
+    from taxelkit.world.relief import load_heightmap, relief_shape
+
+    relief: Relief
+    if (shape is None) == (specimen is None):
+        raise InputError("give exactly one of --shape NAME or --specimen FILE.npz")
+    if specimen is not None:
+        heightmap = load_heightmap(specimen)
+        x0, x1, y0, y1 = heightmap.extent_mm
+        return heightmap, ((x0 + x1) / 2, (y0 + y1) / 2)
+    off = pair(offset_mm, "--offset-mm") or (0.0, 0.0)
+    relief = relief_shape(
+        str(shape),
+        diameter_mm=diameter_mm,
+        step_height_um=step_height_um,
+        rotation_deg=rotate_deg,
+        offset_mm=off,
+    )
+    return relief, off

@@ -17,6 +17,7 @@ from taxelkit.cli_common import (
     check_outputs,
     pair,
     save_figure,
+    specimen_from_options,
     write_text,
 )
 from taxelkit.errors import InputError
@@ -105,35 +106,6 @@ def _load_memory(path: Path | None, rule: str) -> Any:
         raise InputError(f"{path}: {exc}") from None
 
 
-def _specimen(
-    shape: str | None,
-    specimen: Path | None,
-    rotate_deg: float,
-    offset_mm: str,
-    diameter_mm: float,
-    step_height_um: float,
-) -> tuple[Any, tuple[float, float]]:
-    from taxelkit.world.base import Relief
-    from taxelkit.world.relief import load_heightmap, relief_shape
-
-    relief: Relief
-    if (shape is None) == (specimen is None):
-        raise InputError("give exactly one of --shape NAME or --specimen FILE.npz")
-    if specimen is not None:
-        heightmap = load_heightmap(specimen)
-        x0, x1, y0, y1 = heightmap.extent_mm
-        return heightmap, ((x0 + x1) / 2, (y0 + y1) / 2)
-    off = pair(offset_mm, "--offset-mm") or (0.0, 0.0)
-    relief = relief_shape(
-        str(shape),
-        diameter_mm=diameter_mm,
-        step_height_um=step_height_um,
-        rotation_deg=rotate_deg,
-        offset_mm=off,
-    )
-    return relief, off
-
-
 @click.command()
 @click.option("--shape", default=None, help="circle, square, triangle, star, hexagon")
 @click.option("--specimen", type=click.Path(path_type=Path), default=None, help="Heightmap .npz.")
@@ -185,7 +157,9 @@ def trace(
     if plot is not None:
         check_figure_suffix(plot)
         check_outputs([plot], force)
-    relief, centre = _specimen(shape, specimen, rotate_deg, offset_mm, diameter_mm, step_height_um)
+    relief, centre = specimen_from_options(
+        shape, specimen, rotate_deg, offset_mm, diameter_mm, step_height_um
+    )
     mem = _load_memory(memory, rule)
     probe = SimulatedProbe(relief, rng=seed)
     start = pair(start_mm, "--start-mm")

@@ -14,6 +14,7 @@ from tqdm import tqdm
 from taxelkit.cli_common import (
     pair,
     save_figure,
+    specimen_from_options,
     triple,
 )
 from taxelkit.errors import InputError
@@ -118,22 +119,10 @@ def press(
     """Press (or slide) a sensor flat on a relief specimen (paper 000)."""
     from taxelkit.sensors.presets import get_sensor
     from taxelkit.sensors.press import displacement_from_relief
-    from taxelkit.world.base import Relief
-    from taxelkit.world.relief import load_heightmap, relief_shape
 
-    if (shape is None) == (specimen is None):
-        raise InputError("give exactly one of --shape NAME or --specimen FILE.npz")
-    relief: Relief
-    if specimen is not None:
-        relief = load_heightmap(specimen)
-    else:
-        relief = relief_shape(
-            str(shape),
-            diameter_mm=diameter_mm,
-            step_height_um=step_height_um,
-            rotation_deg=rotate_deg,
-            offset_mm=pair(offset_mm, "--offset-mm") or (0.0, 0.0),
-        )
+    relief, _ = specimen_from_options(
+        shape, specimen, rotate_deg, offset_mm, diameter_mm, step_height_um
+    )
     name = sensor_name or "optical-3axis"
     sensor = get_sensor(name)
     start = np.array(pair(at_mm, "--at"))
