@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import InputError, check_positive
 from taxelkit.frames import DEFAULT_FRAME_INTERVAL_S, TactileFrames
+from taxelkit.smart.cleaning import CleaningConfig, ImageCleaner, clean_images
 from taxelkit.smart.contact_classes import (
     DEFAULT_CONFIDENCE,
     HAND_SET,
@@ -28,7 +29,7 @@ from taxelkit.smart.contact_classes import (
     classify_contacts,
 )
 from taxelkit.smart.elimination import Eliminator, Event
-from taxelkit.smart.moments import CELL_SECOND_MOMENT, ImageStats, image_stats
+from taxelkit.smart.moments import CELL_SECOND_MOMENT, ImageStats, binary_images, image_stats
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import (
     SegmentTrack,
@@ -38,7 +39,12 @@ from taxelkit.smart.tactemes import (
     transition_tactemes,
 )
 
-__all__ = ["Recognition", "SmartSensor", "recognise"]
+__all__ = ["DEFAULT_CLEANING", "Recognition", "SmartSensor", "recognise"]
+
+#: Default contact threshold, mm: the Bonneville preset's fixed threshold.
+_DEFAULT_THRESHOLD_MM = 0.03
+#: Image cleaning used unless switched off (``cleaning=None``: paper 001's pipeline).
+DEFAULT_CLEANING = CleaningConfig()
 
 _BASIC = {
     int(ContactClass.POINT): Tacteme.PC,
@@ -223,6 +229,7 @@ def recognise(
     network: ContactNetwork = HAND_SET,
     confidence: float = DEFAULT_CONFIDENCE,
     config: TactemeConfig | None = None,
+    cleaning: CleaningConfig | None = DEFAULT_CLEANING,
 ) -> Recognition:
     """Recognise the object(s) touching the sensor in a recording (batch).
 
@@ -241,6 +248,9 @@ def recognise(
         Level 2 confidence.
     config : TactemeConfig, optional
         Level 3 thresholds.
+    cleaning : CleaningConfig or None
+        Image cleaning before Level 1 (:mod:`taxelkit.smart.cleaning`);
+        None feeds the thresholded images to Level 1 as paper 001 does.
 
     Returns
     -------
@@ -258,7 +268,10 @@ def recognise(
             raise InputError("pitch_mm is required when recording is a bare array")
         pitch = check_positive("pitch_mm", pitch_mm)
     thr = _DEFAULT_THRESHOLD_MM if threshold is None else float(threshold)
-    stats = image_stats(frames, pitch_mm=pitch, threshold=None if frames.dtype == bool else thr)
+    images = binary_images(frames, None if frames.dtype == bool else thr)
+    if cleaning is not None and images.ndim == 3:
+        images = clean_images(images, t_s, config=cleaning)
+    stats = image_stats(images, pitch_mm=pitch)
     classes = classify_contacts(stats, network, confidence=confidence)
     half = _half_length(stats)
 
@@ -277,10 +290,6 @@ def recognise(
     return _finish(classes, _events_for_runs(runs, track_of, cfg))
 
 
-#: Default contact threshold, mm: the Bonneville preset's fixed threshold.
-_DEFAULT_THRESHOLD_MM = 0.03
-
-
 class SmartSensor:
     """The smart sensor, one frame at a time (streaming Levels 1-4).
 
@@ -295,6 +304,8 @@ class SmartSensor:
     network : ContactNetwork
     confidence : float
     config : TactemeConfig, optional
+    cleaning : CleaningConfig or None
+        Image cleaning before Level 1, as in :func:`recognise`.
     evaluate_every : int
         The open segment's motion tactemes are looked for every this many of
         its frames, or every 1/32 of its length so far if that is more (the
@@ -322,6 +333,7 @@ class SmartSensor:
         network: ContactNetwork = HAND_SET,
         confidence: float = DEFAULT_CONFIDENCE,
         config: TactemeConfig | None = None,
+        cleaning: CleaningConfig | None = DEFAULT_CLEANING,
         evaluate_every: int = 16,
     ) -> None:
         rows, cols = int(shape[0]), int(shape[1])
@@ -336,6 +348,7 @@ class SmartSensor:
         self.network = network
         self.confidence = float(confidence)
         self.config = TactemeConfig() if config is None else config
+        self.cleaning = cleaning
         u = np.arange(cols) - (cols - 1) / 2.0
         v = np.arange(rows) - (rows - 1) / 2.0
         uu, vv = np.meshgrid(u, v)
@@ -379,10 +392,15 @@ class SmartSensor:
         self._seg_rows = np.empty((64, 7))
         self._seg_n = 0
         self._state = _Levels34(self.config)
+        self._cleaner = (
+            None if self.cleaning is None else ImageCleaner(self.shape, config=self.cleaning)
+        )
 
     # -- Level 1 and 2 for one frame --------------------------------------------------
-    def _classify(self, frame: NDArray[Any]) -> tuple[int, tuple[float, ...]]:
+    def _classify(self, frame: NDArray[Any], t_s: float) -> tuple[int, tuple[float, ...]]:
         b = frame if frame.dtype == bool else frame > self.threshold
+        if self._cleaner is not None:
+            b = self._cleaner.push(b, t_s)
         n, su, sv, suu, svv, suv = (self._basis_t @ b.ravel()).tolist()
         if n == 0:
             return int(ContactClass.NONE), ()
@@ -429,9 +447,9 @@ class SmartSensor:
             raise InputError(f"frame must have shape {self.shape}, got {f.shape}")
         j = self.frame_index
         self.frame_index += 1
-        cls, stats = self._classify(f)
-        self.classes.append(cls)
         t = float(j) * DEFAULT_FRAME_INTERVAL_S if t_s is None else float(t_s)
+        cls, stats = self._classify(f, t)
+        self.classes.append(cls)
         row = (*stats, t) if stats else ()
         k = int(self.config.debounce_frames)
         if cls == ContactClass.INDETERMINATE:
