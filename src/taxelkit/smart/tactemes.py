@@ -13,9 +13,12 @@ its first ``k`` frames; like a class, a motion must hold for ``k`` frames in
 a row, so the one-frame collapse of a contact that tips away is not motion)
     - PC, LC, AC: a point, line or area segment is accepted.
     - PC moves / LCM / AC moves: the centre of contact moves more than
-      ``move_mm``; "AC moves" also needs the area to stay within
-      ``area_tolerance`` (a sliding face keeps its footprint, a face tipping
-      onto an edge shrinks).
+      ``move_mm`` (a line: across itself, as a rolling line does); "AC moves"
+      also needs the area to stay within ``area_tolerance`` (a sliding face
+      keeps its footprint, a face tipping onto an edge shrinks).
+    - LC slides along itself (beyond paper 001): the line's centre moves more
+      than ``move_mm`` along the line and less than half that across it before
+      any LCM: sliding, which no rolling object does.
     - PC takes an orthogonal turn: after moving, the point leaves the farthest
       point of its first run in a direction 60-120 deg away from that run.
     - LCMP: the line has moved ``parallel_move_mm`` with its orientation
@@ -25,10 +28,12 @@ a row, so the one-frame collapse of a contact that tips away is not motion)
       lines seen so far (the pivot) is compared with the line: within
       ``pivot_end_ratio`` half-lengths of the line's centre it is "about one
       end" (a cone's apex), farther it is "in an arc" (a truncated cone's
-      virtual apex).
+      virtual apex); nearer than ``pivot_min_ratio`` half-lengths it is "LC
+      spins about its middle" (beyond paper 001: a line spun in place).
 
-    References re-anchor whenever the area jumps by more than ``area_step``
-    from one frame to the next (see :class:`TactemeConfig`).
+    References re-anchor whenever the smoothed area differs from the area at
+    the reference by more than ``area_step`` (see :class:`TactemeConfig`):
+    a cumulative test, so it means the same at every frame rate.
     - AC rotates: the orientation of an elongated area turns by more than
       ``area_rotate_deg`` with its area unchanged.
     - LC -> AC, AC -> LC, and LC -> AC -> LC with the two lines parallel or
@@ -87,6 +92,9 @@ class TactemeConfig:
         jitters by about +-1.5 deg from frame to frame, +-1 deg smoothed).
     turn_deg : float
         Orientation change of a turning line, deg.
+    pivot_min_ratio : float
+        Pivot within this many half-lengths of the line's centre: the line
+        spins about its middle (sliding). A cone's pivot measured 0.72-1.16.
     pivot_end_ratio : float
         Pivot within this many half-lengths of the line's centre: about one end
         (a cone: ideally 1; a truncated cone with top/bottom radius ratio q:
@@ -104,15 +112,14 @@ class TactemeConfig:
     edge_angle_tol_deg : float
         Tolerance of the 0/90 and 60 deg angles between two edges, deg.
     area_step : float
-        A frame-to-frame change of the smoothed area above this fraction re-anchors the motion
-        references of lines and areas: a rolling contact keeps its area, while
-        placing, lifting and tipping change it, and their centre shifts are not
-        motion. (Point contacts cover 1-4 taxels; their area jumps as they cross
+        A change of the smoothed area above this fraction of the area at the
+        motion reference re-anchors the references of lines and areas: a
+        rolling contact keeps its area, while placing, lifting and tipping
+        change it, and their centre shifts are not motion. Measured against
+        the reference, not from frame to frame, so a face landing over many
+        frames at 240 Hz re-anchors as one landing over one frame at 5 Hz.
+        (Point contacts cover 1-4 taxels; their area jumps as they cross
         taxels, so they are never re-anchored.)
-    area_step_s : float
-        Time over which an area step is measured, s (at least one frame): one
-        frame at 20 Hz; at 240 Hz a face landing grows over many frames, each
-        a small change.
     motion_hold_s : float
         A motion must hold for ``max(2 frames, motion_hold_s)``, s: a contact
         tipping away collapses within 0.15 s, one frame at 1 Hz, three at 20 Hz,
@@ -126,6 +133,10 @@ class TactemeConfig:
     turn_leg_mm : float
         Leg length of a point's path when looking for an orthogonal turn, mm
         (the sphere scripts roll 4-9 mm between turns).
+    smooth_s : float
+        Centres, orientations, areas and elongations are averaged over the
+        last ``max(k frames, smooth_s)`` before they are compared, s: three
+        frames at 20 Hz, as the debounce; 24 at 240 Hz.
     pivot_turn_deg : float
         Turn of the line before the pivot is located (about one end / in an
         arc), deg: the common point of nearly parallel lines is ill-conditioned.
@@ -136,6 +147,7 @@ class TactemeConfig:
     parallel_move_mm: float = 3.5
     parallel_tol_deg: float = 4.0
     turn_deg: float = 12.0
+    pivot_min_ratio: float = 0.4
     pivot_end_ratio: float = 1.22
     orthogonal_min_deg: float = 60.0
     orthogonal_max_deg: float = 120.0
@@ -144,12 +156,12 @@ class TactemeConfig:
     area_min_elongation: float = 1.6
     edge_angle_tol_deg: float = 15.0
     area_step: float = 0.3
-    area_step_s: float = 0.05
     motion_hold_s: float = 0.15
     edge_hold_s: float = 0.3
     transition_gap_s: float = 0.3
     turn_leg_mm: float = 3.0
     pivot_turn_deg: float = 20.0
+    smooth_s: float = 0.1
 
     def __post_init__(self) -> None:
         if int(self.debounce_frames) < 1:
@@ -165,12 +177,13 @@ class TactemeConfig:
             "area_min_elongation",
             "edge_angle_tol_deg",
             "area_step",
-            "area_step_s",
+            "pivot_min_ratio",
             "motion_hold_s",
             "edge_hold_s",
             "transition_gap_s",
             "turn_leg_mm",
             "pivot_turn_deg",
+            "smooth_s",
         ):
             check_positive(name, getattr(self, name))
 
@@ -296,6 +309,32 @@ def _axis_difference_deg(a: NDArray[np.float64], b: float) -> NDArray[np.float64
     return out
 
 
+def _anchors(
+    area: NDArray[np.float64], elongation: NDArray[np.float64], k: int, tolerance: float
+) -> NDArray[np.intp]:
+    """Index of the motion anchor of every frame (re-anchored on cumulative change of shape).
+
+    The reference of anchor ``a`` is its first full smoothing window, frame
+    ``a + k - 1``; a frame whose area or elongation differs from the
+    reference's by more than ``tolerance`` (relative) becomes the next
+    anchor: a face landing keeps its area for a moment while its outline
+    still changes. One vectorised search per anchor: a segment has few.
+    """
+    n = area.size
+    out = np.zeros(n, dtype=np.intp)
+    a = 0
+    while a < n:
+        r = min(a + k - 1, n - 1)
+        dev = (np.abs(area[r + 1 :] / area[r] - 1.0) > tolerance) | (
+            np.abs(elongation[r + 1 :] / elongation[r] - 1.0) > tolerance
+        )
+        hits = np.flatnonzero(dev)
+        nxt = n if hits.size == 0 else r + 1 + int(hits[0])
+        out[a:nxt] = a
+        a = nxt
+    return out
+
+
 def _first(mask: NDArray[np.bool_], start: int) -> int | None:
     hits = np.flatnonzero(mask[start:])
     return None if hits.size == 0 else int(hits[0]) + start
@@ -388,19 +427,20 @@ def segment_tactemes(
     hold = track.frames_for(config.motion_hold_s, k, minimum=MOTION_MIN_FRAMES)
     if n < k or cls not in (ContactClass.POINT, ContactClass.LINE, ContactClass.AREA):
         return []
-    centre = _rolling_mean(track.centre_mm, k)
-    axis = _rolling_mean(_axis_vectors(track.orientation_deg), k)
+    w = track.frames_for(config.smooth_s, k)  # the smoothing window, in time
+    centre = _rolling_mean(track.centre_mm, w)
+    axis = _rolling_mean(_axis_vectors(track.orientation_deg), w)
     angle = _axis_angle_deg(axis)
-    area = _rolling_mean(track.area_mm2, k)
-    step = np.zeros(n, bool)
-    if cls != ContactClass.POINT:  # on the smoothed area: taxel flicker averages out
-        w = track.frames_for(config.area_step_s, k, minimum=1)  # the step's time base
-        if w < n:
-            step[w:] = np.abs(area[w:] / area[:-w] - 1.0) > config.area_step
-    anchor = np.maximum.accumulate(np.where(step, np.arange(n), 0))
-    ref = np.minimum(anchor + k - 1, n - 1)  # first full window after the anchor
-    valid = np.arange(n) >= anchor + k - 1
-    moved = np.where(valid, np.hypot(*(centre - centre[ref]).T), 0.0)
+    area = _rolling_mean(track.area_mm2, w)
+    elong = _rolling_mean(track.elongation, w)
+    if cls == ContactClass.POINT:
+        anchor = np.zeros(n, dtype=np.intp)
+    else:  # on the smoothed area: taxel flicker averages out
+        anchor = _anchors(area, elong, w, config.area_step)
+    ref = np.minimum(anchor + w - 1, n - 1)  # first full window after the anchor
+    valid = np.arange(n) >= anchor + w - 1
+    shift = centre - centre[ref]
+    moved = np.where(valid, np.hypot(*shift.T), 0.0)
     turned = np.where(valid, _turn(angle, ref), 0.0)
     out: list[tuple[Tacteme, int]] = []
 
@@ -414,8 +454,18 @@ def segment_tactemes(
         if j_move is not None:
             emit(Tacteme.PC_ORTHOGONAL_TURN, _orthogonal_turn(centre, int(ref[j_move]), config))
     elif cls == ContactClass.LINE:
-        emit(Tacteme.LCM, _first(_sustained(moved > config.move_mm, hold), 0))
-        parallel = (moved >= config.parallel_move_mm) & (turned <= config.parallel_tol_deg)
+        t_ref = np.deg2rad(angle[ref])
+        along = np.abs(shift[:, 0] * np.cos(t_ref) + shift[:, 1] * np.sin(t_ref))
+        across = np.where(
+            valid, np.abs(-shift[:, 0] * np.sin(t_ref) + shift[:, 1] * np.cos(t_ref)), 0.0
+        )
+        j_lcm = _first(_sustained(across > config.move_mm, hold), 0)
+        slid = valid & (along > config.move_mm) & (across < 0.5 * config.move_mm)
+        j_slide = _first(_sustained(slid, hold), 0)
+        if j_slide is not None and (j_lcm is None or j_slide < j_lcm):
+            emit(Tacteme.LC_SLIDES, j_slide)
+        emit(Tacteme.LCM, j_lcm)
+        parallel = (across >= config.parallel_move_mm) & (turned <= config.parallel_tol_deg)
         j_par = _first(_sustained(parallel, hold), 0)
         j_turn = _first(_sustained(turned > config.turn_deg, hold), 0)
         if j_par is not None and (j_turn is None or j_par < j_turn):
@@ -429,12 +479,14 @@ def segment_tactemes(
                 half = float(np.median(track.half_length_mm[start : j_piv + 1]))
                 if pivot is not None and half > 0:
                     ratio = float(np.hypot(*(pivot - track.centre_mm[j_piv]))) / half
-                    about_end = ratio <= config.pivot_end_ratio
-                    emit(Tacteme.LCMT_ABOUT_END if about_end else Tacteme.LCMT_ARC, j_piv)
+                    if ratio < config.pivot_min_ratio:
+                        emit(Tacteme.LC_SPINS, j_piv)
+                    else:
+                        about_end = ratio <= config.pivot_end_ratio
+                        emit(Tacteme.LCMT_ABOUT_END if about_end else Tacteme.LCMT_ARC, j_piv)
     else:
         same = np.abs(area / area[ref] - 1.0) <= config.area_tolerance
         emit(Tacteme.AC_MOVES, _first(_sustained((moved > config.move_mm) & same, hold), 0))
-        elong = _rolling_mean(track.elongation, k)
         oriented = (elong >= config.area_min_elongation) & (
             elong[ref] >= config.area_min_elongation
         )
