@@ -10,7 +10,7 @@ from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Eliminator
 from taxelkit.smart.recogniser import SmartSensor, recognise
 from taxelkit.smart.tacteme_table import OBJECTS, TABLE, Tacteme
-from taxelkit.smart.tactemes import TactemeConfig, accepted_runs
+from taxelkit.smart.tactemes import PAPER_LEVEL3, TactemeConfig, accepted_runs
 
 N = 16
 PITCH = 28.2 / 16
@@ -46,7 +46,9 @@ def fig3_sequence() -> np.ndarray:
 
 
 def test_fig3_story_identifies_the_cylinder_and_ignores_the_spurious_line() -> None:
-    rec = recognise(TactileFrames(fig3_sequence(), pitch_mm=PITCH), cleaning=None)
+    rec = recognise(
+        TactileFrames(fig3_sequence(), pitch_mm=PITCH), cleaning=None, config=PAPER_LEVEL3
+    )
     names = [n for n, _ in rec.tactemes]
     assert names[:3] == ["AC", "PC", "LC"]
     assert "LCMP" in names

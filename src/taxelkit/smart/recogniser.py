@@ -35,6 +35,7 @@ from taxelkit.smart.tactemes import (
     SegmentTrack,
     TactemeConfig,
     accepted_runs,
+    debounce_counts,
     segment_tactemes,
     transition_tactemes,
 )
@@ -286,7 +287,8 @@ def recognise(
             t_s[idx],
         )
 
-    runs = accepted_runs(classes, int(cfg.debounce_frames))
+    k, k_none = debounce_counts(cfg, float(t_s[1] - t_s[0]) if t_s.size > 1 else None)
+    runs = accepted_runs(classes, k, k_none=k_none)
     return _finish(classes, _events_for_runs(runs, track_of, cfg))
 
 
@@ -392,6 +394,8 @@ class SmartSensor:
         self._seg_rows = np.empty((64, 7))
         self._seg_n = 0
         self._state = _Levels34(self.config)
+        self._t_first: float | None = None
+        self._dt: float | None = None
         self._cleaner = (
             None if self.cleaning is None else ImageCleaner(self.shape, config=self.cleaning)
         )
@@ -451,7 +455,11 @@ class SmartSensor:
         cls, stats = self._classify(f, t)
         self.classes.append(cls)
         row = (*stats, t) if stats else ()
-        k = int(self.config.debounce_frames)
+        if self._t_first is None:
+            self._t_first = t
+        elif self._dt is None:
+            self._dt = t - self._t_first
+        k_contact, k_none = debounce_counts(self.config, self._dt)
         if cls == ContactClass.INDETERMINATE:
             return []
         before = len(self._state.events)
@@ -466,7 +474,7 @@ class SmartSensor:
                 self._candidate, self._cand_frames, self._cand_rows = cls, [], []
             self._cand_frames.append(j)
             self._cand_rows.append(row)
-            if len(self._cand_frames) < k:
+            if len(self._cand_frames) < (k_none if cls == ContactClass.NONE else k_contact):
                 return []
             self._flush()  # the open segment ends: its last motion tactemes first
             self._accepted = cls

@@ -58,14 +58,17 @@ from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.tacteme_table import Tacteme
 
 __all__ = [
+    "PAPER_LEVEL3",
     "SegmentTrack",
     "TactemeConfig",
     "accepted_runs",
+    "debounce_counts",
     "segment_tactemes",
     "transition_tactemes",
 ]
 
 _INDET = int(ContactClass.INDETERMINATE)
+_NONE = int(ContactClass.NONE)
 #: A motion must be seen on at least this many frames (a one-frame collapse is not motion).
 MOTION_MIN_FRAMES = 2
 
@@ -77,7 +80,18 @@ class TactemeConfig:
     Parameters
     ----------
     debounce_frames : int
-        ``k``: repetitions before a new class is accepted (paper: 3).
+        ``k``: repetitions before a new class is accepted (paper: 3, see
+        :data:`PAPER_LEVEL3`; default 2, the least that tells a state from a
+        one-frame glitch).
+    debounce_s : float
+        A new class is accepted after ``max(k frames, debounce_s)``, s (0:
+        frames only, as in the paper): 3 frames at 20 Hz (the paper's k),
+        36 at 240 Hz, so a three-frame glitch (12 ms) is not a contact state,
+        and 2 at 5 Hz, where a face held 0.4 s lasts two frames.
+    lift_grace_s : float
+        "No contact" is accepted only after ``max(k frames, debounce_s,
+        lift_grace_s)``, s: the evidence of a contact survives a shorter loss
+        of contact (a bounce, a dropped read-out). 0.2 s is 4 frames at 20 Hz.
     move_mm : float
         Centre displacement that counts as motion, mm (a little more than one
         Bonneville pitch, 1.76 mm, so a contact flickering between two taxels
@@ -136,13 +150,15 @@ class TactemeConfig:
     smooth_s : float
         Centres, orientations, areas and elongations are averaged over the
         last ``max(k frames, smooth_s)`` before they are compared, s: three
-        frames at 20 Hz, as the debounce; 24 at 240 Hz.
+        frames at 20 Hz, as the debounce; 36 at 240 Hz.
     pivot_turn_deg : float
         Turn of the line before the pivot is located (about one end / in an
         arc), deg: the common point of nearly parallel lines is ill-conditioned.
     """
 
-    debounce_frames: int = 3
+    debounce_frames: int = 2
+    debounce_s: float = 0.15
+    lift_grace_s: float = 0.2
     move_mm: float = 2.0
     parallel_move_mm: float = 3.5
     parallel_tol_deg: float = 4.0
@@ -161,11 +177,14 @@ class TactemeConfig:
     transition_gap_s: float = 0.3
     turn_leg_mm: float = 3.0
     pivot_turn_deg: float = 20.0
-    smooth_s: float = 0.1
+    smooth_s: float = 0.15
 
     def __post_init__(self) -> None:
         if int(self.debounce_frames) < 1:
             raise InputError(f"debounce_frames must be >= 1, got {self.debounce_frames!r}")
+        check_positive("debounce_s", self.debounce_s, allow_zero=True)
+        check_positive("smooth_s", self.smooth_s, allow_zero=True)
+        check_positive("lift_grace_s", self.lift_grace_s, allow_zero=True)
         for name in (
             "move_mm",
             "parallel_move_mm",
@@ -183,12 +202,41 @@ class TactemeConfig:
             "transition_gap_s",
             "turn_leg_mm",
             "pivot_turn_deg",
-            "smooth_s",
         ):
             check_positive(name, getattr(self, name))
 
 
-def accepted_runs(classes: NDArray[np.integer], k: int) -> list[tuple[int, int, NDArray[np.intp]]]:
+#: Level 3 as paper 001 states it, in frames: ``k = 3``, no time-based
+#: debounce, smoothing or lift-off grace (the thresholds of motion keep their
+#: units). With :func:`~taxelkit.smart.recogniser.recognise`'s ``cleaning=None``
+#: this is the faithful pipeline that reproduces Fig. 3.
+PAPER_LEVEL3 = TactemeConfig(debounce_frames=3, debounce_s=0.0, lift_grace_s=0.0, smooth_s=0.0)
+
+
+def debounce_counts(config: TactemeConfig, dt_s: float | None) -> tuple[int, int]:
+    """Frames a contact class and "no contact" must hold to be accepted.
+
+    Parameters
+    ----------
+    config : TactemeConfig
+    dt_s : float or None
+        Frame interval, s (the first one of the stream); None before it is known.
+
+    Returns
+    -------
+    k_contact, k_none : int
+        ``max(k, ceil(debounce_s / dt))`` and ``max(k_contact, ceil(lift_grace_s / dt))``.
+    """
+    k = int(config.debounce_frames)
+    if dt_s is None or not dt_s > 0:
+        return k, k
+    k_contact = max(k, math.ceil(config.debounce_s / dt_s - 1e-9))
+    return k_contact, max(k_contact, math.ceil(config.lift_grace_s / dt_s - 1e-9))
+
+
+def accepted_runs(
+    classes: NDArray[np.integer], k: int, *, k_none: int | None = None
+) -> list[tuple[int, int, NDArray[np.intp]]]:
     """Debounced segments of a whole class sequence, vectorised.
 
     Parameters
@@ -197,6 +245,8 @@ def accepted_runs(classes: NDArray[np.integer], k: int) -> list[tuple[int, int, 
         :class:`~taxelkit.smart.contact_classes.ContactClass` codes.
     k : int
         Debounce count.
+    k_none : int, optional
+        Debounce count of "no contact" (default ``k``).
 
     Returns
     -------
@@ -223,12 +273,12 @@ def accepted_runs(classes: NDArray[np.integer], k: int) -> list[tuple[int, int, 
         if cls == current:  # the accepted class goes on, spurious runs between excluded
             if out:
                 pending.append(idx[s:e])
-        elif e - s >= k:  # a new class seen k times in a row: accepted
-            if out and pending:
+        elif e - s >= (k_cls := k if cls != _NONE or k_none is None else k_none):
+            if out and pending:  # a new class seen k times in a row: accepted
                 prev_cls, prev_acc, _ = out[-1]
                 out[-1] = (prev_cls, prev_acc, np.concatenate(pending))
             pending = [idx[s:e]]
-            out.append((cls, int(idx[s + k - 1]), idx[s:e]))
+            out.append((cls, int(idx[s + k_cls - 1]), idx[s:e]))
             current = cls
     if out and pending:
         prev_cls, prev_acc, _ = out[-1]
