@@ -151,6 +151,13 @@ class TactemeConfig:
         Centres, orientations, areas and elongations are averaged over the
         last ``max(k frames, smooth_s)`` before they are compared, s: three
         frames at 20 Hz, as the debounce; 36 at 240 Hz.
+    pivot_band : float
+        Factor of doubt around ``pivot_end_ratio``: "about one end" needs a
+        ratio below ``pivot_end_ratio / pivot_band``, "in an arc" above
+        ``pivot_end_ratio x pivot_band``; between the two the line is watched
+        as it turns on (the estimate improves with the turn) and stays
+        undecided if it never leaves the band: a doubt is better than a
+        wrong name.
     pivot_turn_deg : float
         Turn of the line before the pivot is located (about one end / in an
         arc), deg: the common point of nearly parallel lines is ill-conditioned.
@@ -177,6 +184,7 @@ class TactemeConfig:
     transition_gap_s: float = 0.3
     turn_leg_mm: float = 3.0
     pivot_turn_deg: float = 20.0
+    pivot_band: float = 1.06
     smooth_s: float = 0.15
 
     def __post_init__(self) -> None:
@@ -202,6 +210,7 @@ class TactemeConfig:
             "transition_gap_s",
             "turn_leg_mm",
             "pivot_turn_deg",
+            "pivot_band",
         ):
             check_positive(name, getattr(self, name))
 
@@ -406,16 +415,32 @@ def _turn(angle: NDArray[np.float64], ref: NDArray[np.intp]) -> NDArray[np.float
     return out
 
 
-def _pivot(track: SegmentTrack, start: int, upto: int) -> NDArray[np.float64] | None:
-    """Least-squares common point of the lines start..upto."""
-    t = np.deg2rad(track.orientation_deg[start : upto + 1])
-    n = np.stack([-np.sin(t), np.cos(t)], axis=1)  # line normals
-    c = track.centre_mm[start : upto + 1]
-    a = n.T @ n
-    if np.linalg.cond(a) > 1e6:
-        return None
-    b = n.T @ np.sum(n * c, axis=1)
-    out: NDArray[np.float64] = np.linalg.solve(a, b)
+def _pivot_ratios(track: SegmentTrack, start: int, stop: int) -> NDArray[np.float64]:
+    """Distance from each line's centre to the common point of the lines so far, in half-lengths.
+
+    For ``j`` in ``start..stop - 1``: the least-squares common point of the
+    lines ``start..j`` (running sums of ``n n^T`` and ``n (n . c)``, ``n`` the
+    lines' normals), its distance from the centre of line ``j``, divided by
+    the mean half-length of lines ``start..j``. NaN while the lines are too
+    close to parallel for a common point (condition number above 1e6).
+    """
+    t = np.deg2rad(track.orientation_deg[start:stop])
+    nx, ny = -np.sin(t), np.cos(t)  # line normals
+    c = track.centre_mm[start:stop]
+    d = nx * c[:, 0] + ny * c[:, 1]
+    sxx, sxy, syy = np.cumsum(nx * nx), np.cumsum(nx * ny), np.cumsum(ny * ny)
+    bx, by = np.cumsum(nx * d), np.cumsum(ny * d)
+    det = sxx * syy - sxy * sxy
+    trace = sxx + syy
+    well = det > 1e-6 * trace * trace  # eigenvalue ratio above ~1e-6
+    safe = np.where(well, det, 1.0)
+    px = (syy * bx - sxy * by) / safe
+    py = (sxx * by - sxy * bx) / safe
+    half = np.cumsum(track.half_length_mm[start:stop]) / np.arange(1, stop - start + 1)
+    dist = np.hypot(px - c[:, 0], py - c[:, 1])
+    out: NDArray[np.float64] = np.where(
+        well & (half > 0), dist / np.where(half > 0, half, 1.0), np.nan
+    )
     return out
 
 
@@ -486,7 +511,9 @@ def segment_tactemes(
     if cls == ContactClass.POINT:
         anchor = np.zeros(n, dtype=np.intp)
     else:  # on the smoothed area: taxel flicker averages out
-        anchor = _anchors(area, elong, w, config.area_step)
+        # a line's elongation jumps with the grid (its width is a taxel or two): area only
+        shape = elong if cls == ContactClass.AREA else np.ones_like(elong)
+        anchor = _anchors(area, shape, w, config.area_step)
     ref = np.minimum(anchor + w - 1, n - 1)  # first full window after the anchor
     valid = np.arange(n) >= anchor + w - 1
     shift = centre - centre[ref]
@@ -522,18 +549,26 @@ def segment_tactemes(
             emit(Tacteme.LCMP, j_par)
         if j_turn is not None:
             emit(Tacteme.LCMT, j_turn)
-            j_piv = _first((turned > config.pivot_turn_deg) & (anchor == anchor[j_turn]), j_turn)
-            if j_piv is not None:
-                start = int(anchor[j_piv])
-                pivot = _pivot(track, start, j_piv)
-                half = float(np.median(track.half_length_mm[start : j_piv + 1]))
-                if pivot is not None and half > 0:
-                    ratio = float(np.hypot(*(pivot - track.centre_mm[j_piv]))) / half
-                    if ratio < config.pivot_min_ratio:
-                        emit(Tacteme.LC_SPINS, j_piv)
-                    else:
-                        about_end = ratio <= config.pivot_end_ratio
-                        emit(Tacteme.LCMT_ABOUT_END if about_end else Tacteme.LCMT_ARC, j_piv)
+            pivots: list[tuple[int, Tacteme]] = []
+            start = int(anchor[j_turn])
+            stop = start + int(np.count_nonzero(anchor[start:] == start))
+            ratio = _pivot_ratios(track, start, stop)
+            ready = turned[start:stop] > config.pivot_turn_deg
+            lo, hi = (
+                config.pivot_end_ratio / config.pivot_band,
+                config.pivot_end_ratio * config.pivot_band,
+            )
+            for tac, verdict in (
+                (Tacteme.LC_SPINS, ratio < config.pivot_min_ratio),
+                (Tacteme.LCMT_ABOUT_END, (ratio >= config.pivot_min_ratio) & (ratio <= lo)),
+                (Tacteme.LCMT_ARC, ratio >= hi),
+            ):
+                j = _first(_sustained(ready & verdict, hold), 0)
+                if j is not None:
+                    pivots.append((start + j, tac))
+            if pivots:
+                j_piv, tac = min(pivots)
+                emit(tac, j_piv)
     else:
         same = np.abs(area / area[ref] - 1.0) <= config.area_tolerance
         emit(Tacteme.AC_MOVES, _first(_sustained((moved > config.move_mm) & same, hold), 0))
