@@ -24,6 +24,8 @@ model                        what the frames show
                              ``coupling`` times their next row (column)
 :class:`OffsetDrift`         per-taxel offset ``N(0, offset)`` plus a common drift
                              ``drift_per_s x t``; analog only
+:class:`ContactLoss`         every taxel reads 0 for ``duration_s`` once, at a random
+                             moment of contact (a bounce, a lost read-out)
 ============================ ============================================================
 
 The flip of :class:`Flicker` on analog frames sets a taxel to 0 or to
@@ -47,6 +49,7 @@ from taxelkit.sensors.noise import RngLike
 __all__ = [
     "FAULT_PRESETS",
     "FLICKER_ON_LEVEL",
+    "ContactLoss",
     "Crosstalk",
     "DeadTaxels",
     "Fault",
@@ -311,6 +314,41 @@ class OffsetDrift:
 
 
 @dataclass(frozen=True)
+class ContactLoss:
+    """A short loss of the whole image, once, while something touches the array.
+
+    Parameters
+    ----------
+    duration_s : float
+        How long every taxel reads 0 (False), s (> 0).
+    """
+
+    duration_s: float = 0.07
+
+    def __post_init__(self) -> None:
+        check_positive("duration_s", self.duration_s)
+
+    def apply(
+        self,
+        frames: NDArray[Any],
+        t_s: NDArray[np.float64],
+        *,
+        threshold: float,
+        rng: np.random.Generator,
+    ) -> NDArray[Any]:
+        """Blank the frames of one window that starts at a random frame in contact."""
+        out = frames.copy()
+        on = frames if frames.dtype == bool else frames > threshold
+        touching = np.flatnonzero(on.reshape(on.shape[0], -1).any(axis=1))
+        fits = touching[t_s[touching] + self.duration_s <= t_s[-1]]
+        if fits.size == 0:
+            return out
+        start = float(t_s[int(fits[rng.integers(fits.size)])])
+        out[(t_s >= start) & (t_s < start + self.duration_s)] = 0
+        return out
+
+
+@dataclass(frozen=True)
 class FaultModel:
     """Imperfections applied in order (put dead and stuck taxels last so that they win).
 
@@ -393,6 +431,7 @@ def _presets() -> dict[str, tuple[Fault, ...]]:
         "crosstalk": (Crosstalk(rows=1),),
         "threshold-spread": (ThresholdSpread(0.2),),
         "drift": (OffsetDrift(),),
+        "contact-loss": (ContactLoss(0.07),),
         "all": (
             ThresholdSpread(0.2),
             OffsetDrift(),

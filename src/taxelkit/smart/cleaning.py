@@ -23,10 +23,13 @@ Rules, in order (:class:`CleaningConfig` holds the numbers)
        which one object does not produce).
     3. **Flicker** is suppressed by persistence: a taxel counts only if it or
        one of its eight neighbours was on (after rules 1-2) in the previous
-       frame. A random flip survives only if its neighbourhood flipped the
-       frame before (probability ``9 r`` for a flip rate ``r``); a real
-       contact moves less than a taxel per frame at the rates and speeds of
-       interest, and is delayed by one frame when it appears.
+       frame, or if two of its neighbours are on now (a cluster of three or
+       more, which independent flips almost never make). A random flip
+       survives only if its neighbourhood flipped the frame before
+       (probability ``9 r`` for a flip rate ``r``); a real contact moves less
+       than a taxel per frame at the rates and speeds of interest, and a
+       point contact of one or two taxels is delayed by one frame when it
+       appears.
     4. **Stray taxels** are dropped: a taxel with no other taxel within two
        pitches (its 5 x 5 block) is removed when the frame also holds a
        larger contact.
@@ -188,6 +191,17 @@ def _neighbours8(ops: _Packed, a: NDArray[Any]) -> NDArray[Any]:
     return out
 
 
+def _crowded(ops: _Packed, a: NDArray[Any]) -> NDArray[Any]:
+    """Taxels with at least two of their eight neighbours on (bit-sliced count)."""
+    one = np.zeros_like(a)
+    two = np.zeros_like(a)
+    lr = (ops.left(a), ops.right(a))
+    for x in (*lr, *(move(v) for move in (ops.up, ops.down) for v in (a, *lr))):
+        two |= one & x
+        one |= x
+    return two
+
+
 def _dilate3(ops: _Packed, a: NDArray[Any]) -> NDArray[Any]:
     row = a | ops.left(a) | ops.right(a)
     out: NDArray[Any] = row | ops.up(row) | ops.down(row)
@@ -293,7 +307,7 @@ def _clean(
     out = a
     if config.persistence:
         before = np.concatenate([prev[None], a[:-1]]) if a.shape[0] else a
-        out = a & _dilate3(ops, before)
+        out = a & (_dilate3(ops, before) | _crowded(ops, a))
     if config.strays:
         stray = _stray(ops, out)
         big = ops.any_per_frame(out & ~stray)
