@@ -148,7 +148,7 @@ def _run_unit(unit: _Unit) -> list[TrialOutcome]:
 
 
 def _units(engines: Sequence[str], rates: Sequence[float], n_trials: int, seed: int) -> list[_Unit]:
-    out = []
+    out: list[_Unit] = []
     for engine in engines:
         e_i = int.from_bytes(engine.encode()[:8], "little")  # stable, whatever else runs
         for rate in rates:

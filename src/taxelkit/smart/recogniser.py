@@ -28,6 +28,7 @@ from taxelkit.smart.contact_classes import (
     ContactNetwork,
     classify_contacts,
 )
+from taxelkit.smart.contact_limits import ContactLimits, LimitState, apply_limits
 from taxelkit.smart.elimination import Eliminator, Event
 from taxelkit.smart.moments import CELL_SECOND_MOMENT, ImageStats, binary_images, image_stats
 from taxelkit.smart.tacteme_table import Tacteme
@@ -40,12 +41,14 @@ from taxelkit.smart.tactemes import (
     transition_tactemes,
 )
 
-__all__ = ["DEFAULT_CLEANING", "Recognition", "SmartSensor", "recognise"]
+__all__ = ["DEFAULT_CLEANING", "DEFAULT_LIMITS", "Recognition", "SmartSensor", "recognise"]
 
 #: Default contact threshold, mm: the Bonneville preset's fixed threshold.
 _DEFAULT_THRESHOLD_MM = 0.03
 #: Image cleaning used unless switched off (``cleaning=None``: paper 001's pipeline).
 DEFAULT_CLEANING = CleaningConfig()
+#: Level 2 limits in mm and taxels used unless switched off (``limits=None``).
+DEFAULT_LIMITS = ContactLimits()
 
 _BASIC = {
     int(ContactClass.POINT): Tacteme.PC,
@@ -231,6 +234,7 @@ def recognise(
     confidence: float = DEFAULT_CONFIDENCE,
     config: TactemeConfig | None = None,
     cleaning: CleaningConfig | None = DEFAULT_CLEANING,
+    limits: ContactLimits | None = DEFAULT_LIMITS,
 ) -> Recognition:
     """Recognise the object(s) touching the sensor in a recording (batch).
 
@@ -252,6 +256,9 @@ def recognise(
     cleaning : CleaningConfig or None
         Image cleaning before Level 1 (:mod:`taxelkit.smart.cleaning`);
         None feeds the thresholded images to Level 1 as paper 001 does.
+    limits : ContactLimits or None
+        Level 2 limits in mm and taxels, with hysteresis
+        (:mod:`taxelkit.smart.contact_limits`); None keeps the network's classes.
 
     Returns
     -------
@@ -275,6 +282,10 @@ def recognise(
     stats = image_stats(images, pitch_mm=pitch)
     classes = classify_contacts(stats, network, confidence=confidence)
     half = _half_length(stats)
+    if limits is not None:
+        classes = apply_limits(
+            classes, stats.n_taxels, 2.0 * half, stats.elongation, limits
+        ).astype(np.int8)
 
     def track_of(idx: NDArray[np.intp]) -> SegmentTrack:
         return SegmentTrack(
@@ -308,6 +319,8 @@ class SmartSensor:
     config : TactemeConfig, optional
     cleaning : CleaningConfig or None
         Image cleaning before Level 1, as in :func:`recognise`.
+    limits : ContactLimits or None
+        Level 2 limits, as in :func:`recognise`.
     evaluate_every : int
         The open segment's motion tactemes are looked for every this many of
         its frames, or every 1/32 of its length so far if that is more (the
@@ -336,6 +349,7 @@ class SmartSensor:
         confidence: float = DEFAULT_CONFIDENCE,
         config: TactemeConfig | None = None,
         cleaning: CleaningConfig | None = DEFAULT_CLEANING,
+        limits: ContactLimits | None = DEFAULT_LIMITS,
         evaluate_every: int = 16,
     ) -> None:
         rows, cols = int(shape[0]), int(shape[1])
@@ -351,6 +365,7 @@ class SmartSensor:
         self.confidence = float(confidence)
         self.config = TactemeConfig() if config is None else config
         self.cleaning = cleaning
+        self.limits = limits
         u = np.arange(cols) - (cols - 1) / 2.0
         v = np.arange(rows) - (rows - 1) / 2.0
         uu, vv = np.meshgrid(u, v)
@@ -394,6 +409,7 @@ class SmartSensor:
         self._seg_rows = np.empty((64, 7))
         self._seg_n = 0
         self._state = _Levels34(self.config)
+        self._limit_state = LimitState()
         self._t_first: float | None = None
         self._dt: float | None = None
         self._cleaner = (
@@ -407,6 +423,7 @@ class SmartSensor:
             b = self._cleaner.push(b, t_s)
         n, su, sv, suu, svv, suv = (self._basis_t @ b.ravel()).tolist()
         if n == 0:
+            self._limit_state.long = False  # as the batch path: no contact, no length
             return int(ContactClass.NONE), ()
         p = self.pitch_mm
         cuu = (n * suu - su * su) / (n * n) + CELL_SECOND_MOMENT
@@ -432,6 +449,17 @@ class SmartSensor:
             int(OUTPUT_CLASSES[best]) if prob > self.confidence else int(ContactClass.INDETERMINATE)
         )
         half = math.sqrt(3.0 * lam_max * p * p)
+        if self.limits is not None:
+            cls = int(
+                apply_limits(
+                    np.array([cls], np.int8),
+                    np.array([int(n)]),
+                    np.array([2.0 * half]),
+                    np.array([elong]),
+                    self.limits,
+                    state=self._limit_state,
+                )[0]
+            )
         return cls, (su / n * p, sv / n * p, theta, area, elong, half)
 
     # -- Level 3 and 4 -------------------------------------------------------------------
