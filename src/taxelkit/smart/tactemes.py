@@ -550,10 +550,11 @@ def segment_tactemes(
         if j_turn is not None:
             emit(Tacteme.LCMT, j_turn)
             pivots: list[tuple[int, Tacteme]] = []
-            start = int(anchor[j_turn])
-            stop = start + int(np.count_nonzero(anchor[start:] == start))
+            # the lines from the turn's anchor on, across later re-anchors: a rolling
+            # cone's line keeps turning about the same point while its width varies
+            start, stop = int(anchor[j_turn]), n
             ratio = _pivot_ratios(track, start, stop)
-            ready = turned[start:stop] > config.pivot_turn_deg
+            ready = _turn(angle, ref[start] + np.zeros(n, np.intp))[start:] > config.pivot_turn_deg
             lo, hi = (
                 config.pivot_end_ratio / config.pivot_band,
                 config.pivot_end_ratio * config.pivot_band,
