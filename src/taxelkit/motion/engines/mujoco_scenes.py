@@ -182,7 +182,9 @@ def _end(d: sc.Draws) -> list[mh.Segment]:
     return [mh.Unpress(d.span(sc.PLACE_S)), mh.Rise(), mh.Hover(d.span(sc.LIFTED_S))]
 
 
-def _script_sphere(d: sc.Draws, yaw: float, shrink: float, lay: bool) -> list[list[mh.Segment]]:
+def _script_sphere(
+    d: sc.Draws, solid: AnalyticSolid, yaw: float, shrink: float, lay: bool
+) -> list[list[mh.Segment]]:
     out = [_begin(d)]
     runs = 2 + d.index(2)
     direction = np.array([math.cos(yaw), math.sin(yaw)])
@@ -196,7 +198,9 @@ def _script_sphere(d: sc.Draws, yaw: float, shrink: float, lay: bool) -> list[li
     return out
 
 
-def _script_round(d: sc.Draws, yaw: float, shrink: float, lay: bool) -> list[list[mh.Segment]]:
+def _script_round(
+    d: sc.Draws, solid: AnalyticSolid, yaw: float, shrink: float, lay: bool
+) -> list[list[mh.Segment]]:
     """Cylinder, cone, truncated cone: maybe laid from a face onto the side, then rolled."""
     out = [_begin(d)]
     u = (math.cos(yaw), math.sin(yaw))
@@ -211,7 +215,13 @@ def _script_round(d: sc.Draws, yaw: float, shrink: float, lay: bool) -> list[lis
     if lay:  # standing on a face: tilt onto the rim, hold, lay it on its side
         out.append([tip, mh.Brake(), mh.Rest(rest)])
     sign = d.sign()
-    dist = d.span(sc.CYLINDER_ROLL_MM) * shrink
+    if isinstance(solid, Cone | TruncatedCone):  # the far rim's path about the apex
+        prof = solid.profile
+        reach = max(math.hypot(r, z - prof.vertex_z_mm) for z, r in prof.rims)
+        turns = sc.FRUSTUM_TURN_DEG if isinstance(solid, TruncatedCone) else sc.CONE_TURN_DEG
+        dist = math.radians(d.span(turns)) * reach * shrink
+    else:
+        dist = d.span(sc.CYLINDER_ROLL_MM) * shrink
     speed = d.span(sc.ROLL_MM_S)
     out.append([mh.Push(dist, speed, "across", sign=sign), mh.Brake(), mh.Rest(d.span(sc.HOLD_S))])
     if d.coin():
@@ -223,7 +233,9 @@ def _script_round(d: sc.Draws, yaw: float, shrink: float, lay: bool) -> list[lis
     return out
 
 
-def _script_polyhedron(d: sc.Draws, yaw: float, shrink: float, lay: bool) -> list[list[mh.Segment]]:
+def _script_polyhedron(
+    d: sc.Draws, solid: AnalyticSolid, yaw: float, shrink: float, lay: bool
+) -> list[list[mh.Segment]]:
     out = [_begin(d)]
     previous: mh.Tip | None = None
     for _ in range(2 + d.index(2)):
@@ -240,7 +252,9 @@ def _script_polyhedron(d: sc.Draws, yaw: float, shrink: float, lay: bool) -> lis
     return out
 
 
-def _script_sliding(d: sc.Draws, yaw: float, shrink: float, lay: bool) -> list[list[mh.Segment]]:
+def _script_sliding(
+    d: sc.Draws, solid: AnalyticSolid, yaw: float, shrink: float, lay: bool
+) -> list[list[mh.Segment]]:
     out = [_begin(d)]
     mode = d.index(3)  # 0 drag, 1 spin, 2 drag then spin
     heading = yaw + d.uniform(0.0, 2.0 * math.pi)
@@ -257,7 +271,7 @@ def _script_sliding(d: sc.Draws, yaw: float, shrink: float, lay: bool) -> list[l
     return out
 
 
-_Script = Callable[[sc.Draws, float, float, bool], list[list[mh.Segment]]]
+_Script = Callable[[sc.Draws, AnalyticSolid, float, float, bool], list[list[mh.Segment]]]
 _SCRIPTS: dict[str, _Script] = {
     "sphere": _script_sphere,
     "cylinder": _script_round,
@@ -442,7 +456,7 @@ def _segments(
     shrink = _SHRINK ** max(0, attempt - 1)
     script = _script_sliding if plan.slides else _SCRIPTS[plan.object_name]
     # attempt 0 as drawn; later ones without tipping over or laying down
-    parts = script(d, plan.yaw, shrink, on_face if _is_round(plan.solid) else attempt == 0)
+    parts = script(d, plan.solid, plan.yaw, shrink, on_face if _is_round(plan.solid) else attempt == 0)
     if lift_gap_s > 0.0:  # after the first motion's rest
         parts.insert(2, [mh.Gap(lift_gap_s), mh.Rest(sc.HOLD_S[0])])
     return [seg for part in parts for seg in part], rotation0
