@@ -94,24 +94,56 @@ def recognize(
     required=True,
     help="cube, sphere, cone, truncated-cone, cylinder, tetrahedron, or sliding.",
 )
+@click.option(
+    "--engine",
+    type=click.Choice(["kinematic", "mujoco"]),
+    default="kinematic",
+    show_default=True,
+    help='Pose engine: closed-form scripts, or MuJoCo physics (pip install "taxelkit[mujoco]").',
+)
+@click.option(
+    "--rate-hz",
+    type=float,
+    default=20.0,
+    show_default=True,
+    help="Frame rate (mujoco: 1-1000 Hz, the same motion at every rate).",
+)
+@click.option(
+    "--lift-gap-s",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="Lift the body clear once mid-script for this long (mujoco only).",
+)
 @click.option("--seed", type=int, default=0, show_default=True)
 @click.option("--contact", is_flag=True, help="Write binary contact images instead of mm.")
 @click.option("--no-noise", is_flag=True, help="Noise-free frames.")
 @click.option("--out", type=click.Path(path_type=Path), required=True, help=".npz/.h5/.csv")
 @click.option("--force", is_flag=True, help="Overwrite an existing output.")
 def roll(
-    object_name: str, seed: int, contact: bool, no_noise: bool, out: Path, force: bool
+    object_name: str,
+    engine: str,
+    rate_hz: float,
+    lift_gap_s: float,
+    seed: int,
+    contact: bool,
+    no_noise: bool,
+    out: Path,
+    force: bool,
 ) -> None:
-    """Roll a simulated object on the 16 x 16 Bonneville array (a randomised script)."""
+    """Roll a simulated object on the 16 x 16 Bonneville array (a randomised script or scene)."""
     from taxelkit.frames import TactileFrames
     from taxelkit.io.recordings import write_recording
+    from taxelkit.motion.engines import scenario_from_engine
     from taxelkit.motion.rolling import frames_from_scenario
-    from taxelkit.motion.scenarios import SCENARIO_NAMES, make_scenario
+    from taxelkit.motion.scenarios import SCENARIO_NAMES
     from taxelkit.sensors.presets import BONNEVILLE_16X16
 
     if object_name not in SCENARIO_NAMES:
         raise InputError(f"unknown object {object_name!r}; known: {', '.join(SCENARIO_NAMES)}")
-    scenario = make_scenario(object_name, rng=seed)
+    scenario = scenario_from_engine(
+        engine, object_name, rng=seed, rate_hz=rate_hz, lift_gap_s=lift_gap_s
+    )
     rec = frames_from_scenario(BONNEVILLE_16X16, scenario, rng=seed, add_noise=not no_noise)
     if contact:
         rec = TactileFrames(
@@ -121,4 +153,6 @@ def roll(
             sensor=rec.sensor,
         )
     write_recording(rec, out, force=force)
-    click.echo(f"wrote {out} ({rec.n_frames} frames, {rec.duration_s:.1f} s, {object_name})")
+    click.echo(
+        f"wrote {out} ({rec.n_frames} frames, {rec.duration_s:.1f} s, {object_name}, {engine})"
+    )
