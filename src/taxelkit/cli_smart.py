@@ -40,6 +40,11 @@ __all__ = ["recognize", "roll"]
     show_default=True,
     help="Stop a live stream after this long without data.",
 )
+@click.option(
+    "--topic",
+    default=None,
+    help="Frames topic of a ROS 2 bag or MCAP file (default: its only frames topic).",
+)
 def recognize(
     file: Path | None,
     threshold: float | None,
@@ -48,6 +53,7 @@ def recognize(
     live: str | None,
     max_frames: int | None,
     timeout_s: float,
+    topic: str | None,
 ) -> int:
     """Identify the object rolling on the sensor from a recording (paper 001).
 
@@ -74,7 +80,7 @@ def recognize(
     from taxelkit.io.recordings import read_recording
     from taxelkit.smart.recogniser import recognise
 
-    rec = read_recording(file, pitch_mm=pitch_mm)
+    rec = read_recording(file, pitch_mm=pitch_mm, topic=topic)
     result = recognise(rec, threshold=threshold)
     if as_json:
         click.echo(json.dumps(result.to_json()))
