@@ -45,6 +45,14 @@ __all__ = ["recognize", "roll"]
     default=None,
     help="Frames topic of a ROS 2 bag or MCAP file (default: its only frames topic).",
 )
+@click.option(
+    "--save-view",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Also log frames, contact classes, tactemes, candidates and verdicts to this "
+    'rerun .rrd file (needs the viewer extra: pip install "taxelkit[viewer]").',
+)
+@click.option("--force", is_flag=True, help="Overwrite an existing --save-view file.")
 def recognize(
     file: Path | None,
     threshold: float | None,
@@ -54,6 +62,8 @@ def recognize(
     max_frames: int | None,
     timeout_s: float,
     topic: str | None,
+    save_view: Path | None,
+    force: bool,
 ) -> int:
     """Identify the object rolling on the sensor from a recording (paper 001).
 
@@ -61,6 +71,14 @@ def recognize(
     array size and pitch). The recogniser sees only the frames, their
     timestamps and the pitch.
     """
+    if save_view is not None:
+        from taxelkit.viewer.rerun_view import check_viewer_available
+
+        check_viewer_available()
+        if save_view.suffix.lower() != ".rrd":
+            raise InputError(f"--save-view must end in .rrd, got {save_view.name!r}")
+        if live is not None:
+            raise InputError("--save-view works with a recording FILE, not yet with --live")
     if live is not None:
         if file is not None:
             raise InputError("give either FILE or --live SOURCE, not both")
@@ -82,6 +100,14 @@ def recognize(
 
     rec = read_recording(file, pitch_mm=pitch_mm, topic=topic)
     result = recognise(rec, threshold=threshold)
+    if save_view is not None:
+        from taxelkit.io.atomic import atomic_write
+        from taxelkit.viewer.rerun_view import view_recognition
+
+        def write_view(tmp: Path) -> None:
+            view_recognition(rec, result, save_path=tmp)
+
+        atomic_write(save_view, write_view, force=force)
     if as_json:
         click.echo(json.dumps(result.to_json()))
         return 0
