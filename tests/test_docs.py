@@ -24,8 +24,11 @@ def test_there_are_tutorials_with_code() -> None:
 
 @pytest.mark.parametrize("page", TUTORIALS, ids=lambda p: p.stem)
 def test_tutorial_runs(page: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from taxelkit.io import source_plugins
+
     monkeypatch.chdir(tmp_path)
     monkeypatch.setenv("MPLBACKEND", "Agg")
+    monkeypatch.setattr(source_plugins, "_REGISTERED", {})  # a tutorial may register a source
     namespace: dict[str, object] = {"__name__": "__tutorial__"}
     for k, block in enumerate(python_blocks(page)):
         code = compile(block, f"{page.name} block {k + 1}", "exec")

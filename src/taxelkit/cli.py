@@ -146,9 +146,10 @@ from taxelkit.cli_convert import convert  # noqa: E402  (sub-commands)
 from taxelkit.cli_paper000 import memorise, reproduce, trace  # noqa: E402
 from taxelkit.cli_simulate import demo, simulate  # noqa: E402
 from taxelkit.cli_smart import recognize, roll  # noqa: E402
+from taxelkit.cli_sources import sources  # noqa: E402
 
 simulate.add_command(roll)
-for _command in (simulate, demo, reproduce, trace, memorise, recognize, convert):
+for _command in (simulate, demo, reproduce, trace, memorise, recognize, convert, sources):
     cli.add_command(_command)
 
 

@@ -16,7 +16,8 @@ from collections.abc import Callable
 
 from taxelkit.errors import InputError, check_positive
 from taxelkit.io.frame_protocol import DecodedFrame, PayloadType
-from taxelkit.io.live_sources import LiveTimeoutError, open_source, parse_source
+from taxelkit.io.live_sources import LiveTimeoutError
+from taxelkit.io.source_plugins import resolve_source
 from taxelkit.smart.elimination import Event
 from taxelkit.smart.recogniser import SmartSensor
 
@@ -103,7 +104,8 @@ def recognize_live(
     Parameters
     ----------
     source : str
-        ``serial:PORT[@BAUD]`` or ``udp:HOST:PORT`` (see the module docstring).
+        ``serial:PORT[@BAUD]``, ``udp:HOST:PORT``, ``file:PATH``, or ``KIND:ADDRESS``
+        of a source plugin (:mod:`taxelkit.io.source_plugins`, ``taxelkit sources``).
     pitch_mm : float
         Taxel pitch of the device, mm. Required (None is refused): packets do
         not carry it, and Level 2 classifies contacts by their area in mm².
@@ -139,7 +141,7 @@ def recognize_live(
         On a bad ``pitch_mm``, ``threshold``, ``max_frames`` or ``timeout_s``, or uint16
         frames without a threshold.
     """
-    spec = parse_source(source)
+    opener = resolve_source(source)  # any kind of 'taxelkit sources', checked before opening
     if pitch_mm is None:
         raise InputError("--pitch-mm is required with --live: the stream does not carry the pitch")
     pitch = check_positive("pitch_mm", pitch_mm)
@@ -149,7 +151,7 @@ def recognize_live(
     if threshold is not None and not math.isfinite(threshold):
         raise InputError(f"threshold must be a finite number, got {threshold!r}")
     run = _LiveRun(pitch, threshold)
-    with open_source(spec) as src:
+    with opener() as src:
         why, code, received = "end of stream", EXIT_OK, 0
         try:
             for frame in src.frames(max_frames=max_frames, idle_timeout_s=idle):

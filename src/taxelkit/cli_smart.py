@@ -25,7 +25,8 @@ __all__ = ["recognize", "roll"]
 @click.option(
     "--live",
     default=None,
-    help="Read a live stream instead: serial:/dev/ttyUSB0[@baud] or udp:HOST:PORT.",
+    help="Read a live stream instead: serial:/dev/ttyUSB0[@baud], udp:HOST:PORT, "
+    "file:PATH, or a plugin's KIND:ADDRESS (see 'taxelkit sources').",
 )
 @click.option(
     "--max-frames",
