@@ -4,7 +4,9 @@ Run: ``python benchmarks/bench_viewer.py [--frames 10000]``. Streams simulated
 rolls frame by frame through :class:`~taxelkit.smart.recogniser.SmartSensor`,
 once alone (the baseline, same run) and once logging every frame, contact
 class and event to a :class:`~taxelkit.viewer.RerunView` saved to an ``.rrd``
-file. Prints frames/s of both and their ratio. Needs the viewer extra.
+file. Then runs ``taxelkit recognize --live file:CAPTURE --save-view OUT.rrd``
+(the live command, reading the frames as live-protocol packets from a capture
+file) without and with the view. Prints frames/s and ratios. Needs the viewer extra.
 """
 
 from __future__ import annotations
@@ -16,6 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from taxelkit.cli_live import recognize_live
+from taxelkit.io.frame_protocol import encode_frame
 from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.motion.scenarios import SCENARIO_NAMES, make_scenario
 from taxelkit.sensors.presets import BONNEVILLE_16X16
@@ -64,10 +68,30 @@ def main() -> None:
         _stream(frames, t_s, pitch, RerunView(save_path=out))
         viewed = args.frames / (time.perf_counter() - start)
         size_mb = out.stat().st_size / 1e6
+        capture = Path(folder) / "capture.bin"
+        capture.write_bytes(
+            b"".join(
+                encode_frame(f.astype(np.float32), index=k, t_s=float(t))
+                for k, (f, t) in enumerate(zip(frames, t_s, strict=True))
+            )
+        )
+        live = {}
+        for label, view in (("live", None), ("live+view", Path(folder) / "live.rrd")):
+            lines: list[str] = []
+            start = time.perf_counter()
+            recognize_live(f"file:{capture}", pitch_mm=pitch, echo=lines.append, save_view=view)
+            live[label] = args.frames / (time.perf_counter() - start)
+            summary = lines[-1]
     print(f"frames: {args.frames} (16 x 16), events: {events}")
     print(f"smart sensor alone:        {alone:10.0f} frames/s (baseline, same run)")
     print(f"with the rerun view (rrd): {viewed:10.0f} frames/s ({viewed / alone:.2f} x baseline)")
     print(f".rrd size: {size_mb:.1f} MB")
+    print(f"recognize --live file:     {live['live']:10.0f} frames/s")
+    print(
+        f"recognize --live file: --save-view: {live['live+view']:10.0f} frames/s "
+        f"({live['live+view'] / live['live']:.2f} x live without view)"
+    )
+    print(f"last line: {summary}")
 
 
 if __name__ == "__main__":

@@ -78,8 +78,6 @@ def recognize(
         check_viewer_available()
         if save_view.suffix.lower() != ".rrd":
             raise InputError(f"--save-view must end in .rrd, got {save_view.name!r}")
-        if live is not None:
-            raise InputError("--save-view works with a recording FILE, not yet with --live")
     if live is not None:
         if file is not None:
             raise InputError("give either FILE or --live SOURCE, not both")
@@ -92,6 +90,8 @@ def recognize(
             max_frames=max_frames,
             timeout_s=timeout_s,
             echo=click.echo,
+            save_view=save_view,
+            force=force,
         )
         return code
     if file is None:

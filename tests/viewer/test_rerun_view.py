@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from taxelkit.cli import run
+from taxelkit.frames import TactileFrames
 from taxelkit.io.recordings import read_recording, write_recording
 from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.motion.scenarios import make_scenario
@@ -108,3 +109,33 @@ def test_frames_are_logged_as_float32_tensors(tmp_path: Path) -> None:
     chunks = [c for c in RrdReader(tmp_path / "f.rrd").stream().to_chunks()]
     paths = {c.entity_path for c in chunks}
     assert {"/sensor/frames", "/sensor/contact_class"} <= paths
+
+
+def test_live_save_view_holds_every_verdict(tmp_path: Path) -> None:
+    pytest.importorskip("rerun", reason="the viewer needs the viewer extra")
+    from taxelkit.io.frame_protocol import encode_frame
+
+    rec = read_recording(_roll(tmp_path, "cylinder", 3))
+    capture = tmp_path / "roll.bin"
+    frames = np.asarray(rec.frames, dtype=np.float32)
+    capture.write_bytes(
+        b"".join(
+            encode_frame(f, index=k, t_s=float(t))
+            for k, (f, t) in enumerate(zip(frames, rec.t_s, strict=True))
+        )
+    )
+    out = tmp_path / "live.rrd"
+    args = ["recognize", "--live", f"file:{capture}", "--pitch-mm", str(rec.pitch_mm)]
+    assert run([*args, "--save-view", str(out)]) == 0
+    entries = _entries(out)
+    assert len(entries["sensor/frames"]) == rec.n_frames
+    expected = recognise(TactileFrames(frames, rec.t_s, rec.pitch_mm))
+    verdicts = [
+        f"{e.kind}: {e.value if isinstance(e.value, str) else ', '.join(e.value)}"
+        for e in expected.events
+        if e.kind in ("identified", "unknown", "lifted")
+    ]
+    assert sorted(entries["sensor/verdicts"]) == sorted([*verdicts, "result: cylinder"])
+    errors: list[str] = []
+    assert run([*args, "--save-view", str(out)], echo_err=errors.append) == 2
+    assert "exists" in errors[0]
