@@ -342,3 +342,18 @@ def test_bags_give_the_npz_verdicts(tmp_path: Path, name: str) -> None:
         assert got.identified == expected.identified
         assert got.candidates == expected.candidates
         assert got.to_json() == expected.to_json()
+
+
+def test_info_message_keys_are_documented() -> None:
+    """Every key taxelkit writes in the info message has a row in docs/recording-format.md."""
+    from taxelkit.io.ros_messages import info_json
+
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "recording-format.md").read_text()
+    section = doc.split("### The info message", 1)[1].split("\n### ", 1)[0]
+    documented = {
+        line.split("|")[1].strip().strip("`")
+        for line in section.splitlines()
+        if line.startswith("| `")
+    }
+    written = set(json.loads(info_json(_recording(np.float32))))
+    assert written == documented
