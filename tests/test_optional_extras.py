@@ -64,3 +64,10 @@ def test_a_bag_without_the_ros_extra_says_how_to_install(
         assert 'pip install "taxelkit[ros]"' in errors[1]
     finally:
         ros_messages.typestore.cache_clear()
+
+
+def test_envs_without_gymnasium_says_how_to_install() -> None:
+    code = "import sys\nsys.modules['gymnasium'] = None\nimport taxelkit.envs\n"
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert proc.returncode != 0
+    assert 'pip install "taxelkit[gym]"' in proc.stderr

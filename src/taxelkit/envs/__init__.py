@@ -12,6 +12,13 @@ Importing this package registers ``taxelkit/EdgeTrace-v0`` and
 core of taxelkit never imports this package.
 """
 
+try:
+    import gymnasium  # noqa: F401  (checked first, for a clear message)
+except ImportError as _exc:  # pragma: no cover - depends on the install
+    raise ImportError(
+        'taxelkit.envs needs gymnasium, which is not installed: pip install "taxelkit[gym]"'
+    ) from _exc
+
 from taxelkit.envs.active_touch import ActiveTouchEnv
 from taxelkit.envs.edge_trace import EdgeTraceEnv
 from taxelkit.envs.registration import ENV_IDS, register_envs
