@@ -357,3 +357,23 @@ def test_info_message_keys_are_documented() -> None:
     }
     written = set(json.loads(info_json(_recording(np.float32))))
     assert written == documented
+
+
+def test_convert_options_message_storage_and_topic(tmp_path: Path) -> None:
+    rec = _recording(np.float32, seed=11)
+    src = write_recording(rec, tmp_path / "in.npz")
+    out = tmp_path / "ma.mcap"
+    assert run(["convert", str(src), str(out), "--message", "multiarray", "--topic", "/s"]) == 0
+    assert read_recording(out, topic="/s").equals(rec)
+    bag = tmp_path / "bag"
+    assert run(["convert", str(out), str(bag), "--storage", "mcap", "--topic", "/s"]) == 0
+    assert (bag / "metadata.yaml").read_text().count("storage_identifier: mcap") == 1
+    assert read_recording(bag, topic="/s").equals(rec)
+    errors: list[str] = []
+    plain = ["convert", str(src), str(tmp_path / "o.csv"), "--topic", "/s"]
+    assert run(plain, echo_err=errors.append) == 2
+    assert "--topic applies only" in errors[0]
+    f64 = write_recording(_recording(np.float64), tmp_path / "f64.npz")
+    multi = ["convert", str(f64), str(tmp_path / "f.mcap"), "--message", "multiarray"]
+    assert run(multi, echo_err=errors.append) == 2
+    assert "float32" in errors[1] and not (tmp_path / "f.mcap").exists()
