@@ -25,7 +25,8 @@ __all__ = ["recognize", "roll"]
 @click.option(
     "--live",
     default=None,
-    help="Read a live stream instead: serial:/dev/ttyUSB0[@baud] or udp:HOST:PORT.",
+    help="Read a live stream instead: serial:/dev/ttyUSB0[@baud], udp:HOST:PORT, "
+    "file:PATH, or a plugin's KIND:ADDRESS (see 'taxelkit sources').",
 )
 @click.option(
     "--max-frames",
@@ -40,6 +41,19 @@ __all__ = ["recognize", "roll"]
     show_default=True,
     help="Stop a live stream after this long without data.",
 )
+@click.option(
+    "--topic",
+    default=None,
+    help="Frames topic of a ROS 2 bag or MCAP file (default: its only frames topic).",
+)
+@click.option(
+    "--save-view",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Also log frames, contact classes, tactemes, candidates and verdicts to this "
+    'rerun .rrd file (needs the viewer extra: pip install "taxelkit[viewer]").',
+)
+@click.option("--force", is_flag=True, help="Overwrite an existing --save-view file.")
 def recognize(
     file: Path | None,
     threshold: float | None,
@@ -48,6 +62,9 @@ def recognize(
     live: str | None,
     max_frames: int | None,
     timeout_s: float,
+    topic: str | None,
+    save_view: Path | None,
+    force: bool,
 ) -> int:
     """Identify the object rolling on the sensor from a recording (paper 001).
 
@@ -55,6 +72,12 @@ def recognize(
     array size and pitch). The recogniser sees only the frames, their
     timestamps and the pitch.
     """
+    if save_view is not None:
+        from taxelkit.viewer.rerun_view import check_viewer_available
+
+        check_viewer_available()
+        if save_view.suffix.lower() != ".rrd":
+            raise InputError(f"--save-view must end in .rrd, got {save_view.name!r}")
     if live is not None:
         if file is not None:
             raise InputError("give either FILE or --live SOURCE, not both")
@@ -67,6 +90,8 @@ def recognize(
             max_frames=max_frames,
             timeout_s=timeout_s,
             echo=click.echo,
+            save_view=save_view,
+            force=force,
         )
         return code
     if file is None:
@@ -74,8 +99,16 @@ def recognize(
     from taxelkit.io.recordings import read_recording
     from taxelkit.smart.recogniser import recognise
 
-    rec = read_recording(file, pitch_mm=pitch_mm)
+    rec = read_recording(file, pitch_mm=pitch_mm, topic=topic)
     result = recognise(rec, threshold=threshold)
+    if save_view is not None:
+        from taxelkit.io.atomic import atomic_write
+        from taxelkit.viewer.rerun_view import view_recognition
+
+        def write_view(tmp: Path) -> None:
+            view_recognition(rec, result, save_path=tmp)
+
+        atomic_write(save_view, write_view, force=force)
     if as_json:
         click.echo(json.dumps(result.to_json()))
         return 0
