@@ -56,10 +56,8 @@ def test_unknown_engines_and_trials_are_refused() -> None:
 
 
 def test_reproduce_robustness_writes_json_and_heat_map(tmp_path: Path) -> None:
-    code = run(
-        ["reproduce", "robustness", "--out", str(tmp_path), "--trials", "1", "--workers", "1"]
-        + ["--seed", "2"]
-    )
+    args = ["reproduce", "robustness", "--out", str(tmp_path), "--trials", "1"]
+    code = run([*args, "--workers", "1", "--seed", "2"])
     assert code == 0
     doc = json.loads((tmp_path / "robustness.json").read_text())
     assert doc["experiment"] == "robustness"

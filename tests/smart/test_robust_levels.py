@@ -41,7 +41,11 @@ def test_limits_batch_equals_one_frame_at_a_time() -> None:
     lim = ContactLimits()
     batch = apply_limits(classes, n, length, elong, lim)
     state = LimitState()
-    one = [apply_limits(classes[i : i + 1], n[i : i + 1], length[i : i + 1], elong[i : i + 1], lim, state=state)[0] for i in range(200)]  # fmt: skip
+    one = [
+        apply_limits(classes[i : i + 1], n[i : i + 1], length[i : i + 1], elong[i : i + 1], lim,
+                     state=state)[0]
+        for i in range(200)
+    ]  # fmt: skip
     np.testing.assert_array_equal(batch, one)
     assert np.all(batch[(classes == LINE) & (length < 5.1)] != LINE)
 
