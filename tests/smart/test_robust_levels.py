@@ -143,3 +143,23 @@ def test_streaming_equals_batch_at_240_frames_per_s_with_faults() -> None:
     for f, t in zip(rec.frames, rec.t_s, strict=True):
         sensor.push(f, t)
     assert list(sensor.result().events) == list(batch.events)
+
+
+def test_every_verdict_says_why() -> None:
+    from taxelkit.smart.elimination import explain
+
+    undecided = explain([("LC", 3), ("LCM", 9), ("LCMT", 20)])
+    assert undecided.outcome is None and undecided.candidates == ("cone", "truncated-cone")
+    assert {t for t, _, _ in undecided.deciders} == {"LCMT about one end", "LCMT in an arc"}
+    assert "undecided between cone, truncated-cone" in undecided.sentence()
+    gone = dict((o, t) for o, t, _, _ in undecided.eliminated)
+    assert gone["sphere"] == "LC" and gone["cube"] == "LCM" and gone["cylinder"] == "LCMT"
+    unknown = explain([("LC", 3), ("LCMP", 9), ("LCMT", 20)])
+    assert unknown.outcome == "unknown" and "LCMT at frame 20" in unknown.sentence()
+    rec = TactileFrames(
+        line_frames([(5, 8)] * 6 + [(5 + k // 3, 8) for k in range(18)]),
+        t_s=np.arange(32) / 20.0,
+        pitch_mm=PITCH,
+    )
+    doc = recognise(rec, cleaning=None).to_json()
+    assert doc["why"]["outcome"] == "cylinder" and doc["why"]["eliminated"]
