@@ -27,6 +27,7 @@ Usage: ``python benchmarks/bench_mujoco_scenes.py [--seeds 10] [--rate-hz 20]``.
 from __future__ import annotations
 
 import argparse
+import itertools
 import math
 import time
 from collections import Counter
@@ -82,7 +83,7 @@ def intended(name: str, ms: MujocoScene) -> bool:
         dirs = [sc.positions_mm[b - 1] - sc.positions_mm[a] for a, b in runs]
         turns = [
             math.degrees(math.acos(abs(u @ v) / (np.linalg.norm(u) * np.linalg.norm(v))))
-            for u, v in zip(dirs, dirs[1:], strict=False)
+            for u, v in itertools.pairwise(dirs)
         ]
         return any(t >= 60.0 for t in turns)
     if name in ("cylinder", "cone", "truncated-cone"):
@@ -99,7 +100,7 @@ def intended(name: str, ms: MujocoScene) -> bool:
         if sum(1 for k in seq if k == "line") < 2:
             return False
         angles = _line_angles_deg(ms, "edge")
-        rel = [(b - a) % 180.0 for a, b in zip(angles, angles[1:], strict=False)]
+        rel = [(b - a) % 180.0 for a, b in itertools.pairwise(angles)]
         targets = (0.0, 90.0) if name == "cube" else (60.0, 120.0)
         return len(rel) >= 1 and all(_near(r, targets) for r in rel)
     slipping = sum(1 for p in sc.phase if p in ("sliding", "spinning"))

@@ -234,7 +234,8 @@ class Push(Segment):
         if self.mode == "vector":
             err = speed * np.array(self.direction, dtype=np.float64) - s.vel_m_s[:2]
         else:
-            d = (self.sign * unit_h(np.cross(E_Z, s.rot[:, 2])))[:2]
+            a = s.rot[:, 2]  # e_z x a, horizontal: across the axis
+            d = self.sign * np.array([-a[1], a[0]]) / max(math.hypot(a[0], a[1]), 1e-12)
             err = (speed - float(s.vel_m_s[:2] @ d)) * d
         self._integral += err * (s.t_s - self._last_s)
         self._last_s = s.t_s
@@ -372,14 +373,16 @@ class Tip(Segment):
         tau = s.t_s - self.t0_s
         if tau >= self._plan[4]:
             return None
-        k = np.cross(E_Z, self._u)
+        k = np.array([-self._u[1], self._u[0], 0.0])  # e_z x u
         a = s.rot @ self._a0
         angle = math.atan2(float(a @ self._u), float(a[2]))
         rate = float(s.omega_rad_s @ k)
         target, target_rate = self._target(tau)
         w = 2.0 * math.pi * TILT_BANDWIDTH_HZ
         lever = s.pos_m - self._pivot * M_PER_MM
-        gravity_moment = float(np.cross(lever, [0.0, 0.0, -hand.mass_kg * GRAVITY_M_S2]) @ k)
+        # moment of gravity about k: (lever x (0, 0, -m g)) . k
+        weight = hand.mass_kg * GRAVITY_M_S2
+        gravity_moment = -weight * float(lever[1] * k[0] - lever[0] * k[1])
         torque_k = self._ik * (w * w * (target - angle) + 2.0 * w * (target_rate - rate))
         torque_k -= gravity_moment
         f = np.zeros(6)

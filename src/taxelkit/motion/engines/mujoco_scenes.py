@@ -329,44 +329,48 @@ def _simulate(
     rest = sc.rest_pose(plan.solid, rotation0)
     quat = np.zeros(4)
     mujoco.mju_mat2Quat(quat, rotation0.ravel())
-    data.qpos[:3] = (rest.centroid_mm + [0.0, 0.0, mh.HOVER_CLEARANCE_MM]) * M_PER_MM
+    data.qpos[:3] = (rest.centroid_mm + mh.HOVER_CLEARANCE_MM * E_Z) * M_PER_MM
     data.qpos[3:7] = quat
     radius_mm = _bounding_radius_mm(plan.solid)
     rows: list[tuple[float, ...]] = []
     seg_i = 0
-    segments[0].start(hand, _state(data, 0.0, False))
+    mujoco.mj_forward(model, data)
+    segments[0].start(hand, _state(data, bid, 0.0, False))
     max_steps = int(_MAX_DURATION_S * PHYSICS_HZ)
     for step in range(max_steps):
         mujoco.mj_step1(model, data)
         t = step / PHYSICS_HZ
         ncon = int(data.ncon)
-        s = _state(data, t, ncon > 0)
-        slip = 0.0
-        if ncon:
+        s = _state(data, bid, t, ncon > 0)
+        slip_now = 0.0
+        if ncon:  # material velocity of the body at its contact points
             rel = data.contact.pos[:ncon] - s.pos_m
-            v = s.vel_m_s + np.cross(s.omega_rad_s, rel)
-            slip = float(np.max(np.hypot(v[:, 0], v[:, 1]))) / M_PER_MM
+            w = s.omega_rad_s
+            v = s.vel_m_s + np.column_stack(  # v + w x rel
+                [
+                    w[1] * rel[:, 2] - w[2] * rel[:, 1],
+                    w[2] * rel[:, 0] - w[0] * rel[:, 2],
+                    w[0] * rel[:, 1] - w[1] * rel[:, 0],
+                ]
+            )
+            slip_now = float(np.max(np.hypot(v[:, 0], v[:, 1]))) / M_PER_MM
         wrench = segments[seg_i].wrench(hand, s)
         while wrench is None and seg_i + 1 < len(segments):
             seg_i += 1
             segments[seg_i].start(hand, s)
             wrench = segments[seg_i].wrench(hand, s)
         ramp = {"": 0, "placing": 1, "lifting": 2}[hand.ramp]
-        rows.append((*data.qpos[:7], ncon > 0, hand.press, ramp, slip))
+        rows.append((*data.qpos[:7], ncon > 0, hand.press, ramp, slip_now))
         if wrench is None:
             break
         data.xfrc_applied[bid] = wrench
         mujoco.mj_step2(model, data)
-    else:
-        raise InputError(
-            f"a {plan.object_name} scene ran past {_MAX_DURATION_S} s"
-        )  # pragma: no cover
     arr = np.array(rows, dtype=np.float64)
     quats = arr[:, 3:7] / np.linalg.norm(arr[:, 3:7], axis=1, keepdims=True)
     centroids = arr[:, :3] / M_PER_MM
     gap = centroids[:, 2] + plan.solid.lowest_z_mm(matrices_from_quats(quats))
     touching = (arr[:, 7] > 0.5) | (gap < TOUCH_GAP_MM)
-    speed, spin, slip = motion_measures(
+    speed, spin, slip = motion_measures(  # the script ends after at most _MAX_DURATION_S
         quats, centroids, arr[:, 10], radius_mm=radius_mm, steps_per_s=PHYSICS_HZ
     )
     return StepRecord(
@@ -381,9 +385,9 @@ def _simulate(
     )
 
 
-def _state(data: Any, t: float, touching: bool) -> mh.BodyState:
-    q = np.array(data.qpos[3:7])
-    rot = _matrix(q)
+def _state(data: Any, bid: int, t: float, touching: bool) -> mh.BodyState:
+    """The body's state after MuJoCo's position stage (``xmat`` matches ``qpos``)."""
+    rot = np.array(data.xmat[bid]).reshape(3, 3)
     return mh.BodyState(
         t_s=t,
         pos_m=np.array(data.qpos[:3]),
@@ -392,11 +396,6 @@ def _state(data: Any, t: float, touching: bool) -> mh.BodyState:
         omega_rad_s=rot @ np.array(data.qvel[3:6]),
         touching=touching,
     )
-
-
-def _matrix(q: NDArray[np.float64]) -> NDArray[np.float64]:
-    out: NDArray[np.float64] = matrices_from_quats((q / np.linalg.norm(q))[None])[0]
-    return out
 
 
 def _bounding_radius_mm(solid: AnalyticSolid) -> float:
@@ -456,7 +455,9 @@ def _segments(
     shrink = _SHRINK ** max(0, attempt - 1)
     script = _script_sliding if plan.slides else _SCRIPTS[plan.object_name]
     # attempt 0 as drawn; later ones without tipping over or laying down
-    parts = script(d, plan.solid, plan.yaw, shrink, on_face if _is_round(plan.solid) else attempt == 0)
+    parts = script(
+        d, plan.solid, plan.yaw, shrink, on_face if _is_round(plan.solid) else attempt == 0
+    )
     if lift_gap_s > 0.0:  # after the first motion's rest
         parts.insert(2, [mh.Gap(lift_gap_s), mh.Rest(sc.HOLD_S[0])])
     return [seg for part in parts for seg in part], rotation0
