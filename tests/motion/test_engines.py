@@ -15,8 +15,8 @@ pytest.importorskip(
 from taxelkit.cli import run
 from taxelkit.errors import InputError
 from taxelkit.io.recordings import read_recording
-from taxelkit.motion._script import contact_xy
 from taxelkit.motion.engines import scenario_from_engine
+from taxelkit.motion.engines._sampling import contact_footprint_mm
 from taxelkit.motion.engines.mujoco_scenes import MujocoScene, mujoco_scene
 from taxelkit.motion.rolling import Scenario, frames_from_scenario
 from taxelkit.motion.scenarios import SCENARIO_NAMES
@@ -49,9 +49,14 @@ def test_scene_starts_and_ends_lifted(scenes: dict[str, MujocoScene], name: str)
 @pytest.mark.parametrize("name", SCENARIO_NAMES)
 def test_scene_stays_on_the_array(scenes: dict[str, MujocoScene], name: str) -> None:
     sc = scenes[name].scenario
-    xy, margin = contact_xy(sc.solid, sc.rotations, sc.centroids_mm, sc.indent_mm)  # type: ignore[arg-type]
+    touch = sc.in_contact
+    depth = float(sc.indent_mm.max())
+    xy, margin = contact_footprint_mm(sc.solid, sc.rotations[touch], sc.positions_mm[touch], depth)  # type: ignore[arg-type]
     half = 0.5 * BONNEVILLE_16X16.array.width_mm
     assert np.all(np.abs(xy) + margin[:, None] <= half + 0.1)
+    if name == "cone":  # the apex it rolls about is on the array
+        apex = sc.centroids_mm + sc.solid.profile.vertex_z_mm * sc.rotations[:, :, 2]  # type: ignore[union-attr]
+        assert np.all(np.abs(apex[touch, :2]) <= half)
     frames = frames_from_scenario(BONNEVILLE_16X16, sc, add_noise=False)
     threshold = BONNEVILLE_16X16.contact_threshold_mm
     touching = frames.frames > threshold

@@ -72,6 +72,7 @@ from taxelkit.motion.engines._mjcf import (
 )
 from taxelkit.motion.engines._sampling import (
     StepRecord,
+    contact_footprint_mm,
     contact_kinds,
     matrices_from_quats,
     motion_measures,
@@ -265,10 +266,7 @@ def _fit(
     idx = np.arange(0, rec.quats.shape[0], _FIT_STRIDE)
     idx = idx[rec.touching[idx]]
     rots = matrices_from_quats(rec.quats[idx])
-    cents = rec.centroids_mm[idx].copy()
-    cents[:, 2] = -plan.solid.lowest_z_mm(rots)
-    indent = np.full(idx.size, plan.depth_mm)
-    xy, margin = sc.contact_xy(plan.solid, rots, cents, indent)
+    xy, margin = contact_footprint_mm(plan.solid, rots, rec.centroids_mm[idx, :2], plan.depth_mm)
     half = 0.5 * np.array([sensor.array.width_mm, sensor.array.height_mm])
     for k in range(_YAW_TRIES):
         turn = k * math.pi / _YAW_TRIES
