@@ -9,7 +9,8 @@ frame, exactly as for the kinematic scripts of
 
 Scenes (what paper 001's recogniser must see; segments in
 :mod:`~taxelkit.motion.engines._mj_hand`, timing ranges shared with the
-kinematic scripts, :mod:`taxelkit.motion._script`)
+kinematic scripts, :mod:`taxelkit.motion._script`):
+
 =============== ==============================================================
 sphere          placed, pushed in 2-3 straight runs, each braked to a stop,
                 the next at +-90 deg (PC, PC moves, PC takes an orthogonal turn)
@@ -81,9 +82,7 @@ from taxelkit.motion.engines._sampling import (
 )
 from taxelkit.motion.engines.registry import MUJOCO_INSTALL_HINT
 from taxelkit.motion.rolling import DEFAULT_DEPTH_MM, DEFAULT_RATE_HZ, E_Z, Scenario
-from taxelkit.motion.scenarios import (
-    SCENARIO_NAMES,
-)
+from taxelkit.motion.scenarios import SCENARIO_NAMES
 from taxelkit.sensors.noise import RngLike
 from taxelkit.sensors.presets import BONNEVILLE_16X16, Sensor
 from taxelkit.world.pose import matrix_from_axis_angle
