@@ -77,6 +77,8 @@ def test_poses_are_physical(scenes: dict[str, MujocoScene], name: str) -> None:
     assert gap.max() < WORST_GAP_MM
     assert np.all(ms.gap_mm[~sc.in_contact] >= -0.005)
     assert ms.mujoco_version and ms.n_steps > 1000
+    assert 0.0 < ms.friction <= (0.15 if name == "sliding" else 1.2)
+    assert 950.0 <= ms.density_kg_m3 <= 1400.0
 
 
 @pytest.mark.parametrize("name", SCENARIO_NAMES)

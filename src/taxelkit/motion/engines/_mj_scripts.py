@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 from taxelkit.motion import _script as sc
 from taxelkit.motion.engines import _mj_hand as mh
 from taxelkit.motion.engines import _mj_tip as mt
+from taxelkit.motion.engines._mjcf import DENSITY_KG_M3, ROLLING_FRICTION, SLIDING_FRICTION
 from taxelkit.motion.rolling import E_Z
 from taxelkit.motion.scenarios import SLIDING_OBJECTS, SPHERE_MAX_CONTACT_RADIUS_MM, _random_solid
 from taxelkit.world.pose import matrix_from_axis_angle
@@ -43,6 +44,8 @@ class Plan:
     draws: NDArray[np.float64]
     slides: bool
     flip: bool
+    friction: float
+    density_kg_m3: float
 
 
 # --- scripts: lists of hand segments --------------------------------------------------------
@@ -193,6 +196,8 @@ def draw_plan(
         draws=gen.random(N_DRAWS),
         slides=slides,
         flip=flip,
+        friction=float(gen.uniform(*(SLIDING_FRICTION if slides else ROLLING_FRICTION))),
+        density_kg_m3=float(gen.uniform(*DENSITY_KG_M3)),
     )
 
 

@@ -24,9 +24,13 @@ cube,           on a face, tipped about 2-3 bottom edges in turn by a couple
 tetrahedron     (tilt, hold on the edge, back onto the face or over onto the
                 next), never the same edge twice in a row
 sliding         a face-down cube, tetrahedron, cylinder, cone or truncated
-                cone on a low-friction skin (:data:`~taxelkit.motion.engines.
-                _mjcf.SLIDING_FRICTION`): dragged, spun, or both
+                cone on a low-friction skin (``SLIDING_FRICTION`` in
+                :mod:`~taxelkit.motion.engines._mjcf`): dragged, spun, or both
 =============== ==============================================================
+
+Drawn per scene from the seed, besides the choices of the script: the sizes
+(as the kinematic scripts), the press depth, the friction and the density
+(ranges in :mod:`~taxelkit.motion.engines._mjcf`), the yaw and the placement.
 
 Every scene starts held lifted, is lowered onto the plate, and is lifted off
 at the end. With ``lift_gap_s > 0`` the body is lifted clear once after its
@@ -67,8 +71,6 @@ from taxelkit.motion.engines._mjcf import (
     BODY_NAME,
     M_PER_MM,
     PHYSICS_HZ,
-    ROLLING_FRICTION,
-    SLIDING_FRICTION,
     scene_xml,
 )
 from taxelkit.motion.engines._sampling import (
@@ -134,6 +136,10 @@ class MujocoScene:
         Physics steps simulated (:data:`~taxelkit.motion.engines._mjcf.TIMESTEP_S` each).
     attempts : int
         Simulations run to fit the scene on the array.
+    friction : float
+        Coulomb friction drawn for the scene.
+    density_kg_m3 : float
+        Density drawn for the solid, kg/m^3.
     mujoco_version : str
     wall_s : float
         Seconds spent simulating and sampling (a diagnostic; not compared
@@ -146,6 +152,8 @@ class MujocoScene:
     contact: tuple[str, ...]
     n_steps: int
     attempts: int
+    friction: float
+    density_kg_m3: float
     mujoco_version: str
     wall_s: float
 
@@ -168,8 +176,8 @@ def _simulate(
     segments: list[mh.Segment],
     rotation0: NDArray[np.float64],
 ) -> StepRecord:
-    friction = SLIDING_FRICTION if plan.slides else ROLLING_FRICTION
-    model = mujoco.MjModel.from_xml_string(scene_xml(plan.solid, sensor, friction=friction))
+    xml = scene_xml(plan.solid, sensor, friction=plan.friction, density_kg_m3=plan.density_kg_m3)
+    model = mujoco.MjModel.from_xml_string(xml)
     data = mujoco.MjData(model)
     bid = model.body(BODY_NAME).id
     ri = np.zeros(9)
@@ -386,6 +394,8 @@ def _sampled(
         ),
         n_steps=int(rec.quats.shape[0]),
         attempts=attempts,
+        friction=plan.friction,
+        density_kg_m3=plan.density_kg_m3,
         mujoco_version=str(mujoco.__version__),
         wall_s=time.perf_counter() - t_start,
     )
