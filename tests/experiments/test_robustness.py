@@ -19,7 +19,15 @@ from taxelkit.experiments.robustness import (
 
 
 def small(**kw: object) -> RobustnessResult:
-    return run_robustness(seed=3, n_trials=1, engines=["kinematic"], rates_hz=[20.0], **kw)  # type: ignore[arg-type]
+    return run_robustness(
+        seed=3,
+        n_trials=1,
+        engines=["kinematic"],
+        rates_hz=[20.0],
+        arrays=[(12, 2.5)],
+        array_trials=1,
+        **kw,
+    )  # type: ignore[arg-type]
 
 
 def test_a_small_sweep_on_a_local_dask_cluster_equals_the_in_process_one() -> None:
@@ -32,7 +40,10 @@ def test_a_small_sweep_on_a_local_dask_cluster_equals_the_in_process_one() -> No
     assert here.outcomes == there.outcomes
     doc = here.to_json()
     assert doc["n_trials"] == 1 and doc["engines"] == ["kinematic"]
-    assert len(here.outcomes) == 6 * (len(FAULTS) + 1) + len(FAULTS)
+    # the main matrix: six objects x (faults + lift-off), sliding x faults; the 12 x 12
+    # array: seven motions x (none, all)
+    assert len(here.outcomes) == 6 * (len(FAULTS) + 1) + len(FAULTS) + 7 * 2
+    assert {c["array"] for c in doc["arrays"]["cells"]} == {"12x12@2.5"}
     assert doc["sliding"]["identified"] == 0
     assert doc["overall"]["wrong"] == 0
 

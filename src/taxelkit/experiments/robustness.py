@@ -21,6 +21,7 @@ which order units ran.
 
 from __future__ import annotations
 
+import dataclasses
 import importlib.util
 import os
 from collections.abc import Callable, Iterator, Sequence
@@ -32,16 +33,19 @@ import numpy as np
 
 from taxelkit.errors import InputError
 from taxelkit.motion.rolling import frames_from_scenario
+from taxelkit.sensors.array_geometry import TaxelArray
 from taxelkit.sensors.faults import fault_model
-from taxelkit.sensors.presets import BONNEVILLE_16X16
+from taxelkit.sensors.presets import BONNEVILLE_16X16, Sensor
 from taxelkit.smart.recogniser import recognise
 from taxelkit.smart.tacteme_table import OBJECTS
 
 __all__ = [
     "FAULTS",
+    "OTHER_ARRAYS",
     "RATES_HZ",
     "RobustnessResult",
     "TrialOutcome",
+    "array_sensor",
     "available_engines",
     "run_robustness",
 ]
@@ -65,6 +69,22 @@ LIFT_OFF = "contact-loss"
 THRESHOLD_MM = BONNEVILLE_16X16.contact_threshold_mm
 #: Ground-truth label of the sliding trials.
 SLIDING = "sliding"
+#: The array of the main matrix (paper 001's Bonneville, 16 x 16 at 1.76 mm).
+MAIN_ARRAY = "16x16@1.76"
+#: Other arrays, about as wide (28-32 mm) with other pitches and sizes, mm:
+#: the same objects rolled at 20 frames/s, seen clean and with every
+#: imperfection at once.
+OTHER_ARRAYS: tuple[tuple[int, float], ...] = ((8, 3.5), (12, 2.5), (20, 1.5), (32, 1.0))
+#: Imperfections the other arrays are seen through.
+ARRAY_FAULTS: tuple[str, ...] = ("none", "all")
+#: Frame rate of the other arrays' trials, Hz.
+ARRAY_RATE_HZ = 20.0
+
+
+def array_sensor(rows: int, pitch_mm: float) -> Sensor:
+    """The Bonneville preset with another square array (the skin and threshold kept)."""
+    array = TaxelArray(rows=rows, cols=rows, pitch_mm=pitch_mm, element_size_mm=0.85 * pitch_mm)
+    return dataclasses.replace(BONNEVILLE_16X16, name=f"{rows}x{rows}@{pitch_mm:g}", array=array)
 
 
 @dataclass(frozen=True)
@@ -78,6 +98,8 @@ class TrialOutcome:
     truth : str
         The object, or ``"sliding"``.
     trial : int
+    array : str
+        ``ROWSxCOLS@PITCH`` of the array (:data:`MAIN_ARRAY` for the main matrix).
     identified : str or None
         The recogniser's verdict (``"unknown"``, an object, or None: undecided).
     candidates : tuple of str
@@ -90,6 +112,7 @@ class TrialOutcome:
     trial: int
     identified: str | None
     candidates: tuple[str, ...]
+    array: str = MAIN_ARRAY
 
     @property
     def correct(self) -> bool:
@@ -115,47 +138,73 @@ def available_engines() -> dict[str, str | None]:
 
 @dataclass(frozen=True)
 class _Unit:
+    """One motion: an engine moves one object once; seen at every rate (and fault)."""
+
     engine: str
-    rate_hz: float
+    rates_hz: tuple[float, ...]
     truth: str
     trial: int
     entropy: int
+    array: tuple[int, float] | None = None  # None: the main matrix's array
 
 
 def _run_unit(unit: _Unit) -> list[TrialOutcome]:
-    """One motion, every imperfection (worker side)."""
-    from taxelkit.motion.engines import scenario_from_engine
+    """One motion, every rate, every imperfection (worker side)."""
+    from taxelkit.motion.engines import scenarios_from_engine
 
     seq = np.random.SeedSequence([unit.entropy, unit.trial])
     motion_seed, noise_seed, fault_seed = seq.spawn(3)
-    sc = scenario_from_engine(
-        unit.engine, unit.truth, rng=np.random.default_rng(motion_seed), rate_hz=unit.rate_hz
+    sensor = BONNEVILLE_16X16 if unit.array is None else array_sensor(*unit.array)
+    label = MAIN_ARRAY if unit.array is None else sensor.name
+    scenarios = scenarios_from_engine(
+        unit.engine,
+        unit.truth,
+        rates_hz=unit.rates_hz,
+        rng=np.random.default_rng(motion_seed),
+        sensor=sensor,
     )
-    rec = frames_from_scenario(BONNEVILLE_16X16, sc, rng=np.random.default_rng(noise_seed))
-    faults = (*FAULTS, LIFT_OFF) if unit.truth != SLIDING else FAULTS
+    if unit.array is not None:
+        faults: tuple[str, ...] = ARRAY_FAULTS
+    else:
+        faults = (*FAULTS, LIFT_OFF) if unit.truth != SLIDING else FAULTS
     out = []
-    for name, fseed in zip(faults, fault_seed.spawn(len(faults)), strict=True):
-        seen = fault_model(name).apply(
-            rec, threshold=THRESHOLD_MM, rng=np.random.default_rng(fseed)
-        )
-        r = recognise(seen, threshold=THRESHOLD_MM)
-        out.append(
-            TrialOutcome(
-                unit.engine, unit.rate_hz, name, unit.truth, unit.trial, r.identified, r.candidates
+    for rate, sc in zip(unit.rates_hz, scenarios, strict=True):
+        rec = frames_from_scenario(sensor, sc, rng=np.random.default_rng(noise_seed))
+        for name, fseed in zip(faults, fault_seed.spawn(len(faults)), strict=True):
+            seen = fault_model(name).apply(
+                rec, threshold=THRESHOLD_MM, rng=np.random.default_rng(fseed)
             )
-        )
+            r = recognise(seen, threshold=THRESHOLD_MM)
+            out.append(
+                TrialOutcome(
+                    unit.engine, rate, name, unit.truth, unit.trial, r.identified,
+                    r.candidates, label,
+                )
+            )  # fmt: skip
     return out
 
 
-def _units(engines: Sequence[str], rates: Sequence[float], n_trials: int, seed: int) -> list[_Unit]:
+def _units(
+    engines: Sequence[str],
+    rates: Sequence[float],
+    n_trials: int,
+    seed: int,
+    arrays: Sequence[tuple[int, float]] = (),
+    array_trials: int = 0,
+) -> list[_Unit]:
     out: list[_Unit] = []
+    rates_t = tuple(float(r) for r in rates)
     for engine in engines:
         e_i = int.from_bytes(engine.encode()[:8], "little")  # stable, whatever else runs
-        for rate in rates:
-            for o_i, truth in enumerate((*OBJECTS, SLIDING)):
-                # the same motions at every rate: the seed does not depend on it
-                entropy = int(np.random.SeedSequence([seed, e_i, o_i]).generate_state(1)[0])
-                out.extend(_Unit(engine, float(rate), truth, t, entropy) for t in range(n_trials))
+        for o_i, truth in enumerate((*OBJECTS, SLIDING)):
+            entropy = int(np.random.SeedSequence([seed, e_i, o_i]).generate_state(1)[0])
+            out.extend(_Unit(engine, rates_t, truth, t, entropy) for t in range(n_trials))
+            for rows, pitch in arrays:
+                a_seed = np.random.SeedSequence([seed, e_i, o_i, rows]).generate_state(1)[0]
+                out.extend(
+                    _Unit(engine, (ARRAY_RATE_HZ,), truth, t, int(a_seed), (rows, pitch))
+                    for t in range(array_trials)
+                )
     return out
 
 
@@ -218,8 +267,13 @@ class RobustnessResult:
     def to_json(self) -> dict[str, Any]:
         """Per-cell counts and accuracy, summaries per engine x rate x fault, sliding, lift-off."""
         groups: dict[tuple[str, float, str, str], list[TrialOutcome]] = {}
-        for o in self.outcomes:
+        arrays: dict[tuple[str, str, str, str], list[TrialOutcome]] = {}
+        main = [o for o in self.outcomes if o.array == MAIN_ARRAY]
+        for o in main:
             groups.setdefault((o.engine, o.rate_hz, o.fault, o.truth), []).append(o)
+        for o in self.outcomes:
+            if o.array != MAIN_ARRAY:
+                arrays.setdefault((o.array, o.engine, o.fault, o.truth), []).append(o)
 
         def stats(items: list[TrialOutcome]) -> dict[str, Any]:
             n = len(items)
@@ -249,8 +303,24 @@ class RobustnessResult:
                     ]
                     if items:
                         summary.append({"engine": e, "rate_hz": r, "fault": f, **stats(items)})
-        in_set = [o for o in self.outcomes if o.truth != SLIDING]
-        sliding = [o for o in self.outcomes if o.truth == SLIDING]
+        in_set = [o for o in main if o.truth != SLIDING]
+        sliding = [o for o in main if o.truth == SLIDING]
+        other = [
+            {"array": a, "engine": e, "fault": f, "object": t, **stats(v)}
+            for (a, e, f, t), v in sorted(arrays.items())
+        ]
+        other_summary = []
+        for a in sorted({k[0] for k in arrays}):
+            for e in self.engines:
+                for f in ARRAY_FAULTS:
+                    items = [o for (ga, ge, gf, gt), v in arrays.items()
+                             if (ga, ge, gf) == (a, e, f) and gt != SLIDING for o in v]  # fmt: skip
+                    slid = arrays.get((a, e, f, SLIDING), [])
+                    if items:
+                        other_summary.append(
+                            {"array": a, "engine": e, "fault": f, **stats(items),
+                             "sliding_identified": sum(not o.correct for o in slid)}
+                        )  # fmt: skip
         return {
             "experiment": "robustness",
             "engines": list(self.engines),
@@ -264,6 +334,12 @@ class RobustnessResult:
             "sliding": {**stats(sliding), "identified": sum(not o.correct for o in sliding)},
             "summary": summary,
             "cells": cells,
+            "arrays": {
+                "rate_hz": ARRAY_RATE_HZ,
+                "faults": list(ARRAY_FAULTS),
+                "summary": other_summary,
+                "cells": other,
+            },
         }
 
 
@@ -273,6 +349,8 @@ def run_robustness(
     n_trials: int = 30,
     engines: Sequence[str] | None = None,
     rates_hz: Sequence[float] = RATES_HZ,
+    arrays: Sequence[tuple[int, float]] = OTHER_ARRAYS,
+    array_trials: int | None = None,
     workers: int | None = None,
     scheduler: str | None = None,
     progress: Callable[[int, int], None] | None = None,
@@ -290,6 +368,12 @@ def run_robustness(
         Default: every engine available here (MuJoCo needs ``taxelkit[mujoco]``;
         skipped engines are listed in the result with the reason).
     rates_hz : sequence of float
+    arrays : sequence of (rows, pitch_mm)
+        Other square arrays to roll the objects on at :data:`ARRAY_RATE_HZ`
+        (empty: the main matrix only).
+    array_trials : int, optional
+        Randomised motions per object on each of the other arrays (default: a
+        third of ``n_trials``, at least 1).
     workers : int, optional
         Local worker processes (default: the CPU count).
     scheduler : str, optional
@@ -323,7 +407,8 @@ def run_robustness(
         chosen, skipped = list(engines), {}
     if not chosen:
         raise InputError("no simulation engine is available")
-    units = _units(chosen, rates_hz, int(n_trials), int(seed))
+    per_array = max(1, int(n_trials) // 3) if array_trials is None else int(array_trials)
+    units = _units(chosen, rates_hz, int(n_trials), int(seed), arrays, per_array)
     n_workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
     stream = _dask(units, scheduler) if scheduler else _local(units, n_workers)
     results: list[list[TrialOutcome] | None] = [None] * len(units)

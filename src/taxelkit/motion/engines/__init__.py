@@ -13,6 +13,13 @@ from taxelkit.motion.engines.registry import (
     ENGINE_NAMES,
     MUJOCO_INSTALL_HINT,
     scenario_from_engine,
+    scenarios_from_engine,
 )
 
-__all__ = ["ENGINE_NAMES", "MUJOCO_INSTALL_HINT", "kinematic_scenario", "scenario_from_engine"]
+__all__ = [
+    "ENGINE_NAMES",
+    "MUJOCO_INSTALL_HINT",
+    "kinematic_scenario",
+    "scenario_from_engine",
+    "scenarios_from_engine",
+]

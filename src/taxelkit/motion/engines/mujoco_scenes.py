@@ -57,6 +57,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -327,9 +328,51 @@ def mujoco_scene(
         message says ``pip install "taxelkit[mujoco]"``), or a scene that does
         not fit on the array after :data:`ATTEMPTS` simulations.
     """
+    return mujoco_scenes(
+        name,
+        rates_hz=(rate_hz,),
+        rng=rng,
+        sensor=sensor,
+        size_jitter=size_jitter,
+        depth_mm=depth_mm,
+        depth_jitter=depth_jitter,
+        lift_gap_s=lift_gap_s,
+    )[0]
+
+
+def mujoco_scenes(
+    name: str,
+    *,
+    rates_hz: Sequence[float],
+    rng: RngLike = None,
+    sensor: Sensor = BONNEVILLE_16X16,
+    size_jitter: float = 0.3,
+    depth_mm: float = DEFAULT_DEPTH_MM,
+    depth_jitter: float = 0.3,
+    lift_gap_s: float = 0.0,
+) -> list[MujocoScene]:
+    """One simulation of :func:`mujoco_scene`, sampled at several frame rates.
+
+    The physics does not depend on the rate, so this equals calling
+    :func:`mujoco_scene` once per rate with the same seed, for the cost of one
+    simulation.
+
+    Parameters
+    ----------
+    name : str
+    rates_hz : sequence of float
+        Frame rates, Hz, each in [1, 1000].
+    rng, sensor, size_jitter, depth_mm, depth_jitter, lift_gap_s
+        As for :func:`mujoco_scene`.
+
+    Returns
+    -------
+    list of MujocoScene
+        One per rate, in order.
+    """
     if name not in SCENARIO_NAMES:
         raise InputError(f"unknown scenario {name!r}; known: {', '.join(SCENARIO_NAMES)}")
-    rate = check_in_range("rate_hz", rate_hz, 1.0, 1000.0)
+    rates = [check_in_range("rate_hz", r, 1.0, 1000.0) for r in rates_hz]
     jitter = check_in_range("size_jitter", size_jitter, 0.0, 0.5)
     djit = check_in_range("depth_jitter", depth_jitter, 0.0, 0.9)
     depth0 = check_positive("depth_mm", depth_mm)
@@ -342,7 +385,10 @@ def mujoco_scene(
         rec = _simulate(mujoco, sensor, plan, segments, rotation0)
         placed = _fit(plan, rec, sensor)
         if placed is not None:
-            return _sampled(name, plan, rec, placed, rate, attempt + 1, mujoco, t_start)
+            return [
+                _sampled(name, plan, rec, placed, rate, attempt + 1, mujoco, t_start)
+                for rate in rates
+            ]
     raise InputError(
         f"cannot fit the {name} scene ({plan.solid!r}) on the {sensor.name} array; "
         "reduce size_jitter or try another seed"

@@ -2,12 +2,21 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
+import numpy as np
+
 from taxelkit.errors import InputError
 from taxelkit.motion.rolling import DEFAULT_DEPTH_MM, DEFAULT_RATE_HZ, Scenario
 from taxelkit.sensors.noise import RngLike
 from taxelkit.sensors.presets import BONNEVILLE_16X16, Sensor
 
-__all__ = ["ENGINE_NAMES", "MUJOCO_INSTALL_HINT", "scenario_from_engine"]
+__all__ = [
+    "ENGINE_NAMES",
+    "MUJOCO_INSTALL_HINT",
+    "scenario_from_engine",
+    "scenarios_from_engine",
+]
 
 #: Registered engines: the closed-form scripts and MuJoCo physics (optional extra).
 ENGINE_NAMES: tuple[str, ...] = ("kinematic", "mujoco")
@@ -98,3 +107,40 @@ def scenario_from_engine(
             lift_gap_s=lift_gap_s,
         ).scenario
     raise InputError(f"unknown engine {engine!r}; known: {', '.join(ENGINE_NAMES)}")
+
+
+def scenarios_from_engine(
+    engine: str,
+    name: str,
+    *,
+    rates_hz: Sequence[float],
+    rng: RngLike = None,
+    sensor: Sensor = BONNEVILLE_16X16,
+) -> list[Scenario]:
+    """The same motion at several frame rates (one simulation for MuJoCo).
+
+    Parameters
+    ----------
+    engine, name : str
+        As for :func:`scenario_from_engine`.
+    rates_hz : sequence of float
+        Frame rates, Hz.
+    rng : int, Generator or None
+        Seed of the motion: one seed is drawn from it and used at every rate.
+    sensor : Sensor
+
+    Returns
+    -------
+    list of Scenario
+        One per rate, in order; each equals ``scenario_from_engine(engine,
+        name, rng=seed, rate_hz=rate)``.
+    """
+    seed = int(np.random.default_rng(rng).integers(2**63 - 1))
+    if engine == "mujoco":
+        from taxelkit.motion.engines.mujoco_scenes import mujoco_scenes
+
+        scenes = mujoco_scenes(name, rates_hz=rates_hz, rng=seed, sensor=sensor)
+        return [s.scenario for s in scenes]
+    return [
+        scenario_from_engine(engine, name, rng=seed, rate_hz=r, sensor=sensor) for r in rates_hz
+    ]
