@@ -15,6 +15,7 @@ from numpy.typing import ArrayLike, NDArray
 __all__ = [
     "CorruptRecordingError",
     "EmptyRecordingError",
+    "FileTooLargeError",
     "InputError",
     "InvalidRecordingError",
     "OutputExistsError",
@@ -23,6 +24,7 @@ __all__ = [
     "RecordingError",
     "RecordingNotFoundError",
     "TaxelkitError",
+    "UnsafeFileError",
     "UnsupportedFormatError",
     "check_finite_array",
     "check_in_range",
@@ -61,6 +63,23 @@ class InvalidRecordingError(RecordingError, InputError):
     Wrong number of dimensions, NaN or Inf, non-increasing or mismatched
     timestamps, a pitch that is not a positive number, text fields that are not
     text. Both a :class:`RecordingError` and an :class:`InputError`.
+    """
+
+
+class FileTooLargeError(RecordingError):
+    """The file, or the arrays it declares, exceed the read limit.
+
+    The limit is checked against the sizes a file declares (array headers, HDF5
+    dataset shapes) before anything is allocated; see :mod:`taxelkit.io.limits`
+    for its default and how to raise it.
+    """
+
+
+class UnsafeFileError(RecordingError):
+    """The file points outside itself, which taxelkit never follows.
+
+    HDF5 external raw storage, virtual datasets, external and soft links, and
+    archive members whose names carry a folder path.
     """
 
 
