@@ -93,17 +93,9 @@ def _load_memory(path: Path | None, rule: str) -> Any:
             return reference_memory(FAITHFUL)
         return reference_memory(RecallSetup(rule, rule, IMPROVED.phases, IMPROVED.config))
 
-    if not path.is_file():
-        raise InputError(f"{path}: no such memory file")
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            arrays = {k: data[k] for k in data.files}
-    except (OSError, ValueError) as exc:
-        raise InputError(f"{path}: not a taxelkit memory file ({exc})") from None
-    try:
-        return AssociativeMemory.from_arrays(arrays).with_rule(rule)
-    except InputError as exc:
-        raise InputError(f"{path}: {exc}") from None
+    from taxelkit.io.memory_file import read_memory
+
+    return read_memory(path).with_rule(rule)
 
 
 @click.command()

@@ -44,7 +44,6 @@ from numpy.typing import NDArray
 
 from taxelkit.errors import (
     CorruptRecordingError,
-    EmptyRecordingError,
     FileTooLargeError,
     InputError,
     RecordingAccessError,
@@ -63,6 +62,7 @@ __all__ = [
     "check_h5_dataset",
     "h5_node",
     "max_read_bytes",
+    "open_budget",
     "read_limit",
     "read_npz",
 ]
@@ -227,7 +227,9 @@ def open_budget(path: Path, *, what: str) -> ReadBudget:
 
     Raises
     ------
-    RecordingNotFoundError, RecordingAccessError, EmptyRecordingError, FileTooLargeError
+    RecordingNotFoundError, RecordingAccessError, FileTooLargeError
+    CorruptRecordingError
+        If the file has 0 bytes.
     """
     try:
         info = path.stat()
@@ -240,7 +242,7 @@ def open_budget(path: Path, *, what: str) -> ReadBudget:
     if not path.is_file():
         raise fail(RecordingAccessError, path, f"is not a regular file; expected a {what} file")
     if info.st_size == 0:
-        raise fail(EmptyRecordingError, path, f"is empty (0 bytes); expected a {what} file")
+        raise fail(CorruptRecordingError, path, f"is empty (0 bytes); expected a {what} file")
     budget = ReadBudget(path)
     budget.check_file_size(info.st_size)
     return budget
@@ -344,14 +346,12 @@ def read_npz(path: Path, names: Iterable[str], *, what: str) -> NpzContents:
     ------
     RecordingNotFoundError, RecordingAccessError
         If the path is missing or not a regular file.
-    EmptyRecordingError
-        If the file has 0 bytes.
     FileTooLargeError
         If the file or its requested arrays exceed :func:`max_read_bytes`.
     UnsafeFileError
         If an archive member name carries a path.
     CorruptRecordingError
-        If the file is not a zip archive (a bare ``.npy`` included), is
+        If the file is empty, not a zip archive (a bare ``.npy`` included), is
         truncated or damaged, or an array is an object array, of an
         unsupported dtype, or larger than its stored bytes.
     """
