@@ -15,11 +15,11 @@ from tqdm import tqdm
 from taxelkit.cli_common import (
     check_figure_suffix,
     check_outputs,
-    pair,
     save_figure,
     specimen_from_options,
     write_text,
 )
+from taxelkit.cli_options import ANGLE_DEG, COORDINATE_MM, LENGTH_MM, SEED, STEP_HEIGHT_UM
 from taxelkit.errors import InputError
 
 __all__ = ["memorise", "reproduce", "trace"]
@@ -28,7 +28,7 @@ __all__ = ["memorise", "reproduce", "trace"]
 @click.command()
 @click.argument("name")
 @click.option("--out", type=click.Path(path_type=Path), required=True, help="Output folder.")
-@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--seed", type=SEED, default=0, show_default=True)
 @click.option(
     "--trials",
     type=click.IntRange(1),
@@ -84,7 +84,6 @@ def _load_memory(path: Path | None, rule: str) -> Any:
         RecallSetup,
         reference_memory,
     )
-    from taxelkit.memory.associatron import AssociativeMemory
     from taxelkit.memory.recall_rules import get_recall_rule
 
     get_recall_rule(rule)  # validates the name
@@ -101,11 +100,18 @@ def _load_memory(path: Path | None, rule: str) -> Any:
 @click.command()
 @click.option("--shape", default=None, help="circle, square, triangle, star, hexagon")
 @click.option("--specimen", type=click.Path(path_type=Path), default=None, help="Heightmap .npz.")
-@click.option("--rotate-deg", type=float, default=0.0, show_default=True)
-@click.option("--offset-mm", default="0,0", show_default=True, help="Shape offset X,Y.")
-@click.option("--diameter-mm", type=float, default=90.0, show_default=True)
-@click.option("--step-height-um", type=float, default=200.0, show_default=True)
-@click.option("--start-mm", default=None, help="Where the sensor first meets the edge, X,Y.")
+@click.option("--rotate-deg", type=ANGLE_DEG, default=0.0, show_default=True)
+@click.option(
+    "--offset-mm", type=COORDINATE_MM, default="0,0", show_default=True, help="Shape offset X,Y."
+)
+@click.option("--diameter-mm", type=LENGTH_MM, default=90.0, show_default=True)
+@click.option("--step-height-um", type=STEP_HEIGHT_UM, default=200.0, show_default=True)
+@click.option(
+    "--start-mm",
+    type=COORDINATE_MM,
+    default=None,
+    help="Where the sensor first meets the edge, X,Y.",
+)
 @click.option(
     "--rule",
     default="matched",
@@ -119,7 +125,7 @@ def _load_memory(path: Path | None, rule: str) -> Any:
     default=None,
     help="Memory file from 'taxelkit memorise' (default: the five built-in shapes).",
 )
-@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--seed", type=SEED, default=0, show_default=True)
 @click.option("--plot", type=click.Path(path_type=Path), default=None, help="Figure (.png).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 @click.option("--force", is_flag=True, help="Overwrite an existing --plot file.")
@@ -127,10 +133,10 @@ def trace(
     shape: str | None,
     specimen: Path | None,
     rotate_deg: float,
-    offset_mm: str,
+    offset_mm: tuple[float, float],
     diameter_mm: float,
     step_height_um: float,
-    start_mm: str | None,
+    start_mm: tuple[float, float] | None,
     rule: str,
     memory: Path | None,
     seed: int,
@@ -154,7 +160,7 @@ def trace(
     )
     mem = _load_memory(memory, rule)
     probe = SimulatedProbe(relief, rng=seed)
-    start = pair(start_mm, "--start-mm")
+    start = start_mm
     if start is None:
         start = tuple(find_edge(probe, centre))
     tr = trace_edge(probe, start)
@@ -201,7 +207,7 @@ def trace(
     help="Start from this memory file instead of the five built-in shapes.",
 )
 @click.option("--rule", default="matched", show_default=True)
-@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--seed", type=SEED, default=0, show_default=True)
 @click.option("--out", type=click.Path(path_type=Path), required=True, help="Memory file (.npz).")
 @click.option("--force", is_flag=True)
 def memorise(
