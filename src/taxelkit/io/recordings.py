@@ -30,6 +30,7 @@ from taxelkit.errors import (
     TaxelkitError,
     UnsupportedFormatError,
     check_positive,
+    check_type,
 )
 from taxelkit.frames import CONTACT_UNITS, DEFAULT_PITCH_MM, TactileFrames
 from taxelkit.io._raw import RECORDING_FIELDS, RawRecording, describe_exception, fail
@@ -405,6 +406,12 @@ def read_recording(path: str | os.PathLike[str], *, pitch_mm: float | None = Non
     ------
     InputError
         If ``pitch_mm`` is given and is not a finite number > 0.
+    FileTooLargeError
+        If the file, or the arrays it declares, exceed the read limit of
+        :mod:`taxelkit.io.limits` (checked before they are read).
+    UnsafeFileError
+        If the file points outside itself: HDF5 external storage, virtual
+        datasets, external or soft links; archive members with a path.
     RecordingNotFoundError
         If nothing exists at ``path``.
     RecordingAccessError
@@ -463,6 +470,8 @@ def write_recording(
 
     Raises
     ------
+    InputError
+        If ``rec`` is not a :class:`TactileFrames` (a bare array, say).
     UnsupportedFormatError
         If the extension is not one of :data:`RECORDING_SUFFIXES`.
     EmptyRecordingError
@@ -474,6 +483,9 @@ def write_recording(
     OutputWriteError
         If the operating system refuses the write.
     """
+    check_type(
+        "rec", rec, TactileFrames, "a TactileFrames (wrap bare arrays: TactileFrames(frames))"
+    )
     p = Path(path)
     fmt = _format_for(p)
     if rec.n_frames == 0:
