@@ -14,9 +14,14 @@ precede the error they would announce.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
+
+if TYPE_CHECKING:  # click >= 8.5 types ParamType by its value and input types
+    _ParamType = click.ParamType[Any, Any]
+else:
+    _ParamType = click.ParamType
 
 __all__ = [
     "ANGLE_DEG",
@@ -52,7 +57,7 @@ MAX_ANGLE_DEG = 3600.0
 MAX_THRESHOLD = 1e6
 
 
-class Seed(click.ParamType):
+class Seed(_ParamType):
     """A seed: an integer from 0 to :data:`MAX_SEED`."""
 
     name = "seed"
@@ -78,7 +83,7 @@ def _parse_float(text: str) -> float | None:
         return None
 
 
-class FiniteFloat(click.ParamType):
+class FiniteFloat(_ParamType):
     """A finite number in ``[low, high]`` (``(low, high]`` with ``low_open``).
 
     Parameters
@@ -111,7 +116,7 @@ class FiniteFloat(click.ParamType):
         return number
 
 
-class Numbers(click.ParamType):
+class Numbers(_ParamType):
     """``count`` comma-separated finite numbers, each within ``+-bound``.
 
     Parameters
