@@ -9,6 +9,7 @@ format's rules.
 from __future__ import annotations
 
 import io
+import json
 import struct
 import zipfile
 from collections.abc import Callable
@@ -404,10 +405,8 @@ def _binary_stl(n_declared: int, n_real: int) -> bytes:
 def _gltf_external(path: Path) -> None:
     outside = path.parent / "outside.bin"
     outside.write_bytes(b"\0" * 1024)
-    path.write_text(
-        '{"asset": {"version": "2.0"}, "buffers": [{"uri": "%s", "byteLength": 1024}]}'
-        % outside.as_uri()
-    )
+    doc = {"asset": {"version": "2.0"}, "buffers": [{"uri": outside.as_uri(), "byteLength": 1024}]}
+    path.write_text(json.dumps(doc))
 
 
 #: Mesh files that are damaged, lie about their size or name other files.
