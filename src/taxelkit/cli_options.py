@@ -14,6 +14,7 @@ precede the error they would announce.
 from __future__ import annotations
 
 import math
+import re
 from typing import TYPE_CHECKING, Any
 
 import click
@@ -49,6 +50,9 @@ __all__ = [
 #: Largest seed: NumPy seeds are unsigned 64-bit; the CLI keeps to signed
 #: 64-bit so that every seed is also a valid JSON and C ``int64`` value.
 MAX_SEED = 2**63 - 1
+#: A seed as typed: ASCII decimal digits with an optional sign (no ``1_000``,
+#: no other scripts' digits, which Python's ``int`` would accept).
+_DECIMAL_INTEGER = re.compile(r"[+-]?[0-9]+")
 #: Largest magnitude of a position or offset, mm (10 m: far beyond any specimen).
 MAX_COORDINATE_MM = 1e4
 #: Largest magnitude of an angle, degrees (ten turns).
@@ -67,10 +71,10 @@ class Seed(_ParamType):
         if isinstance(value, int) and not isinstance(value, bool):
             number = value
         else:
-            try:
-                number = int(str(value).strip(), 10)
-            except ValueError:
+            text = str(value).strip()
+            if not _DECIMAL_INTEGER.fullmatch(text):
                 self.fail(f"{value!r} is not an integer seed (0 to 2**63-1)", param, ctx)
+            number = int(text, 10)
         if not 0 <= number <= MAX_SEED:
             self.fail(f"{value!r} is not in 0 to 2**63-1", param, ctx)
         return number
