@@ -8,6 +8,7 @@ format's rules.
 
 from __future__ import annotations
 
+import functools
 import io
 import json
 import struct
@@ -136,13 +137,23 @@ def _method(data: bytes, method: int) -> bytes:
     return bytes(out)
 
 
+@functools.lru_cache(maxsize=8)
+def _bomb_zip(main: str, others: tuple[tuple[str, bytes], ...]) -> bytes:
+    """A 250 KB archive whose ``main`` member inflates to 256 MiB, built on first use."""
+    return zip_of(
+        {f"{main}.npy": npy_bytes(np.zeros(BOMB_SHAPE, np.float32)), **dict(others)},
+        compress=True,
+    )
+
+
 def _generic_npz(main: str, arrays: dict[str, np.ndarray]) -> dict[str, Writer]:
     """Container damage for an ``.npz`` whose main array is ``main``."""
     good = _npz(arrays)
     others = {f"{k}.npy": npy_bytes(v) for k, v in arrays.items() if k != main}
-    bomb = zip_of(
-        {f"{main}.npy": npy_bytes(np.zeros(BOMB_SHAPE, np.float32)), **others}, compress=True
-    )
+
+    def bomb(path: Path) -> None:
+        path.write_bytes(_bomb_zip(main, tuple(others.items())))
+
     return {
         "empty": _writes(b""),
         "text": _writes(b"this is not an archive\n"),
@@ -167,7 +178,7 @@ def _generic_npz(main: str, arrays: dict[str, np.ndarray]) -> dict[str, Writer]:
         "declares-huge-v2": _writes(
             zip_of({f"{main}.npy": npy_header((2**40,), version=2) + b"\0" * 8, **others})
         ),
-        "zip-bomb-256mib": _writes(bomb),
+        "zip-bomb-256mib": bomb,
         "garbage-header": _writes(
             zip_of({f"{main}.npy": b"\x93NUMPY\x01\x00\x10\x00{junk}    \n"})
         ),
@@ -197,6 +208,13 @@ NPZ_CASES: dict[str, dict[str, Writer]] = {
 }
 
 
+def _int8_bomb(path: Path) -> None:
+    """40 MB of int8 frames: under the limit as stored, over it as float64."""
+    path.write_bytes(
+        zip_of({"frames.npy": npy_bytes(np.zeros((40_000, 32, 32), np.int8))}, compress=True)
+    )
+
+
 def _recording(**changes: object) -> Writer:
     arrays: dict[str, object] = {**valid_recording(), **changes}
     return _writes(_npz({k: np.asarray(v) for k, v in arrays.items() if v is not None}))
@@ -218,9 +236,7 @@ RECORDING_NPZ_CASES: dict[str, Writer] = {
     "negative-pitch": _recording(pitch_mm=np.array(-1.0)),
     "text-pitch": _recording(pitch_mm=np.array("wide")),
     "numeric-units": _recording(units=np.array(3.0)),
-    "int8-bomb": _writes(
-        zip_of({"frames.npy": npy_bytes(np.zeros((40_000, 32, 32), np.int8))}, compress=True)
-    ),
+    "int8-bomb": lambda p: _int8_bomb(p),
 }
 
 
