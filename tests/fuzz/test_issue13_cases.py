@@ -142,6 +142,42 @@ def test_hdf5_external_storage_is_refused_without_opening_the_named_file(
         thread.join(10)
 
 
+def test_mesh_side_files_are_never_opened(tmp_path: Path) -> None:
+    # An OBJ naming a material library elsewhere (a FIFO, as above): the mesh
+    # itself is read, the library never opened.
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    library = elsewhere / "private.mtl"
+    os.mkfifo(library)
+    mesh = tmp_path / "tetra.obj"
+    mesh.write_text(
+        f"mtllib {library}\nusemtl x\nv 0 0 0\nv 10 0 0\nv 0 10 0\nv 0 0 10\n"
+        "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+    )
+    opened = threading.Event()
+
+    def writer() -> None:
+        fd = os.open(library, os.O_WRONLY)  # blocks until a reader opens the FIFO
+        opened.set()
+        with contextlib.suppress(OSError):
+            os.write(fd, b"newmtl x\nKd 1 0 0\n")
+        os.close(fd)
+
+    thread = threading.Thread(target=writer, daemon=True)
+    thread.start()
+    try:
+        out = tmp_path / "s.npz"
+        result = invoke(["simulate", "solid", "--mesh", mesh, "--no-noise", "--out", out])
+        assert result.code == 0, result.err
+        assert out.exists()
+        time.sleep(0.2)
+        assert not opened.is_set(), "the material library named by the OBJ was opened"
+    finally:
+        with contextlib.suppress(OSError):
+            os.close(os.open(library, os.O_RDONLY | os.O_NONBLOCK))
+        thread.join(10)
+
+
 # ----------------------------------------------------------------------------- options
 @pytest.mark.parametrize(
     "argv",
