@@ -30,6 +30,7 @@ from taxelkit.io._raw import describe_exception, one_line
 from taxelkit.io.limits import DEFAULT_MAX_MB, MAX_MB_ENV, read_limit
 
 EXIT_BAD_INPUT = 2
+_TOPIC_HELP = "Frames topic of a ROS 2 bag or MCAP file (default: its only frames topic)."
 
 logger = logging.getLogger("taxelkit")
 
@@ -88,11 +89,12 @@ def cli(ctx: click.Context, verbose: bool, max_mb: float | None) -> None:
     "--pitch-mm", type=PITCH_MM, default=None, help="Override the file's taxel pitch, mm."
 )
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
-def info(file: Path, pitch_mm: float | None, as_json: bool) -> None:
-    """Summarise a recording (.npz, .h5, .csv): frames, shape, duration, rate, values."""
+@click.option("--topic", default=None, help=_TOPIC_HELP)
+def info(file: Path, pitch_mm: float | None, as_json: bool, topic: str | None) -> None:
+    """Summarise a recording (.npz, .h5, .csv, .mcap, rosbag2): frames, shape, rate, values."""
     from taxelkit.io.recordings import read_recording
 
-    rec = read_recording(file, pitch_mm=pitch_mm)
+    rec = read_recording(file, pitch_mm=pitch_mm, topic=topic)
     s = _summary(rec, file)
     if as_json:
         click.echo(json.dumps(s))
@@ -117,6 +119,7 @@ def info(file: Path, pitch_mm: float | None, as_json: bool) -> None:
 @click.option("--stop", type=click.IntRange(1), default=None, help="One past the last frame.")
 @click.option("--threshold", type=THRESHOLD, default=None, help="Draw contact images frames > T.")
 @click.option("--force", is_flag=True, help="Overwrite an existing output.")
+@click.option("--topic", default=None, help=_TOPIC_HELP)
 def show(
     file: Path,
     out: Path,
@@ -125,13 +128,14 @@ def show(
     stop: int | None,
     threshold: float | None,
     force: bool,
+    topic: str | None,
 ) -> None:
     """Draw frames of a recording as an image strip."""
     from taxelkit.io.recordings import read_recording
     from taxelkit.plotting.strip import frame_indices_for_strip, plot_frame_strip
 
     check_figure_suffix(out)
-    rec = read_recording(file)
+    rec = read_recording(file, topic=topic)
     stop = rec.n_frames if stop is None else min(stop, rec.n_frames)
     if start >= stop:
         raise InputError(f"--start ({start}) must be below the number of frames ({stop})")
@@ -156,12 +160,14 @@ def sensors() -> None:
         )
 
 
-from taxelkit.cli_paper000 import memorise, reproduce, trace  # noqa: E402  (sub-commands)
+from taxelkit.cli_convert import convert  # noqa: E402  (sub-commands)
+from taxelkit.cli_paper000 import memorise, reproduce, trace  # noqa: E402
 from taxelkit.cli_simulate import demo, simulate  # noqa: E402
 from taxelkit.cli_smart import recognize, roll  # noqa: E402
+from taxelkit.cli_sources import sources  # noqa: E402
 
 simulate.add_command(roll)
-for _command in (simulate, demo, reproduce, trace, memorise, recognize):
+for _command in (simulate, demo, reproduce, trace, memorise, recognize, convert, sources):
     cli.add_command(_command)
 
 

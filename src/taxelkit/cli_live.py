@@ -13,10 +13,13 @@ import logging
 import math
 from array import array
 from collections.abc import Callable
+from pathlib import Path
+from typing import Any
 
 from taxelkit.errors import InputError, check_positive
 from taxelkit.io.frame_protocol import DecodedFrame, PayloadType
-from taxelkit.io.live_sources import LiveTimeoutError, open_source, parse_source
+from taxelkit.io.live_sources import LiveTimeoutError
+from taxelkit.io.source_plugins import resolve_source
 from taxelkit.smart.elimination import Event
 from taxelkit.smart.recogniser import SmartSensor
 
@@ -45,7 +48,8 @@ def format_event(event: Event, index: int, t_s: float) -> str:
 class _LiveRun:
     """The state of one live recognition: the sensor, once the first frame gives its shape."""
 
-    def __init__(self, pitch_mm: float, threshold: float | None) -> None:
+    def __init__(self, pitch_mm: float, threshold: float | None, view: Any = None) -> None:
+        self.view = view  # a taxelkit.viewer.RerunView, or None
         self.pitch_mm = pitch_mm
         self.threshold = threshold
         self.sensor: SmartSensor | None = None
@@ -73,6 +77,10 @@ class _LiveRun:
         self.wire_index.append(frame.index)
         self.wire_t_s.append(frame.t_s)
         events = self.sensor.push(frame.values, frame.t_s)
+        if self.view is not None:
+            j = self.sensor.frame_index - 1
+            self.view.log_frame(j, frame.t_s, frame.values, self.sensor.classes[-1])
+            self.view.log_events(events, frame.t_s)
         return [format_event(e, self.wire_index[e.frame], self.wire_t_s[e.frame]) for e in events]
 
     def summary(self, source_stats: str, why: str) -> str:
@@ -97,13 +105,16 @@ def recognize_live(
     max_frames: int | None = None,
     timeout_s: float | None = 5.0,
     echo: Callable[[str], None],
+    save_view: Path | None = None,
+    force: bool = False,
 ) -> int:
     """Run the streaming smart sensor on a live source, printing one line per event.
 
     Parameters
     ----------
     source : str
-        ``serial:PORT[@BAUD]`` or ``udp:HOST:PORT`` (see the module docstring).
+        ``serial:PORT[@BAUD]``, ``udp:HOST:PORT``, ``file:PATH``, or ``KIND:ADDRESS``
+        of a source plugin (:mod:`taxelkit.io.source_plugins`, ``taxelkit sources``).
     pitch_mm : float
         Taxel pitch of the device, mm. Required (None is refused): packets do
         not carry it, and Level 2 classifies contacts by their area in mm².
@@ -119,6 +130,11 @@ def recognize_live(
         error; after it, the device is taken to have finished. None waits for ever.
     echo : callable
         Receives each output line (events, then one summary line).
+    save_view : pathlib.Path, optional
+        Also log every frame, contact class and event to this rerun ``.rrd``
+        file (:mod:`taxelkit.viewer`, the viewer extra), written atomically.
+    force : bool, optional
+        Replace an existing ``save_view`` file.
 
     Returns
     -------
@@ -139,7 +155,7 @@ def recognize_live(
         On a bad ``pitch_mm``, ``threshold``, ``max_frames`` or ``timeout_s``, or uint16
         frames without a threshold.
     """
-    spec = parse_source(source)
+    opener = resolve_source(source)  # any kind of 'taxelkit sources', checked before opening
     if pitch_mm is None:
         raise InputError("--pitch-mm is required with --live: the stream does not carry the pitch")
     pitch = check_positive("pitch_mm", pitch_mm)
@@ -148,8 +164,37 @@ def recognize_live(
     idle = None if timeout_s is None else check_positive("timeout_s", timeout_s)
     if threshold is not None and not math.isfinite(threshold):
         raise InputError(f"threshold must be a finite number, got {threshold!r}")
-    run = _LiveRun(pitch, threshold)
-    with open_source(spec) as src:
+    if save_view is None:
+        return _run_live(opener, _LiveRun(pitch, threshold), max_frames, idle, echo)
+    from taxelkit.io.atomic import atomic_write
+    from taxelkit.viewer.rerun_view import RerunView
+
+    codes: list[int] = []
+
+    def session(tmp: Path) -> None:
+        view = RerunView(save_path=tmp)
+        run = _LiveRun(pitch, threshold, view)
+        try:
+            codes.append(_run_live(opener, run, max_frames, idle, echo))
+        finally:
+            if run.sensor is not None and run.sensor.frame_index:
+                last = run.sensor.frame_index - 1
+                view.log_result(last, float(run.wire_t_s[last]), run.sensor.result())
+            view.close()
+
+    atomic_write(save_view, session, force=force)
+    return codes[0]
+
+
+def _run_live(
+    opener: Callable[[], Any],
+    run: _LiveRun,
+    max_frames: int | None,
+    idle: float | None,
+    echo: Callable[[str], None],
+) -> int:
+    """The receive loop: frames to the sensor, lines to ``echo``, then the summary."""
+    with opener() as src:
         why, code, received = "end of stream", EXIT_OK, 0
         try:
             for frame in src.frames(max_frames=max_frames, idle_timeout_s=idle):

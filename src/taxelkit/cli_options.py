@@ -27,6 +27,7 @@ else:
 __all__ = [
     "ANGLE_DEG",
     "COORDINATE_MM",
+    "DURATION_S",
     "EULER_DEG",
     "INDENT_MM",
     "LENGTH_MM",
@@ -183,5 +184,7 @@ SCALE = FiniteFloat(0.0, 1e4, low_open=True)
 RATE_HZ = FiniteFloat(0.0, 1e6, low_open=True)
 #: Time-outs, s.
 TIMEOUT_S = FiniteFloat(0.0, 1e6, low_open=True)
+#: Durations that may be 0, s.
+DURATION_S = FiniteFloat(0.0, 1e6)
 #: The read limit of ``taxelkit --max-mb``, MiB (see :mod:`taxelkit.io.limits`).
 MAX_MB = FiniteFloat(0.0, 1e7, low_open=True)

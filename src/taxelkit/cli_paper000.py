@@ -34,12 +34,25 @@ __all__ = ["memorise", "reproduce", "trace"]
     type=click.IntRange(1),
     default=50,
     show_default=True,
-    help="Trials per shape (recall-vs-s, tacteme-table; smart-sensor: at least 100).",
+    help="Trials per shape (recall-vs-s, tacteme-table; robustness: per cell; smart-sensor:"
+    " at least 100).",
 )
 @click.option("--workers", type=click.IntRange(1), default=None, help="Worker processes.")
+@click.option(
+    "--scheduler",
+    default=None,
+    metavar="tcp://HOST:PORT",
+    help="Run the robustness sweep on this Dask scheduler (needs taxelkit[dask]).",
+)
 @click.option("--force", is_flag=True, help="Overwrite existing outputs.")
 def reproduce(
-    name: str, out: Path, seed: int, trials: int, workers: int | None, force: bool
+    name: str,
+    out: Path,
+    seed: int,
+    trials: int,
+    workers: int | None,
+    scheduler: str | None,
+    force: bool,
 ) -> None:
     """Run a registered experiment (or 'all'): writes OUT/NAME.json and OUT/NAME.png.
 
@@ -59,6 +72,8 @@ def reproduce(
         kwargs: dict[str, Any] = {"seed": seed}
         if n == "recall-vs-s":
             kwargs.update(n_trials=trials, workers=workers)
+        elif n == "robustness":
+            kwargs.update(n_trials=trials, workers=workers, scheduler=scheduler)
         elif n in ("smart-sensor", "tacteme-table"):
             kwargs.update(
                 n_trials=max(trials, 100) if n == "smart-sensor" else trials, workers=workers

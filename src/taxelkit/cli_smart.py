@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from taxelkit.cli_options import PITCH_MM, SEED, THRESHOLD, TIMEOUT_S
+from taxelkit.cli_options import DURATION_S, PITCH_MM, RATE_HZ, SEED, THRESHOLD, TIMEOUT_S
 from taxelkit.errors import InputError
 
 __all__ = ["recognize", "roll"]
@@ -26,7 +26,8 @@ __all__ = ["recognize", "roll"]
 @click.option(
     "--live",
     default=None,
-    help="Read a live stream instead: serial:/dev/ttyUSB0[@baud] or udp:HOST:PORT.",
+    help="Read a live stream instead: serial:/dev/ttyUSB0[@baud], udp:HOST:PORT, "
+    "file:PATH, or a plugin's KIND:ADDRESS (see 'taxelkit sources').",
 )
 @click.option(
     "--max-frames",
@@ -41,6 +42,19 @@ __all__ = ["recognize", "roll"]
     show_default=True,
     help="Stop a live stream after this long without data.",
 )
+@click.option(
+    "--topic",
+    default=None,
+    help="Frames topic of a ROS 2 bag or MCAP file (default: its only frames topic).",
+)
+@click.option(
+    "--save-view",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Also log frames, contact classes, tactemes, candidates and verdicts to this "
+    'rerun .rrd file (needs the viewer extra: pip install "taxelkit[viewer]").',
+)
+@click.option("--force", is_flag=True, help="Overwrite an existing --save-view file.")
 def recognize(
     file: Path | None,
     threshold: float | None,
@@ -49,6 +63,9 @@ def recognize(
     live: str | None,
     max_frames: int | None,
     timeout_s: float,
+    topic: str | None,
+    save_view: Path | None,
+    force: bool,
 ) -> int:
     """Identify the object rolling on the sensor from a recording (paper 001).
 
@@ -56,6 +73,12 @@ def recognize(
     array size and pitch). The recogniser sees only the frames, their
     timestamps and the pitch.
     """
+    if save_view is not None:
+        from taxelkit.viewer.rerun_view import check_viewer_available
+
+        check_viewer_available()
+        if save_view.suffix.lower() != ".rrd":
+            raise InputError(f"--save-view must end in .rrd, got {save_view.name!r}")
     if live is not None:
         if file is not None:
             raise InputError("give either FILE or --live SOURCE, not both")
@@ -68,6 +91,8 @@ def recognize(
             max_frames=max_frames,
             timeout_s=timeout_s,
             echo=click.echo,
+            save_view=save_view,
+            force=force,
         )
         return code
     if file is None:
@@ -75,8 +100,16 @@ def recognize(
     from taxelkit.io.recordings import read_recording
     from taxelkit.smart.recogniser import recognise
 
-    rec = read_recording(file, pitch_mm=pitch_mm)
+    rec = read_recording(file, pitch_mm=pitch_mm, topic=topic)
     result = recognise(rec, threshold=threshold)
+    if save_view is not None:
+        from taxelkit.io.atomic import atomic_write
+        from taxelkit.viewer.rerun_view import view_recognition
+
+        def write_view(tmp: Path) -> None:
+            view_recognition(rec, result, save_path=tmp)
+
+        atomic_write(save_view, write_view, force=force)
     if as_json:
         click.echo(json.dumps(result.to_json()))
         return 0
@@ -95,24 +128,56 @@ def recognize(
     required=True,
     help="cube, sphere, cone, truncated-cone, cylinder, tetrahedron, or sliding.",
 )
+@click.option(
+    "--engine",
+    type=click.Choice(["kinematic", "mujoco"]),
+    default="kinematic",
+    show_default=True,
+    help='Pose engine: closed-form scripts, or MuJoCo physics (pip install "taxelkit[mujoco]").',
+)
+@click.option(
+    "--rate-hz",
+    type=RATE_HZ,
+    default=20.0,
+    show_default=True,
+    help="Frame rate (mujoco: 1-1000 Hz, the same motion at every rate).",
+)
+@click.option(
+    "--lift-gap-s",
+    type=DURATION_S,
+    default=0.0,
+    show_default=True,
+    help="Lift the body clear once mid-script for this long (mujoco only).",
+)
 @click.option("--seed", type=SEED, default=0, show_default=True)
 @click.option("--contact", is_flag=True, help="Write binary contact images instead of mm.")
 @click.option("--no-noise", is_flag=True, help="Noise-free frames.")
 @click.option("--out", type=click.Path(path_type=Path), required=True, help=".npz/.h5/.csv")
 @click.option("--force", is_flag=True, help="Overwrite an existing output.")
 def roll(
-    object_name: str, seed: int, contact: bool, no_noise: bool, out: Path, force: bool
+    object_name: str,
+    engine: str,
+    rate_hz: float,
+    lift_gap_s: float,
+    seed: int,
+    contact: bool,
+    no_noise: bool,
+    out: Path,
+    force: bool,
 ) -> None:
-    """Roll a simulated object on the 16 x 16 Bonneville array (a randomised script)."""
+    """Roll a simulated object on the 16 x 16 Bonneville array (a randomised script or scene)."""
     from taxelkit.frames import TactileFrames
     from taxelkit.io.recordings import write_recording
+    from taxelkit.motion.engines import scenario_from_engine
     from taxelkit.motion.rolling import frames_from_scenario
-    from taxelkit.motion.scenarios import SCENARIO_NAMES, make_scenario
+    from taxelkit.motion.scenarios import SCENARIO_NAMES
     from taxelkit.sensors.presets import BONNEVILLE_16X16
 
     if object_name not in SCENARIO_NAMES:
         raise InputError(f"unknown object {object_name!r}; known: {', '.join(SCENARIO_NAMES)}")
-    scenario = make_scenario(object_name, rng=seed)
+    scenario = scenario_from_engine(
+        engine, object_name, rng=seed, rate_hz=rate_hz, lift_gap_s=lift_gap_s
+    )
     rec = frames_from_scenario(BONNEVILLE_16X16, scenario, rng=seed, add_noise=not no_noise)
     if contact:
         rec = TactileFrames(
@@ -122,4 +187,6 @@ def roll(
             sensor=rec.sensor,
         )
     write_recording(rec, out, force=force)
-    click.echo(f"wrote {out} ({rec.n_frames} frames, {rec.duration_s:.1f} s, {object_name})")
+    click.echo(
+        f"wrote {out} ({rec.n_frames} frames, {rec.duration_s:.1f} s, {object_name}, {engine})"
+    )

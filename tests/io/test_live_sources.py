@@ -162,7 +162,8 @@ def test_idle_timeout_names_the_source_and_its_counts() -> None:
 def test_ten_thousand_frames_over_a_pseudo_terminal_into_the_smart_sensor() -> None:
     n = 10_000
     frames = touches(n)
-    device = SimulatedDevice(frames, np.arange(n) * 1e-3, corrupt_fraction=0.02, rng=7)
+    # stamped at 20 Hz: each touch lasts 1.75 s, well above the recogniser's time-based debounce
+    device = SimulatedDevice(frames, np.arange(n) / 20.0, corrupt_fraction=0.02, rng=7)
     damage = damage_counts(device)
     assert sum(damage.values()) == 200 and min(damage.values()) > 0
     damaged = {c.index for c in device.corruptions}
@@ -341,7 +342,7 @@ def test_recognize_live_over_udp_prints_events_and_stops_after_max_frames() -> N
     frames = np.zeros((20, 16, 16), bool)
     frames[5:15, 7:9, 7:9] = True  # a 2 x 2 blob: a point contact, then lift-off
     port = free_udp_port()
-    device = SimulatedDevice(frames, np.arange(20) * 0.01, cycles=200, interval_s=0.002)
+    device = SimulatedDevice(frames, np.arange(20) * 0.05, cycles=200, interval_s=0.002)
     device.start_udp(("127.0.0.1", port))  # cycles: frames sent before the bind do not matter
     lines: list[str] = []
     try:

@@ -10,7 +10,7 @@ from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Eliminator
 from taxelkit.smart.recogniser import SmartSensor, recognise
 from taxelkit.smart.tacteme_table import OBJECTS, TABLE, Tacteme
-from taxelkit.smart.tactemes import TactemeConfig, accepted_runs
+from taxelkit.smart.tactemes import PAPER_LEVEL3, TactemeConfig, accepted_runs
 
 N = 16
 PITCH = 28.2 / 16
@@ -46,7 +46,9 @@ def fig3_sequence() -> np.ndarray:
 
 
 def test_fig3_story_identifies_the_cylinder_and_ignores_the_spurious_line() -> None:
-    rec = recognise(TactileFrames(fig3_sequence(), pitch_mm=PITCH))
+    rec = recognise(
+        TactileFrames(fig3_sequence(), pitch_mm=PITCH), cleaning=None, config=PAPER_LEVEL3
+    )
     names = [n for n, _ in rec.tactemes]
     assert names[:3] == ["AC", "PC", "LC"]
     assert "LCMP" in names
@@ -103,7 +105,7 @@ def test_sliding_face_is_never_identified() -> None:
 
 
 def test_lift_off_reports_the_candidates_left() -> None:
-    frames = [point(7, 7)] * 5 + [blank()] * 4
+    frames = [blank()] + [point(7, 7)] * 5 + [blank()] * 4
     rec = recognise(TactileFrames(np.stack(frames), pitch_mm=PITCH))
     assert rec.identified is None
     assert set(rec.candidates) == set(OBJECTS)  # a still point rules nothing out

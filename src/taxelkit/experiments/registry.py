@@ -86,6 +86,12 @@ def _contact_classes(**kw: Any) -> ExperimentResult:
     return run_contact_classes(**kw)
 
 
+def _robustness(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.robustness import run_robustness
+
+    return run_robustness(**kw)
+
+
 #: All registered experiments, in the order ``reproduce all`` runs them.
 EXPERIMENTS: dict[str, Experiment] = {
     e.name: e
@@ -98,6 +104,11 @@ EXPERIMENTS: dict[str, Experiment] = {
         Experiment("cylinder", "Paper 001 Fig. 3: the rolling cylinder", _cylinder),
         Experiment("smart-sensor", "Paper 001: randomised trials, confusion", _smart_sensor),
         Experiment("tacteme-table", "Paper 001 Table 1 checked by simulation", _tacteme_table),
+        Experiment(
+            "robustness",
+            "Smart sensor: engines x rates x sensor imperfections x objects",
+            _robustness,
+        ),
     )
 }
 

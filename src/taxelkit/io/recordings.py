@@ -1,4 +1,7 @@
-"""Read and write tactile recordings as ``.npz``, ``.h5``/``.hdf5`` or ``.csv``.
+"""Read and write tactile recordings as ``.npz``, ``.h5``/``.hdf5``, ``.csv`` or ROS 2 bags.
+
+ROS 2 bags (rosbag2 folders and ``.mcap`` files) need the optional ``ros``
+extra and are handled by :mod:`taxelkit.io.bags`.
 
 The formats are specified in ``docs/recording-format.md``. Every reader returns
 a validated :class:`~taxelkit.frames.TactileFrames`; every problem with a file
@@ -45,6 +48,7 @@ from taxelkit.io.limits import (
 )
 
 __all__ = [
+    "BAG_SUFFIXES",
     "RECORDING_SUFFIXES",
     "WRITABLE_FRAME_DTYPES",
     "InvalidRecordingError",
@@ -57,6 +61,9 @@ __all__ = [
 
 #: File extensions of the recording formats (matched case-insensitively).
 RECORDING_SUFFIXES = (".npz", ".h5", ".hdf5", ".csv")
+#: Extensions of the ROS 2 formats (``pip install "taxelkit[ros]"``); a rosbag2
+#: bag is a folder and is recognised by its ``metadata.yaml`` instead.
+BAG_SUFFIXES = (".mcap",)
 #: Frame dtypes every format stores exactly.
 WRITABLE_FRAME_DTYPES = (
     np.dtype(np.bool_),
@@ -68,14 +75,20 @@ WRITABLE_FRAME_DTYPES = (
 _DEFAULT_SENSOR = "unknown"
 #: File signatures that identify a format from the first bytes: a zip archive
 #: (every ``.npz``), HDF5 without a user block, and a bare ``.npy`` array.
-_SIGNATURES = ((b"PK", "npz"), (b"\x89HDF\r\n\x1a\n", "hdf5"), (b"\x93NUMPY", "npy"))
+_SIGNATURES = (
+    (b"PK", "npz"),
+    (b"\x89HDF\r\n\x1a\n", "hdf5"),
+    (b"\x93NUMPY", "npy"),
+    (b"\x89MCAP0\r\n", "mcap"),
+)
 _MAGIC_LENGTH = 8
-_CANONICAL_SUFFIX = {"npz": ".npz", "hdf5": ".h5", "csv": ".csv"}
+_CANONICAL_SUFFIX = {"npz": ".npz", "hdf5": ".h5", "csv": ".csv", "mcap": ".mcap"}
 _CONTENT_LABEL = {
     "npz": "an .npz archive",
     "hdf5": "HDF5 data",
     "csv": "CSV text",
     "npy": "a single .npy array",
+    "mcap": "an MCAP file",
 }
 
 
@@ -182,8 +195,25 @@ def _read_csv(path: Path, head: bytes) -> RawRecording:
 
 _NPZ = _Format("npz", _read_npz, _write_npz)
 _HDF5 = _Format("hdf5", _read_h5, _write_h5)
+
+
+def _read_mcap(path: Path, head: bytes, topic: str | None = None) -> RawRecording:
+    del head
+    from taxelkit.io.bags import raw_from_mcap
+
+    return raw_from_mcap(path, topic=topic)
+
+
+def _write_mcap(rec: TactileFrames, path: Path, topic: str | None = None) -> None:
+    from taxelkit.io.bags import write_mcap_file
+    from taxelkit.io.ros_messages import DEFAULT_TOPIC
+
+    write_mcap_file(rec, path, topic=DEFAULT_TOPIC if topic is None else topic)
+
+
 _CSV = _Format("csv", _read_csv, write_csv_recording)
-_FORMATS = {".npz": _NPZ, ".h5": _HDF5, ".hdf5": _HDF5, ".csv": _CSV}
+_MCAP = _Format("mcap", _read_mcap, _write_mcap)
+_FORMATS = {".npz": _NPZ, ".h5": _HDF5, ".hdf5": _HDF5, ".csv": _CSV, ".mcap": _MCAP}
 
 
 # ----------------------------------------------------------------------------- checks
@@ -198,12 +228,12 @@ def recording_format(path: str | os.PathLike[str]) -> str:
     Returns
     -------
     str
-        ``"npz"``, ``"hdf5"`` or ``"csv"``.
+        ``"npz"``, ``"hdf5"``, ``"csv"`` or ``"mcap"``.
 
     Raises
     ------
     UnsupportedFormatError
-        If the suffix is not one of :data:`RECORDING_SUFFIXES`.
+        If the suffix is not one of :data:`RECORDING_SUFFIXES` or :data:`BAG_SUFFIXES`.
 
     Examples
     --------
@@ -221,7 +251,7 @@ def _format_for(path: Path) -> _Format:
             UnsupportedFormatError,
             path,
             f"unsupported recording format ({got}); expected one of "
-            f"{', '.join(RECORDING_SUFFIXES)}",
+            f"{', '.join(RECORDING_SUFFIXES + BAG_SUFFIXES)} or a rosbag2 folder",
         )
     return fmt
 
@@ -383,17 +413,23 @@ def _check_text_for_file(name: str, value: str) -> None:
 
 
 # ----------------------------------------------------------------------------- public API
-def read_recording(path: str | os.PathLike[str], *, pitch_mm: float | None = None) -> TactileFrames:
-    """Read a recording from a ``.npz``, ``.h5``/``.hdf5`` or ``.csv`` file.
+def read_recording(
+    path: str | os.PathLike[str], *, pitch_mm: float | None = None, topic: str | None = None
+) -> TactileFrames:
+    """Read a recording: ``.npz``, ``.h5``/``.hdf5``, ``.csv``, ``.mcap`` file or rosbag2 folder.
 
     Parameters
     ----------
     path : str or os.PathLike
-        The file; its extension (case-insensitive) selects the format.
+        The file; its extension (case-insensitive) selects the format. A
+        folder holding ``metadata.yaml`` is read as a rosbag2 bag.
     pitch_mm : float, optional
         Taxel pitch, mm, replacing (and skipping the check of) any pitch stored
         in the file. Default: the stored ``pitch_mm``, else
         :data:`~taxelkit.frames.DEFAULT_PITCH_MM`.
+    topic : str, optional
+        Frames topic of a bag or MCAP file (default: its only frames topic);
+        refused for the other formats.
 
     Returns
     -------
@@ -426,6 +462,10 @@ def read_recording(path: str | os.PathLike[str], *, pitch_mm: float | None = Non
     InvalidRecordingError
         If a field breaks the rules of :class:`TactileFrames` (dimensions,
         NaN/Inf, timestamps, pitch, text).
+    BagTopicError
+        If a bag's topic is missing, ambiguous or carries another message type.
+    BagDependencyError
+        If a bag is read without the ``ros`` extra installed.
 
     Examples
     --------
@@ -438,17 +478,29 @@ def read_recording(path: str | os.PathLike[str], *, pitch_mm: float | None = Non
     """
     p = Path(path)
     override = None if pitch_mm is None else check_positive("pitch_mm", pitch_mm)
+    from taxelkit.io.bags import is_rosbag2_folder, raw_from_rosbag2
+
+    if is_rosbag2_folder(p):
+        return _build(raw_from_rosbag2(p, topic=topic), p, override)
     size, head = _probe_input(p)
     fmt = _format_for(p)
     if size == 0:
         raise fail(EmptyRecordingError, p, "is empty (0 bytes)")
     ReadBudget(p).check_file_size(size)
     _check_signature(p, head, fmt)
+    if fmt is _MCAP:
+        return _build(_read_mcap(p, head, topic), p, override)
+    if topic is not None:
+        raise InputError(f"{p}: a topic applies only to ROS 2 bags and MCAP files")
     return _build(fmt.read(p, head), p, override)
 
 
 def write_recording(
-    rec: TactileFrames, path: str | os.PathLike[str], *, force: bool = False
+    rec: TactileFrames,
+    path: str | os.PathLike[str],
+    *,
+    force: bool = False,
+    topic: str | None = None,
 ) -> Path:
     """Write a recording atomically; the extension selects the format.
 
@@ -458,10 +510,14 @@ def write_recording(
         The recording. Frames must be bool, float16, float32 or float64 (native
         byte order); ``units`` and ``sensor`` one line of text.
     path : str or os.PathLike
-        Output file ending in ``.npz``, ``.h5``, ``.hdf5`` or ``.csv``
-        (case-insensitive). Its folder must exist.
+        Output file ending in ``.npz``, ``.h5``, ``.hdf5``, ``.csv`` or
+        ``.mcap`` (case-insensitive). Its folder must exist. (A rosbag2
+        folder is written by :func:`taxelkit.io.bags.write_rosbag2`.)
     force : bool, optional
         Replace an existing file. Default ``False``.
+    topic : str, optional
+        Frames topic of an ``.mcap`` file (default ``/tactile``); refused
+        for the other formats.
 
     Returns
     -------
@@ -497,4 +553,8 @@ def write_recording(
         )
     _check_text_for_file("units", rec.units)
     _check_text_for_file("sensor", rec.sensor)
+    if fmt is _MCAP:
+        return atomic_write(p, lambda tmp: _write_mcap(rec, tmp, topic), force=force)
+    if topic is not None:
+        raise InputError(f"{p}: a topic applies only to ROS 2 bags and MCAP files")
     return atomic_write(p, lambda tmp: fmt.write(rec, tmp), force=force)

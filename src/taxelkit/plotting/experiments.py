@@ -13,6 +13,7 @@ __all__ = ["plot_experiment"]
 def _plotters() -> dict[str, Callable[[Any], Figure]]:
     from taxelkit.plotting.paper000 import plot_fig7, plot_fig8, plot_fig9, plot_recall_vs_s
     from taxelkit.plotting.paper001 import plot_cylinder, plot_smart_sensor, plot_tacteme_table
+    from taxelkit.plotting.robustness import plot_robustness
 
     return {
         "contact-classes": _plot_contact_classes,
@@ -23,6 +24,7 @@ def _plotters() -> dict[str, Callable[[Any], Figure]]:
         "fig8": plot_fig8,
         "fig9": plot_fig9,
         "recall-vs-s": plot_recall_vs_s,
+        "robustness": plot_robustness,
     }
 
 

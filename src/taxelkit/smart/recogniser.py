@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import InputError, check_positive, check_shape, check_threshold
 from taxelkit.frames import DEFAULT_FRAME_INTERVAL_S, TactileFrames
+from taxelkit.smart.cleaning import CleaningConfig, ImageCleaner, clean_images
 from taxelkit.smart.contact_classes import (
     DEFAULT_CONFIDENCE,
     HAND_SET,
@@ -27,18 +28,27 @@ from taxelkit.smart.contact_classes import (
     ContactNetwork,
     classify_contacts,
 )
+from taxelkit.smart.contact_limits import ContactLimits, LimitState, apply_limits
 from taxelkit.smart.elimination import Eliminator, Event
-from taxelkit.smart.moments import CELL_SECOND_MOMENT, ImageStats, image_stats
+from taxelkit.smart.moments import CELL_SECOND_MOMENT, ImageStats, binary_images, image_stats
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import (
     SegmentTrack,
     TactemeConfig,
     accepted_runs,
+    debounce_counts,
     segment_tactemes,
     transition_tactemes,
 )
 
-__all__ = ["Recognition", "SmartSensor", "recognise"]
+__all__ = ["DEFAULT_CLEANING", "DEFAULT_LIMITS", "Recognition", "SmartSensor", "recognise"]
+
+#: Default contact threshold, mm: the Bonneville preset's fixed threshold.
+_DEFAULT_THRESHOLD_MM = 0.03
+#: Image cleaning used unless switched off (``cleaning=None``: paper 001's pipeline).
+DEFAULT_CLEANING = CleaningConfig()
+#: Level 2 limits in mm and taxels used unless switched off (``limits=None``).
+DEFAULT_LIMITS = ContactLimits()
 
 _BASIC = {
     int(ContactClass.POINT): Tacteme.PC,
@@ -223,6 +233,8 @@ def recognise(
     network: ContactNetwork = HAND_SET,
     confidence: float = DEFAULT_CONFIDENCE,
     config: TactemeConfig | None = None,
+    cleaning: CleaningConfig | None = DEFAULT_CLEANING,
+    limits: ContactLimits | None = DEFAULT_LIMITS,
 ) -> Recognition:
     """Recognise the object(s) touching the sensor in a recording (batch).
 
@@ -241,6 +253,12 @@ def recognise(
         Level 2 confidence.
     config : TactemeConfig, optional
         Level 3 thresholds.
+    cleaning : CleaningConfig or None
+        Image cleaning before Level 1 (:mod:`taxelkit.smart.cleaning`);
+        None feeds the thresholded images to Level 1 as paper 001 does.
+    limits : ContactLimits or None
+        Level 2 limits in mm and taxels, with hysteresis
+        (:mod:`taxelkit.smart.contact_limits`); None keeps the network's classes.
 
     Returns
     -------
@@ -258,9 +276,16 @@ def recognise(
             raise InputError("pitch_mm is required when recording is a bare array")
         pitch = check_positive("pitch_mm", pitch_mm)
     thr = _DEFAULT_THRESHOLD_MM if threshold is None else check_threshold("threshold", threshold)
-    stats = image_stats(frames, pitch_mm=pitch, threshold=None if frames.dtype == bool else thr)
+    images = binary_images(frames, None if frames.dtype == bool else thr)
+    if cleaning is not None and images.ndim == 3:
+        images = clean_images(images, t_s, config=cleaning)
+    stats = image_stats(images, pitch_mm=pitch)
     classes = classify_contacts(stats, network, confidence=confidence)
     half = _half_length(stats)
+    if limits is not None:
+        classes = apply_limits(
+            classes, stats.n_taxels, 2.0 * half, stats.elongation, limits
+        ).astype(np.int8)
 
     def track_of(idx: NDArray[np.intp]) -> SegmentTrack:
         return SegmentTrack(
@@ -273,12 +298,9 @@ def recognise(
             t_s[idx],
         )
 
-    runs = accepted_runs(classes, int(cfg.debounce_frames))
+    k, k_none = debounce_counts(cfg, float(t_s[1] - t_s[0]) if t_s.size > 1 else None)
+    runs = accepted_runs(classes, k, k_none=k_none)
     return _finish(classes, _events_for_runs(runs, track_of, cfg))
-
-
-#: Default contact threshold, mm: the Bonneville preset's fixed threshold.
-_DEFAULT_THRESHOLD_MM = 0.03
 
 
 class SmartSensor:
@@ -295,6 +317,10 @@ class SmartSensor:
     network : ContactNetwork
     confidence : float
     config : TactemeConfig, optional
+    cleaning : CleaningConfig or None
+        Image cleaning before Level 1, as in :func:`recognise`.
+    limits : ContactLimits or None
+        Level 2 limits, as in :func:`recognise`.
     evaluate_every : int
         The open segment's motion tactemes are looked for every this many of
         its frames, or every 1/32 of its length so far if that is more (the
@@ -322,6 +348,8 @@ class SmartSensor:
         network: ContactNetwork = HAND_SET,
         confidence: float = DEFAULT_CONFIDENCE,
         config: TactemeConfig | None = None,
+        cleaning: CleaningConfig | None = DEFAULT_CLEANING,
+        limits: ContactLimits | None = DEFAULT_LIMITS,
         evaluate_every: int = 16,
     ) -> None:
         rows, cols = check_shape("shape", shape)
@@ -338,6 +366,8 @@ class SmartSensor:
         self.network = network
         self.confidence = float(confidence)
         self.config = TactemeConfig() if config is None else config
+        self.cleaning = cleaning
+        self.limits = limits
         u = np.arange(cols) - (cols - 1) / 2.0
         v = np.arange(rows) - (rows - 1) / 2.0
         uu, vv = np.meshgrid(u, v)
@@ -381,12 +411,21 @@ class SmartSensor:
         self._seg_rows = np.empty((64, 7))
         self._seg_n = 0
         self._state = _Levels34(self.config)
+        self._limit_state = LimitState()
+        self._t_first: float | None = None
+        self._dt: float | None = None
+        self._cleaner = (
+            None if self.cleaning is None else ImageCleaner(self.shape, config=self.cleaning)
+        )
 
     # -- Level 1 and 2 for one frame --------------------------------------------------
-    def _classify(self, frame: NDArray[Any]) -> tuple[int, tuple[float, ...]]:
+    def _classify(self, frame: NDArray[Any], t_s: float) -> tuple[int, tuple[float, ...]]:
         b = frame if frame.dtype == bool else frame > self.threshold
+        if self._cleaner is not None:
+            b = self._cleaner.push(b, t_s)
         n, su, sv, suu, svv, suv = (self._basis_t @ b.ravel()).tolist()
         if n == 0:
+            self._limit_state.long = False  # as the batch path: no contact, no length
             return int(ContactClass.NONE), ()
         p = self.pitch_mm
         cuu = (n * suu - su * su) / (n * n) + CELL_SECOND_MOMENT
@@ -412,6 +451,17 @@ class SmartSensor:
             int(OUTPUT_CLASSES[best]) if prob > self.confidence else int(ContactClass.INDETERMINATE)
         )
         half = math.sqrt(3.0 * lam_max * p * p)
+        if self.limits is not None:
+            cls = int(
+                apply_limits(
+                    np.array([cls], np.int8),
+                    np.array([int(n)]),
+                    np.array([2.0 * half]),
+                    np.array([elong]),
+                    self.limits,
+                    state=self._limit_state,
+                )[0]
+            )
         return cls, (su / n * p, sv / n * p, theta, area, elong, half)
 
     # -- Level 3 and 4 -------------------------------------------------------------------
@@ -431,11 +481,15 @@ class SmartSensor:
             raise InputError(f"frame must have shape {self.shape}, got {f.shape}")
         j = self.frame_index
         self.frame_index += 1
-        cls, stats = self._classify(f)
-        self.classes.append(cls)
         t = float(j) * DEFAULT_FRAME_INTERVAL_S if t_s is None else float(t_s)
+        cls, stats = self._classify(f, t)
+        self.classes.append(cls)
         row = (*stats, t) if stats else ()
-        k = int(self.config.debounce_frames)
+        if self._t_first is None:
+            self._t_first = t
+        elif self._dt is None:
+            self._dt = t - self._t_first
+        k_contact, k_none = debounce_counts(self.config, self._dt)
         if cls == ContactClass.INDETERMINATE:
             return []
         before = len(self._state.events)
@@ -450,7 +504,7 @@ class SmartSensor:
                 self._candidate, self._cand_frames, self._cand_rows = cls, [], []
             self._cand_frames.append(j)
             self._cand_rows.append(row)
-            if len(self._cand_frames) < k:
+            if len(self._cand_frames) < (k_none if cls == ContactClass.NONE else k_contact):
                 return []
             self._flush()  # the open segment ends: its last motion tactemes first
             self._accepted = cls

@@ -49,6 +49,8 @@ class Tacteme(enum.StrEnum):
     AC_TO_LC = "AC -> LC"
     LC_AC_LC_SQUARE = "LC -> AC -> LC (parallel or 90 deg)"
     LC_AC_LC_TRIANGLE = "LC -> AC -> LC (60 or 120 deg)"
+    LC_SLIDES = "LC slides along itself"
+    LC_SPINS = "LC spins about its middle"
 
 
 @dataclass(frozen=True)
@@ -110,6 +112,17 @@ TABLE: tuple[TactemeRow, ...] = (
     ),
     TactemeRow(Tacteme.AC_MOVES, frozenset(OBJECTS), "a face cannot move without sliding"),
     TactemeRow(Tacteme.AC_ROTATES, frozenset(OBJECTS), "spinning on a face is sliding too"),
+    TactemeRow(
+        Tacteme.LC_SLIDES,
+        frozenset(OBJECTS),
+        "a rolling line moves across itself; moving along itself is sliding (beyond paper 001)",
+    ),
+    TactemeRow(
+        Tacteme.LC_SPINS,
+        frozenset(OBJECTS),
+        "a rolling line turns about a point at or beyond its end (a cone's apex, a truncated"
+        " cone's virtual apex); turning about its middle is spinning (beyond paper 001)",
+    ),
     TactemeRow(Tacteme.LCMP, _all_but("cylinder"), "only a cylinder rolls in a straight line"),
     TactemeRow(
         Tacteme.LCMT,

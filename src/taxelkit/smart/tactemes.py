@@ -13,9 +13,13 @@ its first ``k`` frames; like a class, a motion must hold for ``k`` frames in
 a row, so the one-frame collapse of a contact that tips away is not motion)
     - PC, LC, AC: a point, line or area segment is accepted.
     - PC moves / LCM / AC moves: the centre of contact moves more than
-      ``move_mm``; "AC moves" also needs the area to stay within
-      ``area_tolerance`` (a sliding face keeps its footprint, a face tipping
-      onto an edge shrinks).
+      ``move_mm`` (a line: across itself, as a rolling line does); "AC moves"
+      also needs the area to stay within ``area_tolerance`` (a sliding face
+      keeps its footprint, a face tipping onto an edge shrinks).
+    - LC slides along itself (beyond paper 001): both ends of the line move
+      more than ``move_mm`` along it (the centre's shift along the line less
+      the change of its half-length) and the centre less than half that across
+      it, before any LCM: sliding, which no rolling object does.
     - PC takes an orthogonal turn: after moving, the point leaves the farthest
       point of its first run in a direction 60-120 deg away from that run.
     - LCMP: the line has moved ``parallel_move_mm`` with its orientation
@@ -25,10 +29,12 @@ a row, so the one-frame collapse of a contact that tips away is not motion)
       lines seen so far (the pivot) is compared with the line: within
       ``pivot_end_ratio`` half-lengths of the line's centre it is "about one
       end" (a cone's apex), farther it is "in an arc" (a truncated cone's
-      virtual apex).
+      virtual apex); nearer than ``pivot_min_ratio`` half-lengths it is "LC
+      spins about its middle" (beyond paper 001: a line spun in place).
 
-    References re-anchor whenever the area jumps by more than ``area_step``
-    from one frame to the next (see :class:`TactemeConfig`).
+    References re-anchor whenever the smoothed area differs from the area at
+    the reference by more than ``area_step`` (see :class:`TactemeConfig`):
+    a cumulative test, so it means the same at every frame rate.
     - AC rotates: the orientation of an elongated area turns by more than
       ``area_rotate_deg`` with its area unchanged.
     - LC -> AC, AC -> LC, and LC -> AC -> LC with the two lines parallel or
@@ -53,14 +59,17 @@ from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.tacteme_table import Tacteme
 
 __all__ = [
+    "PAPER_LEVEL3",
     "SegmentTrack",
     "TactemeConfig",
     "accepted_runs",
+    "debounce_counts",
     "segment_tactemes",
     "transition_tactemes",
 ]
 
 _INDET = int(ContactClass.INDETERMINATE)
+_NONE = int(ContactClass.NONE)
 #: A motion must be seen on at least this many frames (a one-frame collapse is not motion).
 MOTION_MIN_FRAMES = 2
 
@@ -72,7 +81,18 @@ class TactemeConfig:
     Parameters
     ----------
     debounce_frames : int
-        ``k``: repetitions before a new class is accepted (paper: 3).
+        ``k``: repetitions before a new class is accepted (paper: 3, see
+        :data:`PAPER_LEVEL3`; default 2, the least that tells a state from a
+        one-frame glitch).
+    debounce_s : float
+        A new class is accepted after ``max(k frames, debounce_s)``, s (0:
+        frames only, as in the paper): 3 frames at 20 Hz (the paper's k),
+        36 at 240 Hz, so a three-frame glitch (12 ms) is not a contact state,
+        and 2 at 5 Hz, where a face held 0.4 s lasts two frames.
+    lift_grace_s : float
+        "No contact" is accepted only after ``max(k frames, debounce_s,
+        lift_grace_s)``, s: the evidence of a contact survives a shorter loss
+        of contact (a bounce, a dropped read-out). 0.2 s is 4 frames at 20 Hz.
     move_mm : float
         Centre displacement that counts as motion, mm (a little more than one
         Bonneville pitch, 1.76 mm, so a contact flickering between two taxels
@@ -87,12 +107,18 @@ class TactemeConfig:
         jitters by about +-1.5 deg from frame to frame, +-1 deg smoothed).
     turn_deg : float
         Orientation change of a turning line, deg.
+    pivot_min_ratio : float
+        Pivot within this many half-lengths of the line's centre: the line
+        spins about its middle (sliding). A cone's pivot measured 0.72-1.16.
     pivot_end_ratio : float
         Pivot within this many half-lengths of the line's centre: about one end
         (a cone: ideally 1; a truncated cone with top/bottom radius ratio q:
-        1 + 2q / (1 - q), at least 2.08 for q >= 0.35). Calibrated on 100
-        simulated rolls of each (seed 99, apart from the experiments' seeds):
-        cones measured 0.72-1.16, truncated cones 1.27-4.2; 1.22 lies between.
+        1 + 2q / (1 - q), at least 2.08 for q >= 0.35). 1.44 is the geometric
+        mean of 1 and 2.08, set from the geometry rather than calibrated on
+        one engine. Measured over whole rolls (median of the running
+        estimate): kinematic cones 0.77-1.0, truncated cones 1.56-3.8;
+        MuJoCo cones 0.77-1.32 (the pressed line stops short of the apex),
+        truncated cones 1.85-4.4.
     orthogonal_min_deg, orthogonal_max_deg : float
         Window of the angle between a point's two runs for an orthogonal turn, deg.
     area_tolerance : float
@@ -104,15 +130,14 @@ class TactemeConfig:
     edge_angle_tol_deg : float
         Tolerance of the 0/90 and 60 deg angles between two edges, deg.
     area_step : float
-        A frame-to-frame change of the smoothed area above this fraction re-anchors the motion
-        references of lines and areas: a rolling contact keeps its area, while
-        placing, lifting and tipping change it, and their centre shifts are not
-        motion. (Point contacts cover 1-4 taxels; their area jumps as they cross
+        A change of the smoothed area above this fraction of the area at the
+        motion reference re-anchors the references of lines and areas: a
+        rolling contact keeps its area, while placing, lifting and tipping
+        change it, and their centre shifts are not motion. Measured against
+        the reference, not from frame to frame, so a face landing over many
+        frames at 240 Hz re-anchors as one landing over one frame at 5 Hz.
+        (Point contacts cover 1-4 taxels; their area jumps as they cross
         taxels, so they are never re-anchored.)
-    area_step_s : float
-        Time over which an area step is measured, s (at least one frame): one
-        frame at 20 Hz; at 240 Hz a face landing grows over many frames, each
-        a small change.
     motion_hold_s : float
         A motion must hold for ``max(2 frames, motion_hold_s)``, s: a contact
         tipping away collapses within 0.15 s, one frame at 1 Hz, three at 20 Hz,
@@ -126,17 +151,31 @@ class TactemeConfig:
     turn_leg_mm : float
         Leg length of a point's path when looking for an orthogonal turn, mm
         (the sphere scripts roll 4-9 mm between turns).
+    smooth_s : float
+        Centres, orientations, areas and elongations are averaged over the
+        last ``max(k frames, smooth_s)`` before they are compared, s: three
+        frames at 20 Hz, as the debounce; 36 at 240 Hz.
+    pivot_band : float
+        Factor of doubt around ``pivot_end_ratio``: "about one end" needs a
+        ratio below ``pivot_end_ratio / pivot_band``, "in an arc" above
+        ``pivot_end_ratio x pivot_band``; between the two the line is watched
+        as it turns on (the estimate improves with the turn) and stays
+        undecided if it never leaves the band: a doubt is better than a
+        wrong name.
     pivot_turn_deg : float
         Turn of the line before the pivot is located (about one end / in an
         arc), deg: the common point of nearly parallel lines is ill-conditioned.
     """
 
-    debounce_frames: int = 3
+    debounce_frames: int = 2
+    debounce_s: float = 0.15
+    lift_grace_s: float = 0.2
     move_mm: float = 2.0
     parallel_move_mm: float = 3.5
     parallel_tol_deg: float = 4.0
     turn_deg: float = 12.0
-    pivot_end_ratio: float = 1.22
+    pivot_min_ratio: float = 0.4
+    pivot_end_ratio: float = 1.44
     orthogonal_min_deg: float = 60.0
     orthogonal_max_deg: float = 120.0
     area_tolerance: float = 0.25
@@ -144,16 +183,20 @@ class TactemeConfig:
     area_min_elongation: float = 1.6
     edge_angle_tol_deg: float = 15.0
     area_step: float = 0.3
-    area_step_s: float = 0.05
     motion_hold_s: float = 0.15
     edge_hold_s: float = 0.3
     transition_gap_s: float = 0.3
     turn_leg_mm: float = 3.0
     pivot_turn_deg: float = 20.0
+    pivot_band: float = 1.12
+    smooth_s: float = 0.15
 
     def __post_init__(self) -> None:
         if int(self.debounce_frames) < 1:
             raise InputError(f"debounce_frames must be >= 1, got {self.debounce_frames!r}")
+        check_positive("debounce_s", self.debounce_s, allow_zero=True)
+        check_positive("smooth_s", self.smooth_s, allow_zero=True)
+        check_positive("lift_grace_s", self.lift_grace_s, allow_zero=True)
         for name in (
             "move_mm",
             "parallel_move_mm",
@@ -165,17 +208,48 @@ class TactemeConfig:
             "area_min_elongation",
             "edge_angle_tol_deg",
             "area_step",
-            "area_step_s",
+            "pivot_min_ratio",
             "motion_hold_s",
             "edge_hold_s",
             "transition_gap_s",
             "turn_leg_mm",
             "pivot_turn_deg",
+            "pivot_band",
         ):
             check_positive(name, getattr(self, name))
 
 
-def accepted_runs(classes: NDArray[np.integer], k: int) -> list[tuple[int, int, NDArray[np.intp]]]:
+#: Level 3 as paper 001 states it, in frames: ``k = 3``, no time-based
+#: debounce, smoothing or lift-off grace (the thresholds of motion keep their
+#: units). With :func:`~taxelkit.smart.recogniser.recognise`'s ``cleaning=None``
+#: this is the faithful pipeline that reproduces Fig. 3.
+PAPER_LEVEL3 = TactemeConfig(debounce_frames=3, debounce_s=0.0, lift_grace_s=0.0, smooth_s=0.0)
+
+
+def debounce_counts(config: TactemeConfig, dt_s: float | None) -> tuple[int, int]:
+    """Frames a contact class and "no contact" must hold to be accepted.
+
+    Parameters
+    ----------
+    config : TactemeConfig
+    dt_s : float or None
+        Frame interval, s (the first one of the stream); None before it is known.
+
+    Returns
+    -------
+    k_contact, k_none : int
+        ``max(k, ceil(debounce_s / dt))`` and ``max(k_contact, ceil(lift_grace_s / dt))``.
+    """
+    k = int(config.debounce_frames)
+    if dt_s is None or not dt_s > 0:
+        return k, k
+    k_contact = max(k, math.ceil(config.debounce_s / dt_s - 1e-9))
+    return k_contact, max(k_contact, math.ceil(config.lift_grace_s / dt_s - 1e-9))
+
+
+def accepted_runs(
+    classes: NDArray[np.integer], k: int, *, k_none: int | None = None
+) -> list[tuple[int, int, NDArray[np.intp]]]:
     """Debounced segments of a whole class sequence, vectorised.
 
     Parameters
@@ -184,6 +258,8 @@ def accepted_runs(classes: NDArray[np.integer], k: int) -> list[tuple[int, int, 
         :class:`~taxelkit.smart.contact_classes.ContactClass` codes.
     k : int
         Debounce count.
+    k_none : int, optional
+        Debounce count of "no contact" (default ``k``).
 
     Returns
     -------
@@ -210,12 +286,12 @@ def accepted_runs(classes: NDArray[np.integer], k: int) -> list[tuple[int, int, 
         if cls == current:  # the accepted class goes on, spurious runs between excluded
             if out:
                 pending.append(idx[s:e])
-        elif e - s >= k:  # a new class seen k times in a row: accepted
-            if out and pending:
+        elif e - s >= (k_cls := k if cls != _NONE or k_none is None else k_none):
+            if out and pending:  # a new class seen k times in a row: accepted
                 prev_cls, prev_acc, _ = out[-1]
                 out[-1] = (prev_cls, prev_acc, np.concatenate(pending))
             pending = [idx[s:e]]
-            out.append((cls, int(idx[s + k - 1]), idx[s:e]))
+            out.append((cls, int(idx[s + k_cls - 1]), idx[s:e]))
             current = cls
     if out and pending:
         prev_cls, prev_acc, _ = out[-1]
@@ -296,6 +372,32 @@ def _axis_difference_deg(a: NDArray[np.float64], b: float) -> NDArray[np.float64
     return out
 
 
+def _anchors(
+    area: NDArray[np.float64], elongation: NDArray[np.float64], k: int, tolerance: float
+) -> NDArray[np.intp]:
+    """Index of the motion anchor of every frame (re-anchored on cumulative change of shape).
+
+    The reference of anchor ``a`` is its first full smoothing window, frame
+    ``a + k - 1``; a frame whose area or elongation differs from the
+    reference's by more than ``tolerance`` (relative) becomes the next
+    anchor: a face landing keeps its area for a moment while its outline
+    still changes. One vectorised search per anchor: a segment has few.
+    """
+    n = area.size
+    out = np.zeros(n, dtype=np.intp)
+    a = 0
+    while a < n:
+        r = min(a + k - 1, n - 1)
+        dev = (np.abs(area[r + 1 :] / area[r] - 1.0) > tolerance) | (
+            np.abs(elongation[r + 1 :] / elongation[r] - 1.0) > tolerance
+        )
+        hits = np.flatnonzero(dev)
+        nxt = n if hits.size == 0 else r + 1 + int(hits[0])
+        out[a:nxt] = a
+        a = nxt
+    return out
+
+
 def _first(mask: NDArray[np.bool_], start: int) -> int | None:
     hits = np.flatnonzero(mask[start:])
     return None if hits.size == 0 else int(hits[0]) + start
@@ -317,16 +419,32 @@ def _turn(angle: NDArray[np.float64], ref: NDArray[np.intp]) -> NDArray[np.float
     return out
 
 
-def _pivot(track: SegmentTrack, start: int, upto: int) -> NDArray[np.float64] | None:
-    """Least-squares common point of the lines start..upto."""
-    t = np.deg2rad(track.orientation_deg[start : upto + 1])
-    n = np.stack([-np.sin(t), np.cos(t)], axis=1)  # line normals
-    c = track.centre_mm[start : upto + 1]
-    a = n.T @ n
-    if np.linalg.cond(a) > 1e6:
-        return None
-    b = n.T @ np.sum(n * c, axis=1)
-    out: NDArray[np.float64] = np.linalg.solve(a, b)
+def _pivot_ratios(track: SegmentTrack, start: int, stop: int) -> NDArray[np.float64]:
+    """Distance from each line's centre to the common point of the lines so far, in half-lengths.
+
+    For ``j`` in ``start..stop - 1``: the least-squares common point of the
+    lines ``start..j`` (running sums of ``n n^T`` and ``n (n . c)``, ``n`` the
+    lines' normals), its distance from the centre of line ``j``, divided by
+    the mean half-length of lines ``start..j``. NaN while the lines are too
+    close to parallel for a common point (condition number above 1e6).
+    """
+    t = np.deg2rad(track.orientation_deg[start:stop])
+    nx, ny = -np.sin(t), np.cos(t)  # line normals
+    c = track.centre_mm[start:stop]
+    d = nx * c[:, 0] + ny * c[:, 1]
+    sxx, sxy, syy = np.cumsum(nx * nx), np.cumsum(nx * ny), np.cumsum(ny * ny)
+    bx, by = np.cumsum(nx * d), np.cumsum(ny * d)
+    det = sxx * syy - sxy * sxy
+    trace = sxx + syy
+    well = det > 1e-6 * trace * trace  # eigenvalue ratio above ~1e-6
+    safe = np.where(well, det, 1.0)
+    px = (syy * bx - sxy * by) / safe
+    py = (sxx * by - sxy * bx) / safe
+    half = np.cumsum(track.half_length_mm[start:stop]) / np.arange(1, stop - start + 1)
+    dist = np.hypot(px - c[:, 0], py - c[:, 1])
+    out: NDArray[np.float64] = np.where(
+        well & (half > 0), dist / np.where(half > 0, half, 1.0), np.nan
+    )
     return out
 
 
@@ -388,19 +506,22 @@ def segment_tactemes(
     hold = track.frames_for(config.motion_hold_s, k, minimum=MOTION_MIN_FRAMES)
     if n < k or cls not in (ContactClass.POINT, ContactClass.LINE, ContactClass.AREA):
         return []
-    centre = _rolling_mean(track.centre_mm, k)
-    axis = _rolling_mean(_axis_vectors(track.orientation_deg), k)
+    w = track.frames_for(config.smooth_s, k)  # the smoothing window, in time
+    centre = _rolling_mean(track.centre_mm, w)
+    axis = _rolling_mean(_axis_vectors(track.orientation_deg), w)
     angle = _axis_angle_deg(axis)
-    area = _rolling_mean(track.area_mm2, k)
-    step = np.zeros(n, bool)
-    if cls != ContactClass.POINT:  # on the smoothed area: taxel flicker averages out
-        w = track.frames_for(config.area_step_s, k, minimum=1)  # the step's time base
-        if w < n:
-            step[w:] = np.abs(area[w:] / area[:-w] - 1.0) > config.area_step
-    anchor = np.maximum.accumulate(np.where(step, np.arange(n), 0))
-    ref = np.minimum(anchor + k - 1, n - 1)  # first full window after the anchor
-    valid = np.arange(n) >= anchor + k - 1
-    moved = np.where(valid, np.hypot(*(centre - centre[ref]).T), 0.0)
+    area = _rolling_mean(track.area_mm2, w)
+    elong = _rolling_mean(track.elongation, w)
+    if cls == ContactClass.POINT:
+        anchor = np.zeros(n, dtype=np.intp)
+    else:  # on the smoothed area: taxel flicker averages out
+        # a line's elongation jumps with the grid (its width is a taxel or two): area only
+        shape = elong if cls == ContactClass.AREA else np.ones_like(elong)
+        anchor = _anchors(area, shape, w, config.area_step)
+    ref = np.minimum(anchor + w - 1, n - 1)  # first full window after the anchor
+    valid = np.arange(n) >= anchor + w - 1
+    shift = centre - centre[ref]
+    moved = np.where(valid, np.hypot(*shift.T), 0.0)
     turned = np.where(valid, _turn(angle, ref), 0.0)
     out: list[tuple[Tacteme, int]] = []
 
@@ -414,27 +535,51 @@ def segment_tactemes(
         if j_move is not None:
             emit(Tacteme.PC_ORTHOGONAL_TURN, _orthogonal_turn(centre, int(ref[j_move]), config))
     elif cls == ContactClass.LINE:
-        emit(Tacteme.LCM, _first(_sustained(moved > config.move_mm, hold), 0))
-        parallel = (moved >= config.parallel_move_mm) & (turned <= config.parallel_tol_deg)
+        t_ref = np.deg2rad(angle[ref])
+        along = np.abs(shift[:, 0] * np.cos(t_ref) + shift[:, 1] * np.sin(t_ref))
+        # both ends must move along: a line that grows or shrinks moves its centre too
+        half = _rolling_mean(track.half_length_mm, w)
+        ends = along - np.abs(half - half[ref])
+        across = np.where(
+            valid, np.abs(-shift[:, 0] * np.sin(t_ref) + shift[:, 1] * np.cos(t_ref)), 0.0
+        )
+        j_lcm = _first(_sustained(across > config.move_mm, hold), 0)
+        slid = valid & (ends > config.move_mm) & (across < 0.5 * config.move_mm)
+        j_slide = _first(_sustained(slid, hold), 0)
+        if j_slide is not None and (j_lcm is None or j_slide < j_lcm):
+            emit(Tacteme.LC_SLIDES, j_slide)
+        emit(Tacteme.LCM, j_lcm)
+        parallel = (across >= config.parallel_move_mm) & (turned <= config.parallel_tol_deg)
         j_par = _first(_sustained(parallel, hold), 0)
         j_turn = _first(_sustained(turned > config.turn_deg, hold), 0)
         if j_par is not None and (j_turn is None or j_par < j_turn):
             emit(Tacteme.LCMP, j_par)
         if j_turn is not None:
             emit(Tacteme.LCMT, j_turn)
-            j_piv = _first((turned > config.pivot_turn_deg) & (anchor == anchor[j_turn]), j_turn)
-            if j_piv is not None:
-                start = int(anchor[j_piv])
-                pivot = _pivot(track, start, j_piv)
-                half = float(np.median(track.half_length_mm[start : j_piv + 1]))
-                if pivot is not None and half > 0:
-                    ratio = float(np.hypot(*(pivot - track.centre_mm[j_piv]))) / half
-                    about_end = ratio <= config.pivot_end_ratio
-                    emit(Tacteme.LCMT_ABOUT_END if about_end else Tacteme.LCMT_ARC, j_piv)
+            pivots: list[tuple[int, Tacteme]] = []
+            # the lines from the turn's anchor on, across later re-anchors: a rolling
+            # cone's line keeps turning about the same point while its width varies
+            start, stop = int(anchor[j_turn]), n
+            ratio = _pivot_ratios(track, start, stop)
+            ready = _turn(angle, ref[start] + np.zeros(n, np.intp))[start:] > config.pivot_turn_deg
+            lo, hi = (
+                config.pivot_end_ratio / config.pivot_band,
+                config.pivot_end_ratio * config.pivot_band,
+            )
+            for tac, verdict in (
+                (Tacteme.LC_SPINS, ratio < config.pivot_min_ratio),
+                (Tacteme.LCMT_ABOUT_END, (ratio >= config.pivot_min_ratio) & (ratio <= lo)),
+                (Tacteme.LCMT_ARC, ratio >= hi),
+            ):
+                j = _first(_sustained(ready & verdict, hold), 0)
+                if j is not None:
+                    pivots.append((start + j, tac))
+            if pivots:
+                j_piv, tac = min(pivots)
+                emit(tac, j_piv)
     else:
         same = np.abs(area / area[ref] - 1.0) <= config.area_tolerance
         emit(Tacteme.AC_MOVES, _first(_sustained((moved > config.move_mm) & same, hold), 0))
-        elong = _rolling_mean(track.elongation, k)
         oriented = (elong >= config.area_min_elongation) & (
             elong[ref] >= config.area_min_elongation
         )

@@ -1,0 +1,583 @@
+"""Physics-engine scenes: the six solids pushed, rolled, tipped and dragged on a plate (MuJoCo).
+
+The optional extra ``taxelkit[mujoco]`` (developed against MuJoCo 4.0.0; any
+``mujoco >= 3.2`` exposes what is used here). The engine gives the *pose*; the
+skin model of :func:`~taxelkit.motion.rolling.frames_from_scenario` gives the
+frame, exactly as for the kinematic scripts of
+:mod:`~taxelkit.motion.scenarios`, and the result is the same
+:class:`~taxelkit.motion.rolling.Scenario` record.
+
+Scenes (what paper 001's recogniser must see; segments in
+:mod:`~taxelkit.motion.engines._mj_hand`, timing ranges shared with the
+kinematic scripts, :mod:`taxelkit.motion._script`)
+=============== ==============================================================
+sphere          placed, pushed in 2-3 straight runs, each braked to a stop,
+                the next at +-90 deg (PC, PC moves, PC takes an orthogonal turn)
+cylinder        on its side, or on an end tilted over its rim onto its side;
+                pushed across its axis (rolls straight), maybe pushed back
+cone            on its side, or on its base tilted over the rim onto its
+                side; pushed across its axis: it rolls about its apex
+truncated-cone  the same from either face or its side: it rolls in an arc
+                about its virtual apex
+cube,           on a face, tipped about 2-3 bottom edges in turn by a couple
+tetrahedron     (tilt, hold on the edge, back onto the face or over onto the
+                next), never the same edge twice in a row
+sliding         a face-down cube, tetrahedron, cylinder, cone or truncated
+                cone on a low-friction skin (:data:`~taxelkit.motion.engines.
+                _mjcf.SLIDING_FRICTION`): dragged, spun, or both
+=============== ==============================================================
+
+Every scene starts held lifted, is lowered onto the plate, and is lifted off
+at the end. With ``lift_gap_s > 0`` the body is lifted clear once after its
+first motion (about ``lift_gap_s`` without contact) and set down again.
+
+Conventions: ``rotations`` body to sensor, MuJoCo's body frame being the
+solid's own (centroid, axis along +z); ``positions_mm`` the centroid's xy;
+``rest_height_mm = -solid.lowest_z_mm(R)``; ``indent_mm`` the drawn press
+depth (``depth_mm (1 +- depth_jitter)``) times the press ramp while the body
+touches the plate, minus the lowest point's clearance when it does not. The
+physical gap of the lowest point above the plate is kept in
+:attr:`MujocoScene.gap_mm` (a few micrometres of penetration at rest).
+
+Placement: the plate is uniform, so a scene is simulated about the origin and
+then turned about the vertical (in 22.5 deg steps) and shifted so that every
+contact point stays :data:`~taxelkit.motion._script.EDGE_MARGIN_MM` (plus the
+patch half-width of a curved contact) inside the array; a scene that does not
+fit is simulated again without tipping over or laying down, then with
+pushes x 0.8 per attempt, and :class:`~taxelkit.errors.InputError` is raised
+after :data:`ATTEMPTS`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.errors import InputError, check_in_range, check_positive
+from taxelkit.motion import _script as sc
+from taxelkit.motion.engines import _mj_hand as mh
+from taxelkit.motion.engines._mjcf import (
+    BODY_NAME,
+    M_PER_MM,
+    PHYSICS_HZ,
+    ROLLING_FRICTION,
+    SLIDING_FRICTION,
+    scene_xml,
+)
+from taxelkit.motion.engines._sampling import (
+    StepRecord,
+    contact_kinds,
+    matrices_from_quats,
+    motion_measures,
+    phase_labels,
+    sample_record,
+)
+from taxelkit.motion.engines.registry import MUJOCO_INSTALL_HINT
+from taxelkit.motion.rolling import DEFAULT_DEPTH_MM, DEFAULT_RATE_HZ, E_Z, Scenario
+from taxelkit.motion.scenarios import (
+    SCENARIO_NAMES,
+    SLIDING_OBJECTS,
+    SPHERE_MAX_CONTACT_RADIUS_MM,
+    _random_solid,
+)
+from taxelkit.sensors.noise import RngLike
+from taxelkit.sensors.presets import BONNEVILLE_16X16, Sensor
+from taxelkit.world.pose import matrix_from_axis_angle
+from taxelkit.world.solids import AnalyticSolid
+from taxelkit.world.solids_round import Cone, Cylinder, Sphere, TruncatedCone
+
+__all__ = ["ATTEMPTS", "MAX_LIFT_GAP_S", "MujocoScene", "mujoco_scene"]
+
+#: Simulations tried before a scene that does not fit on the array is refused.
+ATTEMPTS = 6
+#: Longest mid-script lift-off, s (a recogniser's loss-of-contact window is
+#: far shorter; longer gaps are two placements).
+MAX_LIFT_GAP_S = 2.0
+#: Each scene draws its random choices from this many uniform numbers.
+_N_DRAWS = 256
+#: Steps between the poses checked for fitting on the array (10 ms at
+#: 1 kHz: the fastest contact point moves 0.06 mm in that time, well inside
+#: the 1 mm edge margin).
+_FIT_STRIDE = 10
+#: A body whose lowest point is less than this above the plate still touches
+#: it, mm, even in a step where MuJoCo lists no contact: a dragged face
+#: chatters by a fraction of a micrometre, far below the skin's 30 um
+#: threshold, and the press does not vanish in a millisecond.
+TOUCH_GAP_MM = 0.005
+#: Pushes shrink by this factor per attempt after the second.
+_SHRINK = 0.8
+#: Hard cap on a scene's length, s (a script lasts 5-15 s).
+_MAX_DURATION_S = 60.0
+#: Yaw tried for fitting, in pi / _YAW_TRIES steps.
+_YAW_TRIES = 8
+
+
+@dataclass(frozen=True, eq=False)
+class MujocoScene:
+    """A MuJoCo scene sampled at a frame rate: the scenario plus engine diagnostics.
+
+    Attributes
+    ----------
+    scenario : Scenario
+        Poses and ground truth, ready for
+        :func:`~taxelkit.motion.rolling.frames_from_scenario`.
+    gap_mm : (T,) float, mm
+        Height of the body's lowest point above the plate (negative: the
+        contact's penetration into the rigid plate).
+    slip_mm_s : (T,) float, mm/s
+        Fastest horizontal speed of a material contact point (0 when lifted).
+    contact : tuple of str, length T
+        ``"none"`` when lifted, else the contact type with the tolerances of
+        physics poses (:func:`~taxelkit.motion.engines._sampling.contact_kinds`;
+        :attr:`Scenario.contact` ties points within 1e-6 mm and can call a
+        resting edge a point).
+    n_steps : int
+        Physics steps simulated (:data:`~taxelkit.motion.engines._mjcf.TIMESTEP_S` each).
+    attempts : int
+        Simulations run to fit the scene on the array.
+    mujoco_version : str
+    wall_s : float
+        Seconds spent simulating and sampling (a diagnostic; not compared
+        by equality tests).
+    """
+
+    scenario: Scenario
+    gap_mm: NDArray[np.float64]
+    slip_mm_s: NDArray[np.float64]
+    contact: tuple[str, ...]
+    n_steps: int
+    attempts: int
+    mujoco_version: str
+    wall_s: float
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """What a scene draws before simulating."""
+
+    object_name: str
+    solid: AnalyticSolid
+    depth_mm: float
+    yaw: float
+    shift_fraction: NDArray[np.float64]
+    draws: NDArray[np.float64]
+    slides: bool
+    flip: bool
+
+
+# --- scripts: lists of hand segments --------------------------------------------------------
+
+
+def _begin(d: sc.Draws) -> list[mh.Segment]:
+    return [mh.Hover(d.span(sc.LIFTED_S)), mh.Place(d.span(sc.PLACE_S)), mh.Rest(d.span(sc.HOLD_S))]
+
+
+def _end(d: sc.Draws) -> list[mh.Segment]:
+    return [mh.Unpress(d.span(sc.PLACE_S)), mh.Rise(), mh.Hover(d.span(sc.LIFTED_S))]
+
+
+def _script_sphere(
+    d: sc.Draws, solid: AnalyticSolid, yaw: float, shrink: float, lay: bool
+) -> list[list[mh.Segment]]:
+    out = [_begin(d)]
+    runs = 2 + d.index(2)
+    direction = np.array([math.cos(yaw), math.sin(yaw)])
+    for _ in range(runs):
+        dist = d.span(sc.SPHERE_RUN_MM) * shrink
+        speed = d.span(sc.ROLL_MM_S)
+        push = mh.Push(dist, speed, "vector", (float(direction[0]), float(direction[1])))
+        out.append([push, mh.Brake(), mh.Rest(d.span(sc.HOLD_S))])
+        direction = np.array([-direction[1], direction[0]]) * d.sign()
+    out.append(_end(d))
+    return out
+
+
+def _script_round(
+    d: sc.Draws, solid: AnalyticSolid, yaw: float, shrink: float, lay: bool
+) -> list[list[mh.Segment]]:
+    """Cylinder, cone, truncated cone: maybe laid from a face onto the side, then rolled."""
+    out = [_begin(d)]
+    u = (math.cos(yaw), math.sin(yaw))
+    tip = mh.Tip(
+        direction=u,
+        hold_fraction=d.span(sc.HOLD_FRACTION),
+        hold_s=d.span(sc.HOLD_S),
+        over=True,
+        speed_deg_s=d.span(sc.TIP_DEG_S),
+    )
+    rest = d.span(sc.HOLD_S)
+    if lay:  # standing on a face: tilt onto the rim, hold, lay it on its side
+        out.append([tip, mh.Brake(), mh.Rest(rest)])
+    sign = d.sign()
+    if isinstance(solid, Cone | TruncatedCone):  # the far rim's path about the apex
+        prof = solid.profile
+        reach = max(math.hypot(r, z - prof.vertex_z_mm) for z, r in prof.rims)
+        turns = sc.FRUSTUM_TURN_DEG if isinstance(solid, TruncatedCone) else sc.CONE_TURN_DEG
+        dist = math.radians(d.span(turns)) * reach * shrink
+    else:
+        dist = d.span(sc.CYLINDER_ROLL_MM) * shrink
+    speed = d.span(sc.ROLL_MM_S)
+    out.append([mh.Push(dist, speed, "across", sign=sign), mh.Brake(), mh.Rest(d.span(sc.HOLD_S))])
+    if d.coin():
+        back = d.uniform(0.3, 0.8) * dist
+        out.append(
+            [mh.Push(back, speed, "across", sign=-sign), mh.Brake(), mh.Rest(d.span(sc.HOLD_S))]
+        )
+    out.append(_end(d))
+    return out
+
+
+def _script_polyhedron(
+    d: sc.Draws, solid: AnalyticSolid, yaw: float, shrink: float, lay: bool
+) -> list[list[mh.Segment]]:
+    out = [_begin(d)]
+    previous: mh.Tip | None = None
+    for _ in range(2 + d.index(2)):
+        previous = mh.Tip(
+            choice=d.uniform(0.0, 1.0),
+            hold_fraction=d.span(sc.HOLD_FRACTION),
+            hold_s=d.span(sc.HOLD_S),
+            over=d.coin(sc.P_OVER) and lay,
+            speed_deg_s=d.span(sc.TIP_DEG_S),
+            previous=previous,
+        )
+        out.append([previous, mh.Rest(d.span(sc.HOLD_S))])
+    out.append(_end(d))
+    return out
+
+
+def _script_sliding(
+    d: sc.Draws, solid: AnalyticSolid, yaw: float, shrink: float, lay: bool
+) -> list[list[mh.Segment]]:
+    out = [_begin(d)]
+    mode = d.index(3)  # 0 drag, 1 spin, 2 drag then spin
+    heading = yaw + d.uniform(0.0, 2.0 * math.pi)
+    dist = d.span(sc.SLIDE_MM) * shrink
+    speed = d.span(sc.SLIDE_MM_S)
+    spin = d.sign() * d.span(sc.SPIN_DEG)
+    spin_speed = d.span(sc.SPIN_DEG_S)
+    if mode in (0, 2):
+        push = mh.Push(dist, speed, "vector", (math.cos(heading), math.sin(heading)))
+        out.append([push, mh.Brake(), mh.Rest(d.span(sc.HOLD_S))])
+    if mode in (1, 2):
+        out.append([mh.Spin(spin, spin_speed), mh.Brake(), mh.Rest(d.span(sc.HOLD_S))])
+    out.append(_end(d))
+    return out
+
+
+_Script = Callable[[sc.Draws, AnalyticSolid, float, float, bool], list[list[mh.Segment]]]
+_SCRIPTS: dict[str, _Script] = {
+    "sphere": _script_sphere,
+    "cylinder": _script_round,
+    "cone": _script_round,
+    "truncated-cone": _script_round,
+    "cube": _script_polyhedron,
+    "tetrahedron": _script_polyhedron,
+}
+
+
+def _start_rotation(plan: _Plan, d: sc.Draws, allow_lay: bool) -> tuple[NDArray[np.float64], bool]:
+    """Initial rotation (yaw included) and whether a round body starts on a face."""
+    solid = plan.solid
+    base = matrix_from_axis_angle([1.0, 0.0, 0.0], math.pi if plan.flip else 0.0)
+    on_side = False
+    if not plan.slides and isinstance(solid, Cylinder | Cone | TruncatedCone):
+        first = d.index(3 if isinstance(solid, TruncatedCone) else 2)
+        if first == 2:  # a frustum's top face
+            base = matrix_from_axis_angle([1.0, 0.0, 0.0], math.pi)
+        on_side = first == 1 or not allow_lay
+        if on_side:
+            b = sc.Builder(solid, sc.rest_pose(solid, base), rate_hz=1.0, depth_mm=1.0)
+            sc.lay_silently(b, np.array([1.0, 0.0, 0.0]))
+            base = b.pose.rotation
+    out: NDArray[np.float64] = matrix_from_axis_angle(E_Z, plan.yaw) @ base
+    return out, not on_side
+
+
+# --- simulation ------------------------------------------------------------------------------
+
+
+def _import_mujoco() -> Any:
+    try:
+        import mujoco
+    except ImportError:
+        raise InputError(f"the mujoco engine needs MuJoCo: {MUJOCO_INSTALL_HINT}") from None
+    return mujoco
+
+
+def _simulate(
+    mujoco: Any, plan: _Plan, segments: list[mh.Segment], rotation0: NDArray[np.float64]
+) -> StepRecord:
+    friction = SLIDING_FRICTION if plan.slides else ROLLING_FRICTION
+    model = mujoco.MjModel.from_xml_string(
+        scene_xml(plan.solid, BONNEVILLE_16X16, friction=friction)
+    )
+    data = mujoco.MjData(model)
+    bid = model.body(BODY_NAME).id
+    ri = np.zeros(9)
+    mujoco.mju_quat2Mat(ri, model.body_iquat[bid])
+    ri3 = ri.reshape(3, 3)
+    hand = mh.Hand(
+        plan.solid, float(model.body_mass[bid]), ri3 @ np.diag(model.body_inertia[bid]) @ ri3.T
+    )
+    rest = sc.rest_pose(plan.solid, rotation0)
+    quat = np.zeros(4)
+    mujoco.mju_mat2Quat(quat, rotation0.ravel())
+    data.qpos[:3] = (rest.centroid_mm + [0.0, 0.0, mh.HOVER_CLEARANCE_MM]) * M_PER_MM
+    data.qpos[3:7] = quat
+    radius_mm = _bounding_radius_mm(plan.solid)
+    rows: list[tuple[float, ...]] = []
+    seg_i = 0
+    segments[0].start(hand, _state(data, 0.0, False))
+    max_steps = int(_MAX_DURATION_S * PHYSICS_HZ)
+    for step in range(max_steps):
+        mujoco.mj_step1(model, data)
+        t = step / PHYSICS_HZ
+        ncon = int(data.ncon)
+        s = _state(data, t, ncon > 0)
+        slip = 0.0
+        if ncon:
+            rel = data.contact.pos[:ncon] - s.pos_m
+            v = s.vel_m_s + np.cross(s.omega_rad_s, rel)
+            slip = float(np.max(np.hypot(v[:, 0], v[:, 1]))) / M_PER_MM
+        wrench = segments[seg_i].wrench(hand, s)
+        while wrench is None and seg_i + 1 < len(segments):
+            seg_i += 1
+            segments[seg_i].start(hand, s)
+            wrench = segments[seg_i].wrench(hand, s)
+        ramp = {"": 0, "placing": 1, "lifting": 2}[hand.ramp]
+        rows.append((*data.qpos[:7], ncon > 0, hand.press, ramp, slip))
+        if wrench is None:
+            break
+        data.xfrc_applied[bid] = wrench
+        mujoco.mj_step2(model, data)
+    else:
+        raise InputError(
+            f"a {plan.object_name} scene ran past {_MAX_DURATION_S} s"
+        )  # pragma: no cover
+    arr = np.array(rows, dtype=np.float64)
+    quats = arr[:, 3:7] / np.linalg.norm(arr[:, 3:7], axis=1, keepdims=True)
+    centroids = arr[:, :3] / M_PER_MM
+    gap = centroids[:, 2] + plan.solid.lowest_z_mm(matrices_from_quats(quats))
+    touching = (arr[:, 7] > 0.5) | (gap < TOUCH_GAP_MM)
+    speed, spin, slip = motion_measures(
+        quats, centroids, arr[:, 10], radius_mm=radius_mm, steps_per_s=PHYSICS_HZ
+    )
+    return StepRecord(
+        quats=quats,
+        centroids_mm=centroids,
+        touching=touching,
+        press=arr[:, 8],
+        ramp=arr[:, 9].astype(np.int8),
+        speed_mm_s=speed,
+        spin_share=spin,
+        slip_mm_s=slip,
+    )
+
+
+def _state(data: Any, t: float, touching: bool) -> mh.BodyState:
+    q = np.array(data.qpos[3:7])
+    rot = _matrix(q)
+    return mh.BodyState(
+        t_s=t,
+        pos_m=np.array(data.qpos[:3]),
+        rot=rot,
+        vel_m_s=np.array(data.qvel[:3]),
+        omega_rad_s=rot @ np.array(data.qvel[3:6]),
+        touching=touching,
+    )
+
+
+def _matrix(q: NDArray[np.float64]) -> NDArray[np.float64]:
+    out: NDArray[np.float64] = matrices_from_quats((q / np.linalg.norm(q))[None])[0]
+    return out
+
+
+def _bounding_radius_mm(solid: AnalyticSolid) -> float:
+    if isinstance(solid, Sphere):
+        return float(solid.radius_mm)
+    if isinstance(solid, Cylinder | Cone | TruncatedCone):
+        return max(math.hypot(r, z) for z, r in solid.profile.rims)
+    return float(np.max(np.linalg.norm(solid.vertices_mm, axis=1)))
+
+
+def _fit(plan: _Plan, rec: StepRecord, sensor: Sensor) -> tuple[float, NDArray[np.float64]] | None:
+    """Extra yaw and xy shift that keep every contact on the array, or None."""
+    idx = np.arange(0, rec.quats.shape[0], _FIT_STRIDE)
+    idx = idx[rec.touching[idx]]
+    rots = matrices_from_quats(rec.quats[idx])
+    cents = rec.centroids_mm[idx].copy()
+    cents[:, 2] = -plan.solid.lowest_z_mm(rots)
+    indent = np.full(idx.size, plan.depth_mm)
+    xy, margin = sc.contact_xy(plan.solid, rots, cents, indent)
+    half = 0.5 * np.array([sensor.array.width_mm, sensor.array.height_mm])
+    for k in range(_YAW_TRIES):
+        turn = k * math.pi / _YAW_TRIES
+        low, high = sc.contact_bounds(xy, margin, turn)
+        slack = 2.0 * half - (high - low)
+        if np.all(slack >= 0.0):
+            return turn, -half - low + plan.shift_fraction * slack
+    return None
+
+
+def _draw_plan(
+    name: str, gen: np.random.Generator, size_jitter: float, depth_mm: float, depth_jitter: float
+) -> _Plan:
+    slides = name == "sliding"
+    object_name = SLIDING_OBJECTS[int(gen.integers(len(SLIDING_OBJECTS)))] if slides else name
+    solid = _random_solid(object_name, gen, size_jitter)
+    depth = depth_mm * gen.uniform(1.0 - depth_jitter, 1.0 + depth_jitter)
+    if isinstance(solid, Sphere):  # a rolling ball is pressed lightly: a point contact
+        depth = min(depth, SPHERE_MAX_CONTACT_RADIUS_MM**2 / (2.0 * solid.radius_mm))
+    flip = slides and isinstance(solid, TruncatedCone) and bool(gen.integers(2))
+    return _Plan(
+        object_name=object_name,
+        solid=solid,
+        depth_mm=depth,
+        yaw=float(gen.uniform(0.0, 2.0 * math.pi)),
+        shift_fraction=gen.random(2),
+        draws=gen.random(_N_DRAWS),
+        slides=slides,
+        flip=flip,
+    )
+
+
+def _segments(
+    plan: _Plan, attempt: int, lift_gap_s: float
+) -> tuple[list[mh.Segment], NDArray[np.float64]]:
+    d = sc.Draws(plan.draws)
+    rotation0, on_face = _start_rotation(plan, d, allow_lay=attempt == 0)
+    shrink = _SHRINK ** max(0, attempt - 1)
+    script = _script_sliding if plan.slides else _SCRIPTS[plan.object_name]
+    # attempt 0 as drawn; later ones without tipping over or laying down
+    parts = script(
+        d, plan.solid, plan.yaw, shrink, on_face if _is_round(plan.solid) else attempt == 0
+    )
+    if lift_gap_s > 0.0:  # after the first motion's rest
+        parts.insert(2, [mh.Gap(lift_gap_s), mh.Rest(sc.HOLD_S[0])])
+    return [seg for part in parts for seg in part], rotation0
+
+
+def _is_round(solid: AnalyticSolid) -> bool:
+    return isinstance(solid, Cylinder | Cone | TruncatedCone)
+
+
+def mujoco_scene(
+    name: str,
+    *,
+    rng: RngLike = None,
+    rate_hz: float = DEFAULT_RATE_HZ,
+    sensor: Sensor = BONNEVILLE_16X16,
+    size_jitter: float = 0.3,
+    depth_mm: float = DEFAULT_DEPTH_MM,
+    depth_jitter: float = 0.3,
+    lift_gap_s: float = 0.0,
+) -> MujocoScene:
+    """Simulate one randomised scene in MuJoCo and sample it at ``rate_hz``.
+
+    Parameters
+    ----------
+    name : str
+        One of :data:`~taxelkit.motion.scenarios.SCENARIO_NAMES` (six solids
+        and ``"sliding"``).
+    rng : int, Generator or None
+        Seed of every random choice (sizes, depth, yaw, placement, pushes):
+        the same seed gives an identical scene at every rate.
+    rate_hz : float
+        Frame rate, Hz, in [1, 1000]; frames at ``t = k / rate_hz``. The
+        physics does not depend on it.
+    sensor : Sensor
+        The array the motion must stay on.
+    size_jitter, depth_mm, depth_jitter : float
+        As for :func:`~taxelkit.motion.scenarios.make_scenario`.
+    lift_gap_s : float
+        If > 0, the body is lifted clear of the plate once, after its first
+        motion, for about this long (s, at most :data:`MAX_LIFT_GAP_S`).
+
+    Returns
+    -------
+    MujocoScene
+
+    Raises
+    ------
+    InputError
+        Unknown name, parameters out of range, MuJoCo not installed (the
+        message says ``pip install "taxelkit[mujoco]"``), or a scene that does
+        not fit on the array after :data:`ATTEMPTS` simulations.
+    """
+    if name not in SCENARIO_NAMES:
+        raise InputError(f"unknown scenario {name!r}; known: {', '.join(SCENARIO_NAMES)}")
+    rate = check_in_range("rate_hz", rate_hz, 1.0, 1000.0)
+    jitter = check_in_range("size_jitter", size_jitter, 0.0, 0.5)
+    djit = check_in_range("depth_jitter", depth_jitter, 0.0, 0.9)
+    depth0 = check_positive("depth_mm", depth_mm)
+    gap = check_in_range("lift_gap_s", lift_gap_s, 0.0, MAX_LIFT_GAP_S)
+    mujoco = _import_mujoco()
+    t_start = time.perf_counter()
+    plan = _draw_plan(name, np.random.default_rng(rng), jitter, depth0, djit)
+    for attempt in range(ATTEMPTS):
+        segments, rotation0 = _segments(plan, attempt, gap)
+        rec = _simulate(mujoco, plan, segments, rotation0)
+        placed = _fit(plan, rec, sensor)
+        if placed is not None:
+            return _sampled(name, plan, rec, placed, rate, attempt + 1, mujoco, t_start)
+    raise InputError(
+        f"cannot fit the {name} scene ({plan.solid!r}) on the {sensor.name} array; "
+        "reduce size_jitter or try another seed"
+    )
+
+
+def _sampled(
+    name: str,
+    plan: _Plan,
+    rec: StepRecord,
+    placed: tuple[float, NDArray[np.float64]],
+    rate: float,
+    attempts: int,
+    mujoco: Any,
+    t_start: float,
+) -> MujocoScene:
+    turn, shift = placed
+    rots, cents, t_s, nearest = sample_record(rec, PHYSICS_HZ, rate)
+    z = matrix_from_axis_angle(E_Z, turn)
+    rots = z @ rots
+    cents = cents @ z.T
+    rest = -plan.solid.lowest_z_mm(rots)
+    gap_mm = cents[:, 2] - rest
+    touching = rec.touching[nearest]
+    indent = np.where(
+        touching,
+        plan.depth_mm * np.maximum(rec.press[nearest], mh.PRESS_MIN),
+        -np.maximum(gap_mm, 0.0),
+    )
+    scenario = Scenario(
+        name=name,
+        object_name=plan.object_name,
+        solid=plan.solid,
+        rotations=rots,
+        positions_mm=cents[:, :2] + shift,
+        rest_height_mm=rest,
+        indent_mm=indent,
+        t_s=t_s,
+        phase=phase_labels(plan.solid, rec, rots, nearest),
+        slides=plan.slides,
+    )
+    return MujocoScene(
+        scenario=scenario,
+        gap_mm=gap_mm,
+        slip_mm_s=rec.slip_mm_s[nearest],
+        contact=tuple(
+            k if c else "none"
+            for k, c in zip(contact_kinds(plan.solid, rots), scenario.in_contact, strict=True)
+        ),
+        n_steps=int(rec.quats.shape[0]),
+        attempts=attempts,
+        mujoco_version=str(mujoco.__version__),
+        wall_s=time.perf_counter() - t_start,
+    )

@@ -1,0 +1,463 @@
+"""Imperfections of real taxel arrays: dead, stuck and flickering taxels, threshold spread,
+row/column crosstalk, offset drift. Composable and seeded.
+
+A real Bonneville-type array is not the ideal sensor of the simulator: some
+taxels never report contact (dead), some always do (stuck), some flip at
+random (flicker), thresholds differ from taxel to taxel, rows or columns of
+resistive arrays leak into their neighbours (ghosting), and analog outputs
+drift. Each imperfection here is a frozen dataclass with a seeded
+``apply``; :class:`FaultModel` chains them. The faults act on the sensor's
+output, so they work on analog frames (mm, kPa, counts: compared with
+``threshold``) and, where that makes sense, on bool contact images.
+
+============================ ============================================================
+model                        what the frames show
+============================ ============================================================
+:class:`DeadTaxels`          ``count`` random taxels read 0 (False) in every frame
+:class:`StuckTaxels`         ``count`` random taxels read ``level x threshold`` (True)
+                             in every frame
+:class:`Flicker`             every taxel flips across the threshold with probability
+                             ``rate`` in each frame, independently
+:class:`ThresholdSpread`     per-taxel gain ``1 / (1 + sigma z)``, ``z`` standard normal
+                             (equivalently a threshold spread by ``sigma``); analog only
+:class:`Crosstalk`           ``rows`` random rows (and ``cols`` columns) also read
+                             ``coupling`` times their next row (column)
+:class:`OffsetDrift`         per-taxel offset ``N(0, offset)`` plus a common drift
+                             ``drift_per_s x t``; analog only
+:class:`ContactLoss`         every taxel reads 0 for ``duration_s`` once, at a random
+                             moment of contact (a bounce, a lost read-out)
+============================ ============================================================
+
+The flip of :class:`Flicker` on analog frames sets a taxel to 0 or to
+``FLICKER_ON_LEVEL x threshold``. All random choices come from the generator
+handed to :meth:`FaultModel.apply`: the same seed gives the same frames.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any, Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.errors import InputError, check_in_range, check_positive
+from taxelkit.frames import TactileFrames
+from taxelkit.sensors.noise import RngLike
+
+__all__ = [
+    "FAULT_PRESETS",
+    "FLICKER_ON_LEVEL",
+    "ContactLoss",
+    "Crosstalk",
+    "DeadTaxels",
+    "Fault",
+    "FaultModel",
+    "Flicker",
+    "OffsetDrift",
+    "StuckTaxels",
+    "ThresholdSpread",
+    "fault_model",
+]
+
+#: Reading of a taxel flickered on, in units of the contact threshold (clearly in contact).
+FLICKER_ON_LEVEL = 2.0
+
+
+class Fault(Protocol):
+    """One imperfection: a seeded map from frames to frames."""
+
+    def apply(
+        self,
+        frames: NDArray[Any],
+        t_s: NDArray[np.float64],
+        *,
+        threshold: float,
+        rng: np.random.Generator,
+    ) -> NDArray[Any]:
+        """Return the frames as the imperfect sensor reports them (a new array)."""
+        ...
+
+
+def _pick_taxels(shape: tuple[int, ...], count: int, rng: np.random.Generator) -> NDArray[np.intp]:
+    rows, cols = shape[-2], shape[-1]
+    if count > rows * cols:
+        raise InputError(f"count must be at most {rows * cols} taxels, got {count}")
+    return rng.choice(rows * cols, size=count, replace=False)
+
+
+def _check_analog(name: str, frames: NDArray[Any]) -> None:
+    if frames.dtype == bool:
+        raise InputError(f"{name} needs analog frames (float), got bool contact images")
+
+
+@dataclass(frozen=True)
+class DeadTaxels:
+    """``count`` random taxels that never report contact.
+
+    Parameters
+    ----------
+    count : int
+        Number of dead taxels, >= 0.
+    """
+
+    count: int = 2
+
+    def __post_init__(self) -> None:
+        if int(self.count) < 0:
+            raise InputError(f"count must be >= 0, got {self.count!r}")
+
+    def apply(
+        self,
+        frames: NDArray[Any],
+        t_s: NDArray[np.float64],
+        *,
+        threshold: float,
+        rng: np.random.Generator,
+    ) -> NDArray[Any]:
+        """Set the dead taxels to 0 (False) in every frame."""
+        out = frames.copy()
+        flat = out.reshape(out.shape[0], -1)
+        flat[:, _pick_taxels(out.shape, int(self.count), rng)] = 0
+        return out
+
+
+@dataclass(frozen=True)
+class StuckTaxels:
+    """``count`` random taxels that always report contact.
+
+    Parameters
+    ----------
+    count : int
+        Number of stuck taxels, >= 0.
+    level : float
+        Their analog reading, in units of the contact threshold (> 1: in contact).
+    """
+
+    count: int = 1
+    level: float = 10.0
+
+    def __post_init__(self) -> None:
+        if int(self.count) < 0:
+            raise InputError(f"count must be >= 0, got {self.count!r}")
+        if not self.level > 1.0:
+            raise InputError(f"level must be > 1 (above the threshold), got {self.level!r}")
+
+    def apply(
+        self,
+        frames: NDArray[Any],
+        t_s: NDArray[np.float64],
+        *,
+        threshold: float,
+        rng: np.random.Generator,
+    ) -> NDArray[Any]:
+        """Set the stuck taxels to ``level x threshold`` (True) in every frame."""
+        out = frames.copy()
+        flat = out.reshape(out.shape[0], -1)
+        value: Any = True if out.dtype == bool else self.level * threshold
+        flat[:, _pick_taxels(out.shape, int(self.count), rng)] = value
+        return out
+
+
+@dataclass(frozen=True)
+class Flicker:
+    """Random flips across the threshold, independent per taxel and frame.
+
+    Parameters
+    ----------
+    rate : float
+        Probability that a taxel reads the opposite of the truth in one frame,
+        in [0, 1]. 0.005 flips 1.3 of the 256 Bonneville taxels per frame.
+    """
+
+    rate: float = 0.005
+
+    def __post_init__(self) -> None:
+        check_in_range("rate", self.rate, 0.0, 1.0)
+
+    def apply(
+        self,
+        frames: NDArray[Any],
+        t_s: NDArray[np.float64],
+        *,
+        threshold: float,
+        rng: np.random.Generator,
+    ) -> NDArray[Any]:
+        """Flip taxels: bool by negation, analog to 0 or ``FLICKER_ON_LEVEL x threshold``."""
+        flip = rng.random(frames.shape) < self.rate
+        if frames.dtype == bool:
+            out_b: NDArray[Any] = frames ^ flip
+            return out_b
+        on = frames > threshold
+        high = frames.dtype.type(FLICKER_ON_LEVEL * threshold)
+        out: NDArray[Any] = np.where(flip, np.where(on, frames.dtype.type(0), high), frames)
+        return out
+
+
+@dataclass(frozen=True)
+class ThresholdSpread:
+    """Per-taxel sensitivity spread (analog frames only).
+
+    Parameters
+    ----------
+    sigma : float
+        Relative spread: taxel ``i`` reads ``u / (1 + sigma z_i)``, ``z_i``
+        standard normal (clipped to +-3), so its effective threshold is
+        ``threshold x (1 + sigma z_i)``. In [0, 0.3].
+    """
+
+    sigma: float = 0.2
+
+    def __post_init__(self) -> None:
+        check_in_range("sigma", self.sigma, 0.0, 0.3)
+
+    def apply(
+        self,
+        frames: NDArray[Any],
+        t_s: NDArray[np.float64],
+        *,
+        threshold: float,
+        rng: np.random.Generator,
+    ) -> NDArray[Any]:
+        """Scale each taxel by its own gain."""
+        _check_analog("ThresholdSpread", frames)
+        z = np.clip(rng.standard_normal(frames.shape[1:]), -3.0, 3.0)
+        gain = (1.0 / (1.0 + self.sigma * z)).astype(frames.dtype)
+        out: NDArray[Any] = frames * gain
+        return out
+
+
+@dataclass(frozen=True)
+class Crosstalk:
+    """Row/column leakage of a resistive array (ghosting).
+
+    Parameters
+    ----------
+    rows, cols : int
+        Number of random rows (columns) that also read their next row
+        (column; the last one its previous).
+    coupling : float
+        Fraction of the neighbour's reading added, in (0, 1]. With bool
+        frames any coupling lights the taxel where its neighbour is on.
+    """
+
+    rows: int = 1
+    cols: int = 0
+    coupling: float = 0.5
+
+    def __post_init__(self) -> None:
+        if int(self.rows) < 0 or int(self.cols) < 0:
+            raise InputError(f"rows and cols must be >= 0, got {self.rows!r}, {self.cols!r}")
+        check_in_range("coupling", self.coupling, 1e-6, 1.0)
+
+    def apply(
+        self,
+        frames: NDArray[Any],
+        t_s: NDArray[np.float64],
+        *,
+        threshold: float,
+        rng: np.random.Generator,
+    ) -> NDArray[Any]:
+        """Add the coupled neighbour's reading to the chosen rows and columns."""
+        out = frames.copy()
+        for axis, count in ((1, int(self.rows)), (2, int(self.cols))):
+            n = frames.shape[axis]
+            if count > n:
+                raise InputError(f"crosstalk on {count} lines but the array has {n}")
+            for line in rng.choice(n, size=count, replace=False).tolist():
+                other = line + 1 if line + 1 < n else line - 1
+                src = np.take(frames, other, axis=axis)
+                dst = [slice(None)] * 3
+                dst[axis] = line
+                if frames.dtype == bool:
+                    out[tuple(dst)] |= src
+                else:
+                    out[tuple(dst)] += frames.dtype.type(self.coupling) * src
+        return out
+
+
+@dataclass(frozen=True)
+class OffsetDrift:
+    """Per-taxel offsets and a common drift of analog outputs.
+
+    Parameters
+    ----------
+    offset : float
+        Standard deviation of the per-taxel offset, in units of the threshold.
+    drift_per_s : float
+        Common drift, in units of the threshold per second (may be negative).
+    """
+
+    offset: float = 0.2
+    drift_per_s: float = 0.02
+
+    def __post_init__(self) -> None:
+        check_positive("offset", self.offset, allow_zero=True)
+        if not np.isfinite(self.drift_per_s):
+            raise InputError(f"drift_per_s must be finite, got {self.drift_per_s!r}")
+
+    def apply(
+        self,
+        frames: NDArray[Any],
+        t_s: NDArray[np.float64],
+        *,
+        threshold: float,
+        rng: np.random.Generator,
+    ) -> NDArray[Any]:
+        """Add the offsets and the drift (relative to the first timestamp)."""
+        _check_analog("OffsetDrift", frames)
+        off = rng.standard_normal(frames.shape[1:]) * self.offset * threshold
+        drift = (t_s - t_s[0]) * self.drift_per_s * threshold
+        out: NDArray[Any] = (frames + off[None] + drift[:, None, None]).astype(frames.dtype)
+        return out
+
+
+@dataclass(frozen=True)
+class ContactLoss:
+    """A short loss of the whole image, once, while something touches the array.
+
+    Parameters
+    ----------
+    duration_s : float
+        How long every taxel reads 0 (False), s (> 0).
+    """
+
+    duration_s: float = 0.07
+
+    def __post_init__(self) -> None:
+        check_positive("duration_s", self.duration_s)
+
+    def apply(
+        self,
+        frames: NDArray[Any],
+        t_s: NDArray[np.float64],
+        *,
+        threshold: float,
+        rng: np.random.Generator,
+    ) -> NDArray[Any]:
+        """Blank the frames of one window that starts at a random frame in contact."""
+        out = frames.copy()
+        on = frames if frames.dtype == bool else frames > threshold
+        touching = np.flatnonzero(on.reshape(on.shape[0], -1).any(axis=1))
+        fits = touching[t_s[touching] + self.duration_s <= t_s[-1]]
+        if fits.size == 0:
+            return out
+        start = float(t_s[int(fits[rng.integers(fits.size)])])
+        out[(t_s >= start) & (t_s < start + self.duration_s)] = 0
+        return out
+
+
+@dataclass(frozen=True)
+class FaultModel:
+    """Imperfections applied in order (put dead and stuck taxels last so that they win).
+
+    Parameters
+    ----------
+    faults : sequence of Fault
+        Applied left to right.
+    name : str
+        A label for reports.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from taxelkit.frames import TactileFrames
+    >>> rec = TactileFrames(np.zeros((5, 16, 16)), pitch_mm=1.76)
+    >>> bad = FaultModel((StuckTaxels(1),)).apply(rec, threshold=0.03, rng=0)
+    >>> int((bad.frames > 0.03).sum(axis=(1, 2))[0])
+    1
+    """
+
+    faults: tuple[Fault, ...] = field(default_factory=tuple)
+    name: str = "custom"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "faults", tuple(self.faults))
+        for f in self.faults:
+            if not callable(getattr(f, "apply", None)):
+                raise InputError(f"faults must have an apply method, got {type(f).__name__}")
+
+    def apply_frames(
+        self,
+        frames: NDArray[Any],
+        t_s: NDArray[np.float64],
+        *,
+        threshold: float,
+        rng: RngLike = None,
+    ) -> NDArray[Any]:
+        """The frames ``(T, rows, cols)`` as the imperfect sensor reports them.
+
+        Parameters
+        ----------
+        frames : (T, rows, cols) bool or float
+        t_s : (T,) float, s
+        threshold : float
+            Contact threshold of analog frames, in their units (> 0).
+        rng : int, Generator or None
+            Seed: the same seed gives the same frames.
+        """
+        arr = np.asarray(frames)
+        if arr.ndim != 3:
+            raise InputError(f"frames must have shape (T, rows, cols), got {arr.shape}")
+        thr = check_positive("threshold", threshold)
+        gen = np.random.default_rng(rng)
+        out = arr.copy()
+        ts = np.asarray(t_s, dtype=np.float64)
+        for f in self.faults:
+            out = f.apply(out, ts, threshold=thr, rng=gen)
+        return out
+
+    def apply(
+        self, recording: TactileFrames, *, threshold: float, rng: RngLike = None
+    ) -> TactileFrames:
+        """A recording as the imperfect sensor reports it (see :meth:`apply_frames`)."""
+        frames = self.apply_frames(recording.frames, recording.t_s, threshold=threshold, rng=rng)
+        return TactileFrames(
+            frames,
+            t_s=recording.t_s,
+            pitch_mm=recording.pitch_mm,
+            units=recording.units,
+            sensor=recording.sensor,
+        )
+
+
+def _presets() -> dict[str, tuple[Fault, ...]]:
+    return {
+        "none": (),
+        "dead": (DeadTaxels(2),),
+        "stuck": (StuckTaxels(1),),
+        "flicker": (Flicker(0.005),),
+        "crosstalk": (Crosstalk(rows=1),),
+        "threshold-spread": (ThresholdSpread(0.2),),
+        "drift": (OffsetDrift(),),
+        "contact-loss": (ContactLoss(0.07),),
+        "all": (
+            ThresholdSpread(0.2),
+            OffsetDrift(),
+            Crosstalk(rows=1),
+            Flicker(0.005),
+            DeadTaxels(2),
+            StuckTaxels(1),
+        ),
+    }
+
+
+#: Names of the fault presets of the robustness experiment, ``"none"`` first.
+FAULT_PRESETS: tuple[str, ...] = tuple(_presets())
+
+
+def fault_model(name: str | Sequence[Fault]) -> FaultModel:
+    """A named preset of :data:`FAULT_PRESETS`, or a model of the given faults.
+
+    Raises
+    ------
+    InputError
+        For an unknown name (listing the known ones).
+    """
+    if isinstance(name, str):
+        presets = _presets()
+        if name not in presets:
+            raise InputError(f"unknown fault model {name!r}; known: {', '.join(presets)}")
+        return FaultModel(presets[name], name=name)
+    return FaultModel(tuple(name))

@@ -1,0 +1,413 @@
+"""Image cleaning before Level 1: stuck taxels, dead taxels and flicker, from the stream itself.
+
+Paper 001 thresholds each taxel and hands the binary image to Level 1. A real
+array's faults (:mod:`taxelkit.sensors.faults`) then become contacts: a stuck
+taxel is a point that never lifts, a flickering taxel a point that comes and
+goes, a dead taxel splits a line. The cleaning below needs no calibration: it
+reads the faults off the stream, causally (frame ``t`` is cleaned from frames
+``0..t``), so the batch and the streaming paths give the same images.
+
+Rules, in order (:class:`CleaningConfig` holds the numbers)
+    1. **Stuck taxels** are masked. A taxel is stuck when it has been on in
+       every frame since the stream began, or isolated (none of its eight
+       neighbours on) in every frame for ``stuck_s`` seconds; it stays masked
+       until it reads off once. A point contact held perfectly still on one
+       taxel for longer than ``stuck_s`` (default 1.5 s; the scripts hold
+       still states 0.4-0.9 s) is therefore taken for a stuck taxel, and a
+       recording that begins in contact loses the taxels on from its first
+       frame until they lift.
+    2. **Dead taxels and holes** are bridged: an off taxel whose two
+       horizontal or two vertical neighbours are on is set on. A contact of a
+       convex body contains the taxels between two of its taxels, so this
+       only mends what the sensor lost (it thickens two lines one taxel apart,
+       which one object does not produce).
+    3. **Flicker** is suppressed by persistence: a taxel counts only if it or
+       one of its eight neighbours was on (after rules 1-2) in the previous
+       frame, or if two of its neighbours are on now (a cluster of three or
+       more, which independent flips almost never make). A random flip
+       survives only if its neighbourhood flipped the frame before
+       (probability ``9 r`` for a flip rate ``r``); a real contact moves less
+       than a taxel per frame at the rates and speeds of interest, and a
+       point contact of one or two taxels is delayed by one frame when it
+       appears.
+    4. **Stray taxels** are dropped: a taxel with no other taxel within two
+       pitches (its 5 x 5 block) is removed when the frame also holds a
+       larger contact.
+
+The hot path works on frames packed into one ``uint64`` per row (arrays up to
+64 columns; wider ones use the same rules on bool arrays), so cleaning costs
+a fraction of Levels 1-4 (``benchmarks/bench_cleaning.py``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from taxelkit.errors import InputError, check_positive
+
+__all__ = ["CleaningConfig", "ImageCleaner", "clean_images"]
+
+#: Widest array that is packed into one uint64 per row.
+_PACK_MAX_COLS = 64
+
+
+@dataclass(frozen=True)
+class CleaningConfig:
+    """Switches and numbers of the image cleaning.
+
+    Parameters
+    ----------
+    stuck : bool
+        Mask stuck taxels (rule 1).
+    stuck_s : float
+        Time a taxel must stay isolated and on to be taken as stuck, s.
+    bridge : bool
+        Bridge dead taxels and holes (rule 2).
+    persistence : bool
+        Suppress flicker (rule 3).
+    strays : bool
+        Drop stray taxels next to a larger contact (rule 4).
+    """
+
+    stuck: bool = True
+    stuck_s: float = 1.5
+    bridge: bool = True
+    persistence: bool = True
+    strays: bool = True
+
+    def __post_init__(self) -> None:
+        check_positive("stuck_s", self.stuck_s)
+
+
+# -- two backends with the same operations: packed rows (uint64) and bool arrays -------------
+
+
+class _Packed:
+    """Frames ``(T, R)`` of unsigned words, bit ``c`` of row ``r`` = taxel ``(r, c)``.
+
+    The word is the smallest of 8, 16, 32, 64 bits that holds a row: the
+    operations stream through memory, so a 16-column array in ``uint16`` costs
+    a quarter of ``uint64``.
+    """
+
+    def __init__(self, cols: int) -> None:
+        self.bytes = next(b for b in (1, 2, 4, 8) if 8 * b >= cols)
+        self.dtype = np.dtype(f"<u{self.bytes}")
+        self.mask = self.dtype.type((1 << cols) - 1)
+
+    def pack(self, images: NDArray[np.bool_]) -> NDArray[Any]:
+        t, r, c = images.shape
+        if c % 8 == 0:  # whole bytes: pack the flat array (contiguous, fast)
+            b = np.packbits(images.reshape(-1), bitorder="little").reshape(t, r, c // 8)
+        else:
+            b = np.packbits(images, axis=2, bitorder="little")
+        if b.shape[2] != self.bytes:
+            full = np.zeros((t, r, self.bytes), np.uint8)
+            full[:, :, : b.shape[2]] = b
+            b = full
+        out: NDArray[Any] = np.ascontiguousarray(b).view(self.dtype).reshape(t, r)
+        return out
+
+    def unpack(self, rows: NDArray[Any], cols: int) -> NDArray[np.bool_]:
+        t, r = rows.shape
+        b = np.ascontiguousarray(rows).view(np.uint8).reshape(t, r, self.bytes)
+        out: NDArray[np.bool_] = np.unpackbits(b, axis=2, count=cols, bitorder="little").view(bool)
+        return out
+
+    def left(self, a: NDArray[Any], n: int = 1) -> NDArray[Any]:
+        """Taxel (r, c) gets (r, c - n)."""
+        out: NDArray[Any] = (a << self.dtype.type(n)) & self.mask
+        return out
+
+    def right(self, a: NDArray[Any], n: int = 1) -> NDArray[Any]:
+        """Taxel (r, c) gets (r, c + n)."""
+        out: NDArray[Any] = a >> self.dtype.type(n)
+        return out
+
+    @staticmethod
+    def down(a: NDArray[Any], n: int = 1) -> NDArray[Any]:
+        """Taxel (r, c) gets (r - n, c)."""
+        out = np.zeros_like(a)
+        out[:, n:] = a[:, :-n]
+        return out
+
+    @staticmethod
+    def up(a: NDArray[Any], n: int = 1) -> NDArray[Any]:
+        """Taxel (r, c) gets (r + n, c)."""
+        out = np.zeros_like(a)
+        out[:, :-n] = a[:, n:]
+        return out
+
+    @staticmethod
+    def any_per_frame(a: NDArray[Any]) -> NDArray[np.bool_]:
+        out: NDArray[np.bool_] = np.any(a.reshape(a.shape[0], -1) != 0, axis=1)
+        return out
+
+    @staticmethod
+    def per_frame(flags: NDArray[np.bool_], like: NDArray[Any]) -> NDArray[Any]:
+        """A per-frame flag broadcast to every taxel, as an all-ones/zeros mask."""
+        full = np.zeros_like(like)
+        full[flags] = ~full[flags]
+        return full
+
+
+class _Bool(_Packed):
+    """Frames ``(T, R, C)`` bool (wide arrays)."""
+
+    def __init__(self, cols: int) -> None:
+        self.dtype = np.dtype(bool)
+        self.mask = np.True_
+
+    def pack(self, images: NDArray[np.bool_]) -> NDArray[Any]:
+        return images.copy()
+
+    def unpack(self, rows: NDArray[Any], cols: int) -> NDArray[np.bool_]:
+        return rows
+
+    def left(self, a: NDArray[Any], n: int = 1) -> NDArray[Any]:
+        out = np.zeros_like(a)
+        out[:, :, n:] = a[:, :, :-n]
+        return out
+
+    def right(self, a: NDArray[Any], n: int = 1) -> NDArray[Any]:
+        out = np.zeros_like(a)
+        out[:, :, :-n] = a[:, :, n:]
+        return out
+
+
+def _backend(cols: int) -> _Packed:
+    return _Packed(cols) if cols <= _PACK_MAX_COLS else _Bool(cols)
+
+
+def _neighbours8(ops: _Packed, a: NDArray[Any]) -> NDArray[Any]:
+    """Taxels with at least one of their eight neighbours on."""
+    row = a | ops.left(a) | ops.right(a)
+    out: NDArray[Any] = ops.left(a) | ops.right(a) | ops.up(row) | ops.down(row)
+    return out
+
+
+def _crowded(ops: _Packed, a: NDArray[Any]) -> NDArray[Any]:
+    """Taxels with at least two of their eight neighbours on (bit-sliced count)."""
+    one = np.zeros_like(a)
+    two = np.zeros_like(a)
+    lr = (ops.left(a), ops.right(a))
+    for x in (*lr, *(move(v) for move in (ops.up, ops.down) for v in (a, *lr))):
+        two |= one & x
+        one |= x
+    return two
+
+
+def _dilate3(ops: _Packed, a: NDArray[Any]) -> NDArray[Any]:
+    row = a | ops.left(a) | ops.right(a)
+    out: NDArray[Any] = row | ops.up(row) | ops.down(row)
+    return out
+
+
+def _stray(ops: _Packed, a: NDArray[Any]) -> NDArray[Any]:
+    """Taxels with no other taxel in their 5 x 5 block."""
+    beside = ops.left(a) | ops.right(a) | ops.left(a, 2) | ops.right(a, 2)
+    row5 = a | beside
+    others = beside | ops.up(row5) | ops.down(row5) | ops.up(row5, 2) | ops.down(row5, 2)
+    out: NDArray[Any] = a & ~others
+    return out
+
+
+def _time_shift(a: NDArray[Any], n: int) -> NDArray[Any]:
+    """Frame ``t`` gets frame ``t - n`` (zeros before the start)."""
+    out = np.zeros_like(a)
+    if n < a.shape[0]:
+        out[n:] = a[:-n] if n > 0 else a
+    return out
+
+
+def _on_since_start(on: NDArray[Any]) -> NDArray[Any]:
+    """Taxels on in every frame ``0..t`` (a running AND, stopped once nothing is left)."""
+    out = np.zeros_like(on)
+    acc = on[0]
+    t, chunk = 0, 16
+    while t < on.shape[0] and np.any(acc):
+        seg = np.bitwise_and.accumulate(np.concatenate([acc[None], on[t : t + chunk]]), axis=0)
+        out[t : t + chunk] = seg[1:]
+        acc = seg[-1]
+        t, chunk = t + chunk, 2 * chunk
+    return out
+
+
+def _held(a: NDArray[Any], n: int) -> NDArray[Any]:
+    """Taxels on in each of the frames ``t - n + 1 .. t`` (bitwise, by doubling)."""
+    out = a.copy()
+    span = 1
+    while span < n:
+        step = min(span, n - span)
+        out = out & _time_shift(out, step)
+        span += step
+    return out
+
+
+def stuck_frames_for(dt_s: float, config: CleaningConfig) -> int:
+    """Frames a taxel must stay isolated to be taken as stuck, from the frame interval."""
+    return max(3, math.ceil(config.stuck_s / dt_s - 1e-9)) if dt_s > 0 else 3
+
+
+def _stuck_mask(
+    ops: _Packed,
+    on: NDArray[Any],
+    n_stuck: int,
+    *,
+    since_start: NDArray[Any] | None = None,
+) -> NDArray[Any]:
+    """Bits to mask as stuck in each frame (``on`` is the raw image)."""
+    start = _on_since_start(on) if since_start is None else since_start
+    seed = start | _held(on & ~_neighbours8(ops, on), n_stuck)
+    if not np.any(seed):
+        return np.zeros_like(on)
+    # a seeded taxel stays masked while it stays on: per taxel, over its on-runs
+    frames, rest = on.shape[0], on.shape[1:]
+    on_f = on.reshape(frames, -1)
+    seed_f = seed.reshape(frames, -1)
+    out = np.zeros_like(on_f)
+    idx = np.arange(frames)
+    cols = np.flatnonzero(np.bitwise_or.reduce(seed_f, axis=0))
+    for j in cols.tolist():  # a few taxels (or rows of packed taxels) at most
+        for bit in _bits_of(int(np.bitwise_or.reduce(seed_f[:, j])), on_f.dtype):
+            o = (on_f[:, j] & bit) != 0
+            s = (seed_f[:, j] & bit) != 0
+            last_off = np.maximum.accumulate(np.where(o, -1, idx))
+            last_seed = np.maximum.accumulate(np.where(s, idx, -1))
+            masked = o & (last_seed > last_off)
+            out[masked, j] |= bit
+    return out.reshape((frames, *rest))
+
+
+def _bits_of(word: int, dtype: Any) -> list[Any]:
+    if np.dtype(dtype) == np.dtype(bool):
+        return [True] if word else []
+    return [dtype.type(1 << b) for b in range(8 * dtype.itemsize) if (word >> b) & 1]
+
+
+def _bridged(
+    ops: _Packed, on: NDArray[Any], stuck: NDArray[Any], config: CleaningConfig
+) -> NDArray[Any]:
+    """Rules 1-2: stuck taxels masked, dead taxels and holes bridged."""
+    a: NDArray[Any] = on & ~stuck
+    if config.bridge:
+        a = a | (ops.left(a) & ops.right(a)) | (ops.up(a) & ops.down(a))
+    return a
+
+
+def _clean(
+    ops: _Packed, a: NDArray[Any], prev: NDArray[Any], config: CleaningConfig
+) -> NDArray[Any]:
+    """Rules 3-4 on bridged frames ``a``; ``prev`` is the bridged frame before the first."""
+    out = a
+    if config.persistence:
+        before = np.concatenate([prev[None], a[:-1]]) if a.shape[0] else a
+        out = a & (_dilate3(ops, before) | _crowded(ops, a))
+    if config.strays:
+        stray = _stray(ops, out)
+        big = ops.any_per_frame(out & ~stray)
+        out = out & ~(stray & ops.per_frame(big, out))
+    return out
+
+
+def clean_images(
+    images: ArrayLike, t_s: ArrayLike, *, config: CleaningConfig | None = None
+) -> NDArray[np.bool_]:
+    """Clean a whole sequence of contact images (batch; causal, same as :class:`ImageCleaner`).
+
+    Parameters
+    ----------
+    images : (T, rows, cols) bool
+        Thresholded contact images.
+    t_s : (T,) float, s
+        Timestamps (the stuck rule's time base is the interval of the first two).
+    config : CleaningConfig, optional
+
+    Returns
+    -------
+    (T, rows, cols) bool
+        The cleaned images.
+    """
+    cfg = CleaningConfig() if config is None else config
+    img = np.asarray(images)
+    if img.ndim != 3 or img.dtype != bool:
+        raise InputError(f"images must be bool with shape (T, rows, cols), got {img.dtype}")
+    t = np.asarray(t_s, dtype=np.float64)
+    if t.shape != (img.shape[0],):
+        raise InputError(f"t_s must have shape ({img.shape[0]},), got {t.shape}")
+    if img.shape[0] == 0:
+        return img.copy()
+    ops = _backend(img.shape[2])
+    on = ops.pack(img)
+    dt = float(t[1] - t[0]) if t.size > 1 else 1.0
+    stuck = _stuck_mask(ops, on, stuck_frames_for(dt, cfg)) if cfg.stuck else np.zeros_like(on)
+    out = _clean(ops, _bridged(ops, on, stuck, cfg), np.zeros_like(on[0]), cfg)
+    return ops.unpack(out, img.shape[2])
+
+
+class ImageCleaner:
+    """The cleaning of :func:`clean_images`, one frame at a time.
+
+    Parameters
+    ----------
+    shape : (rows, cols)
+    config : CleaningConfig, optional
+    """
+
+    def __init__(self, shape: tuple[int, int], *, config: CleaningConfig | None = None) -> None:
+        self.shape = (int(shape[0]), int(shape[1]))
+        self.config = CleaningConfig() if config is None else config
+        self._ops = _backend(self.shape[1])
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the stream."""
+        self._t0: float | None = None
+        self._n_stuck: int | None = None
+        self._since_start: NDArray[Any] | None = None
+        self._held: NDArray[np.int64] | None = None  # frames each taxel has been isolated
+        self._masked: NDArray[Any] | None = None
+        self._prev: NDArray[Any] | None = None
+
+    def push(self, image: NDArray[np.bool_], t_s: float) -> NDArray[np.bool_]:
+        """Clean one image ``(rows, cols)`` bool taken at ``t_s``; return the cleaned image."""
+        ops, cfg = self._ops, self.config
+        on = ops.pack(np.asarray(image, dtype=bool)[None])
+        if self._since_start is None:
+            self._since_start = on.copy()
+            self._masked = np.zeros_like(on)
+            self._prev = np.zeros_like(on)
+            self._t0 = float(t_s)
+        elif self._n_stuck is None:
+            self._n_stuck = stuck_frames_for(float(t_s) - (self._t0 or 0.0), cfg)
+        assert self._masked is not None and self._prev is not None
+        self._since_start &= on
+        stuck = np.zeros_like(on)
+        if cfg.stuck:
+            stuck = self._stuck(on)
+        a = _bridged(ops, on, stuck, cfg)
+        out = _clean(ops, a, self._prev[0], cfg)
+        self._prev = a
+        cleaned: NDArray[np.bool_] = ops.unpack(out, self.shape[1])[0]
+        return cleaned
+
+    def _stuck(self, on: NDArray[Any]) -> NDArray[Any]:
+        ops = self._ops
+        iso = self._unpacked(on & ~_neighbours8(ops, on))
+        self._held = np.where(iso, (0 if self._held is None else self._held) + 1, 0)
+        n = 3 if self._n_stuck is None else self._n_stuck
+        assert self._since_start is not None and self._masked is not None
+        seed = self._unpacked(self._since_start) | (self._held >= n)
+        on_u = self._unpacked(on)
+        masked = on_u & (seed | self._unpacked(self._masked))
+        self._masked = ops.pack(masked[None])
+        return self._masked
+
+    def _unpacked(self, a: NDArray[Any]) -> NDArray[np.bool_]:
+        out: NDArray[np.bool_] = self._ops.unpack(a, self.shape[1])[0]
+        return out

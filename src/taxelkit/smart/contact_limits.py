@@ -1,0 +1,145 @@
+"""Level 2 refined: limits in millimetres and taxels, with hysteresis (beyond paper 001).
+
+The network of :mod:`~taxelkit.smart.contact_classes` draws its regions in
+mm^2 of area and in elongation, tuned to the Bonneville array's 1.76 mm pitch.
+Two things go wrong on other arrays and imperfect sensors:
+
+* **A short bar is not an edge.** Three taxels in a row (5.3 mm at 1.76 mm,
+  3 mm at 1 mm) have the elongation of a line, but a ball pressed to a
+  contact radius of 2 mm lights that many when its disc falls along a row,
+  more so with threshold spread or a crosstalking row. Every line contact of
+  the six objects is longer than the largest point contact: a line here must
+  be at least ``line_min_length_mm`` long (length = ``2 sqrt(3 lambda_max)``,
+  exactly ``n x pitch`` for ``n`` taxels in a row). With hysteresis: a
+  contact becomes a line at ``line_min_length_mm`` and stays one down to
+  ``(1 - hysteresis)`` of it, so a line whose end taxel flickers does not
+  flip (a Schmitt trigger, :func:`schmitt`).
+* **A point covers up to four taxels at any pitch.** A contact patch smaller
+  than a taxel still lights the 2 x 2 block it straddles: at 2.5 mm pitch
+  that block is 25 mm^2, an "area" for the network. A compact contact of at
+  most ``point_max_taxels`` taxels (elongation at most 2) is a point.
+
+Both rules are off in the faithful pipeline (``limits=None``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.errors import check_in_range, check_positive
+from taxelkit.smart.contact_classes import ContactClass
+
+__all__ = ["ContactLimits", "LimitState", "apply_limits", "schmitt"]
+
+_LINE = int(ContactClass.LINE)
+_POINT = int(ContactClass.POINT)
+_INDET = int(ContactClass.INDETERMINATE)
+_NONE = int(ContactClass.NONE)
+
+
+@dataclass(frozen=True)
+class ContactLimits:
+    """Pitch-independent limits of the contact classes.
+
+    Parameters
+    ----------
+    line_min_length_mm : float
+        Shortest line contact, mm: between the largest point contact of the
+        scenarios (a ball's disc, 4 mm across) and the shortest edge or
+        generator (a cube 30 % under its 10 mm default: 7 mm).
+    hysteresis : float
+        A line stays a line down to ``(1 - hysteresis) x line_min_length_mm``.
+    point_max_taxels : int
+        A compact contact (elongation <= 2) of at most this many taxels is a point.
+    """
+
+    line_min_length_mm: float = 6.0
+    hysteresis: float = 0.15
+    point_max_taxels: int = 4
+
+    def __post_init__(self) -> None:
+        check_positive("line_min_length_mm", self.line_min_length_mm)
+        check_in_range("hysteresis", self.hysteresis, 0.0, 0.9)
+        check_positive("point_max_taxels", self.point_max_taxels)
+
+
+def schmitt(
+    value: NDArray[np.float64], high: float, low: float, *, start: bool = False
+) -> NDArray[np.bool_]:
+    """A Schmitt trigger over a sequence, vectorised: on at ``>= high``, off below ``low``.
+
+    Parameters
+    ----------
+    value : (T,) float
+    high, low : float
+        Thresholds, ``low <= high``.
+    start : bool
+        State before the first sample.
+
+    Returns
+    -------
+    (T,) bool
+        The state after each sample: that of the last sample outside the
+        band ``[low, high)``.
+    """
+    on = value >= high
+    decisive = on | (value < low)
+    idx = np.maximum.accumulate(np.where(decisive, np.arange(value.size), -1))
+    out: NDArray[np.bool_] = np.where(idx >= 0, on[np.maximum(idx, 0)], start)
+    return out
+
+
+@dataclass
+class LimitState:
+    """Streaming state of :func:`apply_limits`: is the current contact long enough for a line."""
+
+    long: bool = False
+
+
+def _length_thresholds(limits: ContactLimits) -> tuple[float, float]:
+    return limits.line_min_length_mm, limits.line_min_length_mm * (1.0 - limits.hysteresis)
+
+
+def apply_limits(
+    classes: NDArray[np.int8],
+    n_taxels: NDArray[np.int64],
+    length_mm: NDArray[np.float64],
+    elongation: NDArray[np.float64],
+    limits: ContactLimits,
+    *,
+    state: LimitState | None = None,
+) -> NDArray[np.int8]:
+    """Refine Level 2 classes with the limits (batch, or one frame at a time with ``state``).
+
+    Parameters
+    ----------
+    classes : (T,) int8
+        Network classes.
+    n_taxels : (T,) int
+        Taxels in contact.
+    length_mm : (T,) float, mm
+        ``2 sqrt(3 lambda_max)``: the contact's length.
+    elongation : (T,) float
+    limits : ContactLimits
+    state : LimitState, optional
+        Carried from call to call when frames come one at a time; updated.
+
+    Returns
+    -------
+    (T,) int8
+        Lines shorter than the (hysteretic) limit become indeterminate;
+        compact contacts of a few taxels become points.
+    """
+    high, low = _length_thresholds(limits)
+    start = False if state is None else state.long
+    long = schmitt(np.where(n_taxels > 0, length_mm, 0.0), high, low, start=start)
+    if state is not None and long.size:
+        state.long = bool(long[-1])
+    out = classes.copy()
+    out[(out == _LINE) & ~long] = _INDET
+    few = (n_taxels > 0) & (n_taxels <= limits.point_max_taxels) & (elongation <= 2.0)
+    out[few & (out != _LINE)] = _POINT
+    return out
