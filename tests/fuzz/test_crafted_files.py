@@ -30,6 +30,7 @@ RECORDING_COMMANDS: dict[str, Command] = {
     "info-json": lambda f, out: ["info", f, "--json"],
     "show": lambda f, out: ["show", f, "--out", out / "strip.png"],
     "recognize": lambda f, out: ["recognize", f],
+    "convert": lambda f, out: ["convert", f, out / "c.h5"],
 }
 #: Commands reading a heightmap.
 HEIGHTMAP_COMMANDS: dict[str, Command] = {

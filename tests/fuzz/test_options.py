@@ -31,6 +31,7 @@ BASE_ARGV: dict[str, list[str]] = {
     "info": ["info", "{f}"],
     "show": ["show", "{f}", "--out", "{d}/s.png"],
     "recognize": ["recognize", "{f}"],
+    "convert": ["convert", "{f}", "{d}/c.npz"],
     "trace": ["trace", "--shape", "circle", "--plot", "{d}/t.png"],
     "memorise": ["memorise", "--out", "{d}/m.npz"],
     "reproduce": ["reproduce", "fig7", "--out", "{d}/r"],
@@ -152,7 +153,7 @@ def _strategy(kind: click.ParamType) -> st.SearchStrategy[str]:
 def test_the_fuzzed_options_cover_every_command() -> None:
     commands = {name for name, _, _ in PAIRS}
     assert set(BASE_ARGV) | {""} >= commands
-    assert {"", "info", "show", "recognize", "trace", "memorise", "reproduce"} <= commands
+    assert {"", "info", "show", "recognize", "convert", "trace", "memorise", "reproduce"} <= commands
     assert {"simulate press", "simulate solid", "simulate roll", "demo"} <= commands
     assert len(PAIRS) * EXAMPLES_PER_OPTION >= 1000
 
