@@ -12,6 +12,7 @@ import functools
 import io
 import json
 import struct
+import tempfile
 import zipfile
 from collections.abc import Callable
 from pathlib import Path
@@ -19,10 +20,13 @@ from pathlib import Path
 import h5py
 import numpy as np
 
+from taxelkit.frames import TactileFrames
+
 __all__ = [
     "CSV_CASES",
     "H5_CASES",
     "HEIGHTMAP_CASES",
+    "MCAP_CASES",
     "MEMORY_CASES",
     "MESH_CASES",
     "NPZ_CASES",
@@ -409,6 +413,36 @@ CSV_CASES: dict[str, Writer] = {
     "nul-bytes": _writes(b"t_s,r0c0\n0,\x001\n"),
     "zip-named-csv": _writes(_npz(valid_recording())),
     "empty": _writes(b""),
+}
+
+
+# ----------------------------------------------------------------------------- MCAP
+_MCAP_MAGIC = b"\x89MCAP0\r\n"
+
+
+@functools.lru_cache(maxsize=2)
+def _mcap_bytes(shape: tuple[int, int, int]) -> bytes:
+    """A valid MCAP recording of zero frames of ``shape``, built on first use."""
+    from taxelkit.io.recordings import write_recording
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "r.mcap"
+        write_recording(TactileFrames(np.zeros(shape, np.float32)), path)
+        return path.read_bytes()
+
+
+#: MCAP recordings (need the ``ros`` extra): damaged, and a compressed chunk
+#: that inflates to 61 MiB.
+MCAP_CASES: dict[str, Writer] = {
+    "empty": _writes(b""),
+    "text": _writes(b"not mcap\n"),
+    "magic-then-junk": _writes(_MCAP_MAGIC + bytes(range(256))),
+    "truncated": lambda p: p.write_bytes(_mcap_bytes((4, 3, 3))[:-40]),
+    "truncated-half": lambda p: p.write_bytes(
+        _mcap_bytes((4, 3, 3))[: len(_mcap_bytes((4, 3, 3))) // 2]
+    ),
+    "chunk-inflates-to-61-MiB": lambda p: p.write_bytes(_mcap_bytes((1, 4000, 4000))),
+    "npz-named-mcap": _writes(_npz(valid_recording())),
 }
 
 

@@ -16,6 +16,7 @@ from tests.fuzz.corpus import (
     CSV_CASES,
     H5_CASES,
     HEIGHTMAP_CASES,
+    MCAP_CASES,
     MEMORY_CASES,
     MESH_CASES,
     NPZ_CASES,
@@ -122,3 +123,24 @@ def test_bad_memory(tmp_path: Path, case: str, write, command: Command) -> None:
 )
 def test_bad_mesh(tmp_path: Path, case: str, suffix: str, write) -> None:
     _check(tmp_path, f"{case}{suffix}", write, MESH_COMMANDS["simulate-solid"])
+
+
+@pytest.mark.parametrize(("case", "write", "command"), _cases(MCAP_CASES, RECORDING_COMMANDS))
+def test_bad_mcap_recording(tmp_path: Path, case: str, write, command: Command) -> None:
+    pytest.importorskip("mcap")
+    pytest.importorskip("rosbags")
+    _check(tmp_path, f"{case}.mcap", write, command)
+
+
+def test_rosbag2_folder_with_a_symbolic_link_is_refused(tmp_path: Path) -> None:
+    pytest.importorskip("rosbags")
+    secret = tmp_path / "secret.db3"
+    secret.write_bytes(b"private")
+    bag = tmp_path / "bag"
+    bag.mkdir()
+    (bag / "metadata.yaml").write_text("rosbag2_bagfile_information: {}\n")
+    (bag / "bag_0.db3").symlink_to(secret)
+    for argv in (["info", bag], ["recognize", bag], ["convert", bag, tmp_path / "c.npz"]):
+        line = assert_refused(invoke(argv), contains="symbolic link")
+        assert "bag" in line
+    assert not (tmp_path / "c.npz").exists()

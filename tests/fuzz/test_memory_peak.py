@@ -23,6 +23,7 @@ from tests.fuzz.corpus import (
     CSV_CASES,
     H5_CASES,
     HEIGHTMAP_CASES,
+    MCAP_CASES,
     MEMORY_CASES,
     MESH_CASES,
     NPZ_CASES,
@@ -77,6 +78,7 @@ def test_peak_memory_on_every_crafted_file_stays_under_200_mb(tmp_path: Path) ->
         argvs.append([a.format(f=path, d=out) for a in argv])
 
     for corpus, suffix in (
+        (MCAP_CASES, ".mcap"),
         (NPZ_CASES["recording"], ".npz"),
         (RECORDING_NPZ_CASES, ".npz"),
         (H5_CASES, ".h5"),

@@ -153,7 +153,16 @@ def _strategy(kind: click.ParamType) -> st.SearchStrategy[str]:
 def test_the_fuzzed_options_cover_every_command() -> None:
     commands = {name for name, _, _ in PAIRS}
     assert set(BASE_ARGV) | {""} >= commands
-    assert {"", "info", "show", "recognize", "convert", "trace", "memorise", "reproduce"} <= commands
+    assert {
+        "",
+        "info",
+        "show",
+        "recognize",
+        "convert",
+        "trace",
+        "memorise",
+        "reproduce",
+    } <= commands
     assert {"simulate press", "simulate solid", "simulate roll", "demo"} <= commands
     assert len(PAIRS) * EXAMPLES_PER_OPTION >= 1000
 

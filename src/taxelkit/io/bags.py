@@ -280,6 +280,10 @@ def raw_from_mcap(path: Path, *, topic: str | None = None) -> RawRecording:
             summary = reader.get_summary()
             if summary is None:
                 raise fail(CorruptRecordingError, path, "MCAP file without a summary section")
+            # A compressed chunk is inflated whole: check its declared size first.
+            budget = ReadBudget(path)
+            for index in summary.chunk_indexes:
+                budget.check_block("an MCAP chunk", int(index.uncompressed_size))
             topics = _mcap_topics(path, summary)
             chosen = select_topic(path, topics, topic)
             stream = (

@@ -184,6 +184,24 @@ class ReadBudget:
                 f"{_HOW_TO_RAISE}",
             )
 
+    def check_block(self, what: str, nbytes: int) -> None:
+        """Refuse one block (a compressed chunk, a buffer) that alone exceeds the limit.
+
+        Unlike :meth:`take`, nothing is charged: the block is freed once decoded.
+
+        Raises
+        ------
+        FileTooLargeError
+            If ``nbytes`` exceeds the limit.
+        """
+        if nbytes > self.limit:
+            raise fail(
+                FileTooLargeError,
+                self.path,
+                f"{what} declares {_mb(nbytes)}, over the read limit of {_mb(self.limit)}; "
+                f"{_HOW_TO_RAISE}",
+            )
+
     def take(self, what: str, shape: tuple[int, ...], dtype: np.dtype[Any]) -> None:
         """Charge an array's declared size before it is read.
 
