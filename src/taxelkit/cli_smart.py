@@ -48,6 +48,12 @@ __all__ = ["recognize", "roll"]
     help="Frames topic of a ROS 2 bag or MCAP file (default: its only frames topic).",
 )
 @click.option(
+    "--faithful",
+    is_flag=True,
+    help="Paper 001's pipeline as printed: no image cleaning, no Level 2 limits, Level 3 in "
+    "frames (k = 3). Default: the robust pipeline.",
+)
+@click.option(
     "--save-view",
     type=click.Path(path_type=Path),
     default=None,
@@ -64,6 +70,7 @@ def recognize(
     max_frames: int | None,
     timeout_s: float,
     topic: str | None,
+    faithful: bool,
     save_view: Path | None,
     force: bool,
 ) -> int:
@@ -101,7 +108,14 @@ def recognize(
     from taxelkit.smart.recogniser import recognise
 
     rec = read_recording(file, pitch_mm=pitch_mm, topic=topic)
-    result = recognise(rec, threshold=threshold)
+    if faithful:
+        from taxelkit.smart.tactemes import PAPER_LEVEL3
+
+        result = recognise(
+            rec, threshold=threshold, cleaning=None, limits=None, config=PAPER_LEVEL3
+        )
+    else:
+        result = recognise(rec, threshold=threshold)
     if save_view is not None:
         from taxelkit.io.atomic import atomic_write
         from taxelkit.viewer.rerun_view import view_recognition
@@ -118,6 +132,7 @@ def recognize(
         click.echo(f"frame {e.frame:6d}  {e.kind:11s} {value}")
     verdict = result.identified or f"undecided among {', '.join(result.candidates)}"
     click.echo(f"identified: {verdict}")
+    click.echo(f"why: {result.verdict.sentence()}")
     return 0
 
 

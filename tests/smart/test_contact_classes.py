@@ -35,11 +35,34 @@ from taxelkit.smart.contact_training import (
     train_contact_network,
 )
 from taxelkit.smart.moments import image_stats
-from taxelkit.smart.training_data import (
-    CONTACT_SCENARIOS,
-    ContactSamples,
-    contact_training_samples,
-)
+from taxelkit.experiments.contact_classes import features_of
+from taxelkit.motion.contact_samples import CONTACT_SCENARIOS, LabelledContacts, pressed_contacts
+
+
+@dataclasses.dataclass(frozen=True)
+class ContactSamples:
+    """Pressed contacts (simulator side) with their Level 1 features (recogniser side)."""
+
+    contacts: LabelledContacts
+    features: NDArray[np.float64]
+    labels: NDArray[np.int8]
+
+    def __len__(self) -> int:
+        return int(self.labels.size)
+
+    @property
+    def images(self) -> NDArray[np.bool_]:
+        return self.contacts.images
+
+    @property
+    def scenario(self) -> NDArray[np.str_]:
+        return self.contacts.scenario
+
+
+def contact_training_samples(*args: Any, **kw: Any) -> ContactSamples:
+    contacts = pressed_contacts(*args, **kw)
+    return ContactSamples(contacts, *features_of(contacts))
+
 
 PITCH = BONNEVILLE_16X16.array.pitch_mm
 N = 16

@@ -142,13 +142,11 @@ def _imports(path: Path) -> set[str]:
 def test_recognisers_never_import_the_world() -> None:
     """Recognition sees frames, not geometry: tracing/memory/neuron/smart import no world module.
 
-    ``smart/training_data.py`` is the one exception: it makes labelled training
-    samples for the Level 2 network from the simulator, by design.
+    Nor the simulator's motion: the Level 2 training contacts are made on the
+    simulator side (:mod:`taxelkit.motion.contact_samples`), without exception.
     """
     root = Path(taxelkit.__file__).parent
     for package in ("tracing", "neuron", "memory", "smart"):
         for path in (root / package).glob("*.py"):
-            if path.name == "training_data.py":
-                continue
-            bad = {m for m in _imports(path) if m.startswith("taxelkit.world")}
+            bad = {m for m in _imports(path) if m.startswith(("taxelkit.world", "taxelkit.motion"))}
             assert not bad, f"{path.name} imports {bad}"

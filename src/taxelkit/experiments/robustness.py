@@ -172,16 +172,16 @@ def _local(units: list[_Unit], workers: int) -> Iterator[tuple[int, list[TrialOu
 
 def _dask(units: list[_Unit], scheduler: str) -> Iterator[tuple[int, list[TrialOutcome]]]:
     try:
-        from distributed import Client
-        from distributed import as_completed as dask_completed
+        import distributed
     except ImportError:
         raise InputError(
             'a Dask scheduler needs the dask extra: pip install "taxelkit[dask]"'
         ) from None
-    with Client(scheduler) as client:
+    dask: Any = distributed  # untyped: its calls are checked by the tests on a local cluster
+    with dask.Client(scheduler) as client:
         futures = client.map(_run_unit, units, pure=False)
         index = {f.key: i for i, f in enumerate(futures)}
-        for f in dask_completed(futures):
+        for f in dask.as_completed(futures):
             yield index[f.key], f.result()
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
 from matplotlib.figure import Figure
 
 __all__ = ["plot_experiment"]
@@ -32,23 +33,26 @@ def _plot_contact_classes(result: Any) -> Figure:
     import matplotlib.pyplot as plt
 
     from taxelkit.plotting.decision_regions import plot_decision_regions
+    from taxelkit.smart.contact_classes import HAND_SET
 
-    fig, (a, b) = plt.subplots(1, 2, figsize=(13, 5.2))
-    s = result.samples
+    fig, axes = plt.subplots(2, 2, figsize=(13, 10.4))
     doc = result.to_json()
-    plot_decision_regions(
-        samples=s.features,
-        labels=s.labels,
-        ax=a,
-        title=f"hand-set weights: held-out accuracy {doc['hand_set']['accuracy']:.3f}",
-    )
-    plot_decision_regions(
-        result.trained,
-        samples=s.features,
-        labels=s.labels,
-        ax=b,
-        title=f"trained by back-propagation: {doc['trained']['accuracy']:.3f}",
-    )
+    rolls = doc["rolls"]["scores"]
+    pick = np.random.default_rng(0).permutation(result.roll_test.labels.size)[:3000]
+    rf, rl = result.roll_test.features[pick], result.roll_test.labels[pick]
+    panels = (
+        (HAND_SET, result.features, result.labels,
+         f"hand-set, pressed contacts: held-out accuracy {doc['hand_set']['accuracy']:.3f}"),
+        (result.trained, result.features, result.labels,
+         f"trained on pressed contacts: {doc['trained']['accuracy']:.3f}"),
+        (HAND_SET, rf, rl,
+         f"hand-set, rolls ({' + '.join(result.engines)}, all imperfections): "
+         f"{rolls['hand_set']['all']['accuracy']:.3f}"),
+        (result.roll_trained, rf, rl,
+         f"trained on rolls of other seeds: {rolls['trained_on_rolls']['all']['accuracy']:.3f}"),
+    )  # fmt: skip
+    for ax, (net, x, y, title) in zip(axes.ravel(), panels, strict=True):
+        plot_decision_regions(net, samples=x, labels=y, ax=ax, title=title)
     fig.tight_layout()
     return fig
 

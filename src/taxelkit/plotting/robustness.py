@@ -52,7 +52,7 @@ def plot_robustness(result: Any) -> Figure:
                     )
                     if c["wrong"]:
                         ax.add_patch(
-                            plt.Rectangle(
+                            Rectangle(
                                 (col - 0.5, i - 0.5),
                                 1,
                                 1,

@@ -1,8 +1,7 @@
 """The smart tactile sensor of paper 001: image statistics (Level 1) and contact classes (Level 2).
 
-:mod:`taxelkit.smart.training_data` (simulated, labelled contacts for training
-the Level 2 network) imports :mod:`taxelkit.world` and is therefore not
-re-exported here; import it by its module path.
+The package sees frames, timestamps and the pitch only; labelled training
+contacts are made on the simulator side (:mod:`taxelkit.motion.contact_samples`).
 """
 
 from taxelkit.smart.contact_classes import (

@@ -35,7 +35,7 @@ Training by back-propagation lives in :mod:`taxelkit.smart.contact_training`.
 
 The reconstructed partition (Figure 3)
 --------------------------------------
-Measured on the simulated Bonneville array (``taxelkit.smart.training_data``,
+Measured on the simulated Bonneville array (``taxelkit.motion.contact_samples``,
 1.7625 mm pitch, one taxel = 3.11 mm^2): a point contact (sphere, vertex,
 apex) lights 1 to 4 taxels (a 2 x 2 block when it sits on a taxel corner,
 elongation at most 2 for a pair), up to 12.4 mm^2; the smallest flat faces

@@ -9,7 +9,7 @@ This module does that for the network of
 the softmax outputs, its exact gradient by back-propagation, mini-batch Adam
 steps with a seeded generator, and a score of a network on labelled contacts.
 Labelled contacts can come from recordings or from the simulator
-(:mod:`taxelkit.smart.training_data`).
+(:mod:`taxelkit.motion.contact_samples`).
 
 References
 ----------
@@ -163,7 +163,7 @@ def train_contact_network(
     features : (N, 2) float
         ``(area_mm2, elongation)`` of contacts (area > 0), for example
         ``contact_features(image_stats(...))`` or
-        :func:`taxelkit.smart.training_data.contact_training_samples`.
+        :func:`taxelkit.motion.contact_samples.pressed_contacts`.
     labels : (N,) int
         POINT, LINE or AREA codes.
     hidden_units : int

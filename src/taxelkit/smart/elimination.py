@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 from taxelkit.smart.tacteme_table import OBJECTS, Tacteme, eliminated_by
 
-__all__ = ["UNKNOWN", "Eliminator", "Event"]
+__all__ = ["UNKNOWN", "Eliminator", "Event", "Verdict", "explain"]
 
 #: Outcome when every candidate has been eliminated.
 UNKNOWN = "unknown"
@@ -77,3 +77,84 @@ class Eliminator:
         if not self.candidates:
             return UNKNOWN
         return None
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """Why the recogniser concluded what it did, for one contact.
+
+    Attributes
+    ----------
+    outcome : str or None
+        The object, ``"unknown"``, or None (undecided).
+    candidates : tuple of str
+        Objects left.
+    eliminated : tuple of (object, tacteme, frame, reason)
+        For every object ruled out, the first tacteme that ruled it out, the
+        frame it was seen at and the table's reason.
+    deciders : tuple of (tacteme, leaves, reason)
+        When undecided: each tacteme that would split the candidates, the
+        objects it would leave, and the motion that produces it.
+    """
+
+    outcome: str | None
+    candidates: tuple[str, ...]
+    eliminated: tuple[tuple[str, str, int, str], ...]
+    deciders: tuple[tuple[str, tuple[str, ...], str], ...]
+
+    def sentence(self) -> str:
+        """One line a user can read."""
+        if self.outcome == UNKNOWN:
+            last = self.eliminated[-1] if self.eliminated else None
+            tail = f"; last: {last[1]} at frame {last[2]} ({last[3]})" if last else ""
+            return "unknown: every object was ruled out" + tail
+        if self.outcome is not None:
+            return f"{self.outcome}: the only object that can produce every tacteme seen"
+        options = "; ".join(f"{t} would leave {', '.join(left)}" for t, left, _ in self.deciders)
+        return f"undecided between {', '.join(self.candidates)}" + (
+            f"; {options}" if options else ""
+        )
+
+    def to_json(self) -> dict[str, object]:
+        """Plain JSON types."""
+        return {
+            "outcome": self.outcome,
+            "candidates": list(self.candidates),
+            "sentence": self.sentence(),
+            "eliminated": [
+                {"object": o, "tacteme": t, "frame": f, "reason": r}
+                for o, t, f, r in self.eliminated
+            ],
+            "deciders": [
+                {"tacteme": t, "leaves": list(left), "reason": r} for t, left, r in self.deciders
+            ],
+        }
+
+
+def explain(tactemes: list[tuple[str, int]], *, objects: tuple[str, ...] = OBJECTS) -> Verdict:
+    """The verdict and its reasons from the tactemes of one contact, in order.
+
+    Parameters
+    ----------
+    tactemes : list of (name, frame)
+    objects : tuple of str
+        The objects the contact began with.
+    """
+    from taxelkit.smart.tacteme_table import TABLE
+
+    reason = {row.tacteme.value: row.reason for row in TABLE}
+    left = list(objects)
+    eliminated: list[tuple[str, str, int, str]] = []
+    for name, frame in tactemes:
+        gone = eliminated_by(Tacteme(name))
+        for o in [o for o in left if o in gone]:
+            eliminated.append((o, name, frame, reason[name]))
+            left.remove(o)
+    outcome = left[0] if len(left) == 1 else (UNKNOWN if not left else None)
+    deciders: list[tuple[str, tuple[str, ...], str]] = []
+    if outcome is None:
+        for row in TABLE:
+            keep = tuple(o for o in left if o not in row.eliminates)
+            if keep and len(keep) < len(left):
+                deciders.append((row.tacteme.value, keep, row.reason))
+    return Verdict(outcome, tuple(left), tuple(eliminated), tuple(deciders))

@@ -29,7 +29,7 @@ from taxelkit.smart.contact_classes import (
     classify_contacts,
 )
 from taxelkit.smart.contact_limits import ContactLimits, LimitState, apply_limits
-from taxelkit.smart.elimination import Eliminator, Event
+from taxelkit.smart.elimination import Eliminator, Event, Verdict, explain
 from taxelkit.smart.moments import CELL_SECOND_MOMENT, ImageStats, binary_images, image_stats
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import (
@@ -73,6 +73,9 @@ class Recognition:
         The object of the last contact, ``"unknown"``, or None if undecided.
     candidates : tuple of str
         Objects not yet eliminated for the last contact.
+    verdict : Verdict
+        Why: what ruled out each object of the last contact and, when
+        undecided, which tactemes (motions) would decide.
     """
 
     classes: NDArray[np.int8]
@@ -80,6 +83,7 @@ class Recognition:
     events: tuple[Event, ...]
     identified: str | None
     candidates: tuple[str, ...]
+    verdict: Verdict
 
     def class_names(self) -> list[str]:
         """Per-frame class names (``"none"``, ``"indeterminate"``, ``"point"``, ...)."""
@@ -90,6 +94,7 @@ class Recognition:
         return {
             "identified": self.identified,
             "candidates": list(self.candidates),
+            "why": self.verdict.to_json(),
             "tactemes": [{"name": n, "frame": f} for n, f in self.tactemes],
             "classes": self.class_names(),
         }
@@ -213,16 +218,21 @@ def _finish(classes: NDArray[np.int8], events: list[Event]) -> Recognition:
     state = Eliminator()
     current: tuple[str, ...] | None = None  # candidates of the ongoing contact
     lifted: tuple[str, ...] | None = None  # candidates when the last contact ended
+    seen: list[tuple[str, int]] = []  # tactemes of the ongoing (or last) contact
     for e in events:
         if e.kind == "contact" and current is None:
-            current = state.objects
+            current, seen = state.objects, []
         elif e.kind == "candidates":
             current = tuple(e.value)
         elif e.kind == "lifted":
             lifted, current = tuple(e.value), None
+        elif e.kind == "tacteme":
+            seen.append((str(e.value), e.frame))
     final = current if current is not None else lifted
     state.candidates = state.objects if final is None else final
-    return Recognition(classes, tactemes, tuple(events), state.outcome, state.candidates)
+    verdict = explain(seen, objects=state.objects)
+    assert verdict.candidates == state.candidates  # the same elimination, told twice
+    return Recognition(classes, tactemes, tuple(events), state.outcome, state.candidates, verdict)
 
 
 def recognise(

@@ -19,10 +19,8 @@ Actuation (all numbers assumed; paper 001 describes no manipulator)
   dragged face) or across the body's axis (a cylinder or a cone on its side:
   only the component across the axis is driven, the constraint of rolling
   decides the rest); :class:`Brake` brings the centroid to rest;
-* tipped (:class:`Tip`): a couple about a horizontal line through a bottom edge
-  or a rim point, a PD controller on the tilt angle with the gravity moment
-  fed forward: tilt up, hold, then back or over towards the next face, and let
-  go :data:`RELEASE_MARGIN_DEG` before landing (gravity finishes the motion);
+* tipped (:class:`~taxelkit.motion.engines._mj_tip.Tip`): a couple about a
+  horizontal line through a bottom edge or a rim point;
 * spun (:class:`Spin`): a couple about the vertical tracking a yaw rate.
 """
 
@@ -34,12 +32,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from taxelkit.motion._script import balance_angle, landing_angle, rest_pose, unit_h
 from taxelkit.motion.engines._mjcf import GRAVITY_M_S2, M_PER_MM
-from taxelkit.motion.rolling import E_Z, Pose
+from taxelkit.motion.rolling import E_Z
 from taxelkit.world.solids import AnalyticSolid
-from taxelkit.world.solids_polyhedra import Cube, Tetrahedron
-from taxelkit.world.solids_round import Cone, Cylinder, TruncatedCone
+from taxelkit.world.solids_round import Cone, TruncatedCone
 
 #: Height of the lowest point above the plate while the body is held lifted, mm.
 HOVER_CLEARANCE_MM = 3.0
@@ -58,21 +54,9 @@ PUSH_TIMECONST_S = 0.02
 PUSH_RAMP_S = 0.2
 #: Duration of a brake (speed held at zero after a push), s.
 BRAKE_S = 0.3
-#: Bandwidth of the tilt controller, Hz (critically damped): its error under
-#: an unmodelled moment of ``m g`` times 1 mm is below 1 deg for every solid.
-TILT_BANDWIDTH_HZ = 6.0
-#: The tilt controller lets go this far before a face or a side lands, deg:
-#: the last few degrees are a fall under gravity.
-RELEASE_MARGIN_DEG = 3.0
 #: Height of the short mid-script lift-off (:class:`Gap`), mm: well above the
 #: few micrometres a resting body sinks into the plate.
 GAP_CLEARANCE_MM = 0.3
-#: Vertices within this height of the lowest one form the bottom face, mm: a
-#: face resting on the plate after a landing is level to well within this.
-FACE_TIE_MM = 0.05
-#: An edge whose midpoint lies within this distance of the edge just tipped
-#: over is that edge (the next tip must use another one), mm.
-SAME_EDGE_MM = 1.0
 #: Smallest press while the body touches (end of the lifting ramp): keeps
 #: ``indent_mm > 0`` for every frame in contact.
 PRESS_MIN = 0.05
@@ -128,7 +112,7 @@ def _profile(tau: float, duration: float, ramp: float) -> float:
     return max(0.0, min(1.0, tau / ramp, (duration - tau) / ramp))
 
 
-def _smooth(u: float) -> float:
+def smooth_step(u: float) -> float:
     """Cosine blend from 0 to 1 on ``u`` in [0, 1] (zero rate at both ends)."""
     u = min(1.0, max(0.0, u))
     return 0.5 - 0.5 * math.cos(math.pi * u)
@@ -234,7 +218,8 @@ class Push(Segment):
         if self.mode == "vector":
             err = speed * np.array(self.direction, dtype=np.float64) - s.vel_m_s[:2]
         else:
-            d = (self.sign * unit_h(np.cross(E_Z, s.rot[:, 2])))[:2]
+            a = s.rot[:, 2]  # e_z x a, horizontal: across the axis
+            d = self.sign * np.array([-a[1], a[0]]) / max(math.hypot(a[0], a[1]), 1e-12)
             err = (speed - float(s.vel_m_s[:2] @ d)) * d
         self._integral += err * (s.t_s - self._last_s)
         self._last_s = s.t_s
@@ -302,131 +287,6 @@ class Spin(Segment):
 
 
 @dataclass
-class Tip(Segment):
-    """Tilt about a bottom edge (polyhedron) or a rim point (round body on a face), hold, finish.
-
-    ``choice`` in [0, 1) picks the bottom edge (polyhedra; never the edge the
-    ``previous`` tip turned about); for a round body ``direction`` (horizontal, world) is
-    where the top tilts to. The tilt goes to ``hold_fraction`` of the balance
-    angle (polyhedra) or of the landing angle (a round body's rim), holds for
-    ``hold_s``, then goes back (``over=False``) or on towards the next face
-    or the side, and lets go :data:`RELEASE_MARGIN_DEG` before landing.
-    """
-
-    choice: float = 0.0
-    direction: tuple[float, float] = (1.0, 0.0)
-    hold_fraction: float = 0.4
-    hold_s: float = 0.5
-    over: bool = False
-    speed_deg_s: float = 90.0
-    previous: Tip | None = None
-    pivot_xy_mm: tuple[float, float] = field(default=(0.0, 0.0), init=False)
-    _plan: tuple[float, ...] = field(default=(), init=False)
-    _pivot: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3), init=False)
-    _u: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3), init=False)
-    _a0: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3), init=False)
-    _ik: float = field(default=0.0, init=False)
-
-    def start(self, hand: Hand, s: BodyState) -> None:
-        super().start(hand, s)
-        solid = hand.solid
-        pose = Pose(s.rot, s.pos_m / M_PER_MM)
-        if isinstance(solid, Cube | Tetrahedron):
-            avoid = None if self.previous is None else self.previous.pivot_xy_mm
-            pivot, u = _pick_edge(solid, pose, self.choice, avoid)
-            end_angle = landing_angle(pose.world_mm(solid.vertices_mm), pivot, u)
-            hold = self.hold_fraction * balance_angle(pose, pivot, u)
-        else:
-            assert isinstance(solid, Cylinder | Cone | TruncatedCone)
-            u = unit_h(np.array([*self.direction, 0.0]))
-            pivot, other = _rim_points(solid, pose, u)
-            end_angle = landing_angle(other[None], pivot, u)
-            hold = self.hold_fraction * end_angle
-        margin = math.radians(RELEASE_MARGIN_DEG)
-        final = end_angle - margin if self.over else margin
-        speed = math.radians(self.speed_deg_s)
-        t1 = hold / speed
-        t2 = t1 + self.hold_s
-        t3 = t2 + abs(final - hold) / speed
-        self._plan = (hold, final, t1, t2, t3)
-        self._pivot, self._u, self._a0 = pivot, u, s.rot[2, :].copy()
-        self.pivot_xy_mm = (float(pivot[0]), float(pivot[1]))
-        k = np.cross(E_Z, u)
-        lever = pose.centroid_mm - pivot
-        lever_perp = (lever - (lever @ k) * k) * M_PER_MM
-        self._ik = float(k @ hand.inertia_world(s.rot) @ k) + hand.mass_kg * float(
-            lever_perp @ lever_perp
-        )
-
-    def _target(self, tau: float) -> tuple[float, float]:
-        hold, final, t1, t2, t3 = self._plan
-        if tau < t1:
-            return hold * _smooth(tau / t1), hold / t1 if t1 > 0 else 0.0
-        if tau < t2:
-            return hold, 0.0
-        u = (tau - t2) / max(t3 - t2, 1e-9)
-        rate = (final - hold) / max(t3 - t2, 1e-9)
-        return hold + (final - hold) * _smooth(u), rate
-
-    def wrench(self, hand: Hand, s: BodyState) -> NDArray[np.float64] | None:
-        tau = s.t_s - self.t0_s
-        if tau >= self._plan[4]:
-            return None
-        k = np.cross(E_Z, self._u)
-        a = s.rot @ self._a0
-        angle = math.atan2(float(a @ self._u), float(a[2]))
-        rate = float(s.omega_rad_s @ k)
-        target, target_rate = self._target(tau)
-        w = 2.0 * math.pi * TILT_BANDWIDTH_HZ
-        lever = s.pos_m - self._pivot * M_PER_MM
-        gravity_moment = float(np.cross(lever, [0.0, 0.0, -hand.mass_kg * GRAVITY_M_S2]) @ k)
-        torque_k = self._ik * (w * w * (target - angle) + 2.0 * w * (target_rate - rate))
-        torque_k -= gravity_moment
-        f = np.zeros(6)
-        omega_off = s.omega_rad_s - rate * k
-        f[3:] = torque_k * k - 2.0 * w * (hand.inertia_world(s.rot) @ omega_off)
-        return f
-
-
-def _pick_edge(
-    solid: Cube | Tetrahedron,
-    pose: Pose,
-    choice: float,
-    avoid_xy_mm: tuple[float, float] | None,
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Pivot (edge midpoint on the plane, mm) and outward horizontal unit of a bottom edge."""
-    v = pose.world_mm(solid.vertices_mm)
-    low = v[v[:, 2] <= v[:, 2].min() + FACE_TIE_MM]
-    mid = low.mean(axis=0)
-    poly = low[np.argsort(np.arctan2(low[:, 1] - mid[1], low[:, 0] - mid[0]))]
-    mids = 0.5 * (poly + np.roll(poly, -1, axis=0))
-    options = list(range(len(poly)))
-    if avoid_xy_mm is not None:
-        far = [j for j in options if np.hypot(*(mids[j, :2] - avoid_xy_mm)) > SAME_EDGE_MM]
-        options = far or options
-    j = options[min(len(options) - 1, int(choice * len(options)))]
-    e = unit_h(poly[(j + 1) % len(poly)] - poly[j])
-    pivot = mids[j].copy()
-    pivot[2] = 0.0
-    w = pivot - pose.centroid_mm
-    u = unit_h(w - (w @ e) * e)
-    return pivot, u
-
-
-def _rim_points(
-    solid: Cylinder | Cone | TruncatedCone, pose: Pose, u: NDArray[np.float64]
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Pivot on the resting face's rim towards ``u`` and the other rim's point, mm."""
-    rims = list(solid.profile.rims)
-    a = pose.rotation[:, 2]
-    i = 0 if a[2] > 0 else 1
-    pivot = pose.centroid_mm + rims[i][0] * a + rims[i][1] * u
-    pivot[2] = 0.0
-    other = pose.centroid_mm + rims[1 - i][0] * a + rims[1 - i][1] * u
-    return pivot, other
-
-
-@dataclass
 class Unpress(Segment):
     """Ramp the press down over ``ramp_s`` with the body still resting."""
 
@@ -457,7 +317,7 @@ class Rise(Segment):
             hand.ramp = ""
             return None
         u = tau / self._duration
-        z = self._z0 + HOVER_CLEARANCE_MM * M_PER_MM * _smooth(u)
+        z = self._z0 + HOVER_CLEARANCE_MM * M_PER_MM * smooth_step(u)
         vz = HOVER_CLEARANCE_MM * M_PER_MM * 0.5 * math.pi * math.sin(math.pi * u) / self._duration
         return hand.hold(s, z, vz)
 
@@ -488,8 +348,3 @@ class Gap(Segment):
         f = hand.hold(s, z, amp * w * math.cos(w * tau))
         f[2] -= hand.mass_kg * amp * w * w * math.sin(w * tau)  # feed-forward acceleration
         return f
-
-
-def initial_pose(solid: AnalyticSolid, rotation: NDArray[np.float64]) -> Pose:
-    """The body resting on the plane in ``rotation``, centroid above the origin (mm)."""
-    return rest_pose(solid, rotation)

@@ -52,23 +52,25 @@ PHYSICS_HZ = 1000
 #: Standard gravity, m/s^2.
 GRAVITY_M_S2 = 9.81
 
-#: Density of the solids, kg/m^3: PMMA or a dense plastic (about 1180), what
-#: hand-sized test objects are commonly turned from (assumed; paper 001 gives
-#: no material). A 6 mm ball weighs about 1.1 g.
-DENSITY_KG_M3 = 1200.0
+#: Density of the solids, kg/m^3, drawn uniformly per scene: plastics from
+#: polyethylene to PMMA and POM (0.95-1.4 g/cm^3), what hand-sized test
+#: objects are commonly turned from (assumed; paper 001 gives no material). A
+#: 6 mm ball weighs 0.9-1.3 g.
+DENSITY_KG_M3 = (950.0, 1400.0)
 
-#: Coulomb friction between a rolling solid and the sensor's rubber skin
-#: (assumed): rubber on plastic is about 0.8-1.2. A ball pushed at its centre
-#: needs ``mu >= (2/7) a / g`` to roll without slip; the pushes below
-#: accelerate at most 0.1 m/s^2, so 1.0 leaves a factor of 30.
-ROLLING_FRICTION = 1.0
+#: Coulomb friction between a rolling solid and the sensor's rubber skin,
+#: drawn uniformly per scene (assumed: rubber on plastic is about 0.8-1.2). A
+#: ball pushed at its centre needs ``mu >= (2/7) a / g`` to roll without slip;
+#: the pushes accelerate at most 0.1 m/s^2, so 0.8 leaves a factor of 25.
+ROLLING_FRICTION = (0.8, 1.2)
 
-#: Coulomb friction of the sliding scenes (assumed: a lubricated or PTFE-like
-#: skin, 0.05-0.15). A face dragged at its centroid tips once the drag exceeds
-#: ``mu_tip = (distance from the centroid's foot to the bottom edge) / (centroid
-#: height)``; the smallest ``mu_tip`` of the sliding bodies, a tall jittered
-#: cylinder on its end (3.5 / 10.4), is 0.34, so 0.1 drags without tipping.
-SLIDING_FRICTION = 0.1
+#: Coulomb friction of the sliding scenes, drawn uniformly per scene (assumed:
+#: a lubricated or PTFE-like skin). A face dragged at its centroid tips once
+#: the drag exceeds ``mu_tip = (distance from the centroid's foot to the
+#: bottom edge) / (centroid height)``; the smallest ``mu_tip`` of the sliding
+#: bodies, a tall jittered cylinder on its end (3.5 / 10.4), is 0.34, so 0.15
+#: drags without tipping.
+SLIDING_FRICTION = (0.05, 0.15)
 
 #: Torsional and rolling friction coefficients, m: unused (condim 3, sliding
 #: friction only), so a lone ball keeps rolling until the push controller
@@ -108,10 +110,10 @@ def _floats(values: NDArray[np.float64]) -> str:
     return " ".join(f"{float(v):.10g}" for v in np.ravel(values))
 
 
-def _geom_xml(solid: AnalyticSolid, friction: float) -> tuple[str, str]:
+def _geom_xml(solid: AnalyticSolid, friction: float, density: float) -> tuple[str, str]:
     """The solid's geom element and its mesh asset (empty for primitives)."""
     common = (
-        f'name="{BODY_NAME}" density="{DENSITY_KG_M3:g}" friction="{friction:g} 0 0" '
+        f'name="{BODY_NAME}" density="{density:.10g}" friction="{friction:.10g} 0 0" '
         f'condim="{CONDIM}"'
     )
     if isinstance(solid, Sphere):
@@ -144,7 +146,9 @@ def _mesh_vertices_mm(solid: AnalyticSolid) -> NDArray[np.float64]:
     raise TypeError(f"no mesh for {solid!r}")  # pragma: no cover - all six handled
 
 
-def scene_xml(solid: AnalyticSolid, sensor: Sensor, *, friction: float) -> str:
+def scene_xml(
+    solid: AnalyticSolid, sensor: Sensor, *, friction: float, density_kg_m3: float
+) -> str:
     """MJCF of one solid (free joint, at the origin) above the plate carrying ``sensor``.
 
     Parameters
@@ -155,13 +159,15 @@ def scene_xml(solid: AnalyticSolid, sensor: Sensor, *, friction: float) -> str:
         Its array's width and height set the drawn sensor site and plate.
     friction : float
         Coulomb friction of the solid and the plate (MuJoCo takes the larger).
+    density_kg_m3 : float
+        Density of the solid, kg/m^3 (MuJoCo derives mass and inertia).
 
     Returns
     -------
     str
         The MJCF document. The plate's top face (the skin surface) is ``z = 0``.
     """
-    geom, asset = _geom_xml(solid, friction)
+    geom, asset = _geom_xml(solid, friction, density_kg_m3)
     hx = (0.5 * sensor.array.width_mm + PLATE_BORDER_MM) * M_PER_MM
     hy = (0.5 * sensor.array.height_mm + PLATE_BORDER_MM) * M_PER_MM
     sx = 0.5 * sensor.array.width_mm * M_PER_MM
@@ -175,7 +181,7 @@ def scene_xml(solid: AnalyticSolid, sensor: Sensor, *, friction: float) -> str:
   <asset>{asset}</asset>
   <worldbody>
     <geom name="{PLATE_NAME}" type="plane" size="{hx:.10g} {hy:.10g} 0.001"
-          friction="{friction:g} 0 0" condim="{CONDIM}"/>
+          friction="{friction:.10g} 0 0" condim="{CONDIM}"/>
     <site name="sensor" type="box" size="{sx:.10g} {sy:.10g} 1e-5" pos="0 0 0"/>
     <body name="{BODY_NAME}">
       <freejoint name="{BODY_NAME}"/>

@@ -39,6 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit.motion._script import EDGE_MARGIN_MM, patch_halfwidth_mm
 from taxelkit.motion.contact_truth import CONTACT_TYPES, contact_points_body_mm
 from taxelkit.world.solids import AnalyticSolid
 from taxelkit.world.solids_polyhedra import Cube, Tetrahedron
@@ -243,6 +244,25 @@ def sample_record(
     return matrices_from_quats(q), cent, t_s, nearest
 
 
+def _touching(
+    solid: AnalyticSolid, rot: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.intp]]:
+    """Candidate points ``(P, K, 3)`` (sensor orientation, relative to the centroid),
+    which of them touch ``(P, K)``, and the contact type index ``(P,)`` (1 point,
+    2 line, 3 area)."""
+    pts = np.matmul(contact_points_body_mm(solid, rot), np.swapaxes(rot, 1, 2))
+    z = pts[..., 2]
+    touch = z <= z.min(axis=1, keepdims=True) + PHYSICS_TIE_MM
+    w = touch.astype(np.float64)
+    w /= w.sum(axis=1, keepdims=True)
+    d = pts - np.matmul(w[:, None, :], pts)
+    cov = np.matmul(np.swapaxes(d * w[..., None], 1, 2), d)
+    eig = np.linalg.eigvalsh(cov)
+    tol2 = PHYSICS_SPREAD_MM**2
+    kind = np.where(eig[:, 2] <= tol2, 1, np.where(eig[:, 1] <= tol2, 2, 3))
+    return pts, touch, kind
+
+
 def contact_kinds(solid: AnalyticSolid, rotations: NDArray[np.float64]) -> tuple[str, ...]:
     """Contact type (point, line, area) of a solid resting on the plate, per pose.
 
@@ -261,18 +281,49 @@ def contact_kinds(solid: AnalyticSolid, rotations: NDArray[np.float64]) -> tuple
     """
     kinds: list[str] = []
     for start in range(0, rotations.shape[0], _CHUNK):
-        rot = rotations[start : start + _CHUNK]
-        pts = np.matmul(contact_points_body_mm(solid, rot), np.swapaxes(rot, 1, 2))
-        z = pts[..., 2]
-        w = (z <= z.min(axis=1, keepdims=True) + PHYSICS_TIE_MM).astype(np.float64)
-        w /= w.sum(axis=1, keepdims=True)
-        d = pts - np.matmul(w[:, None, :], pts)
-        cov = np.matmul(np.swapaxes(d * w[..., None], 1, 2), d)
-        eig = np.linalg.eigvalsh(cov)
-        tol2 = PHYSICS_SPREAD_MM**2
-        k = np.where(eig[:, 2] <= tol2, 1, np.where(eig[:, 1] <= tol2, 2, 3))
-        kinds.extend(CONTACT_TYPES[int(i)] for i in k)
+        _, _, kind = _touching(solid, rotations[start : start + _CHUNK])
+        kinds.extend(CONTACT_TYPES[int(i)] for i in kind)
     return tuple(kinds)
+
+
+def contact_footprint_mm(
+    solid: AnalyticSolid,
+    rotations: NDArray[np.float64],
+    positions_mm: NDArray[np.float64],
+    depth_mm: float,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """xy of every contact point of resting poses, and the margin each needs on the array, mm.
+
+    Parameters
+    ----------
+    solid : AnalyticSolid
+    rotations : (P, 3, 3) float
+    positions_mm : (P, 2) float, mm
+        Centroid xy.
+    depth_mm : float
+        Press depth, mm.
+
+    Returns
+    -------
+    xy : (M, 2) float, mm
+        The touching candidate points (:data:`PHYSICS_TIE_MM`): a lying cone's
+        apex and far rim, a face's outline, ...
+    margin : (M,) float, mm
+        :data:`~taxelkit.motion._script.EDGE_MARGIN_MM`, plus the patch
+        half-width ``sqrt(2 rho d)`` for the points and lines of round bodies
+        (as the kinematic scripts' fitting).
+    """
+    xy_parts: list[NDArray[np.float64]] = []
+    margin_parts: list[NDArray[np.float64]] = []
+    patch = patch_halfwidth_mm(solid, depth_mm)
+    for start in range(0, rotations.shape[0], _CHUNK):
+        stop = start + _CHUNK
+        pts, touch, kind = _touching(solid, rotations[start:stop])
+        xy = pts[..., :2] + positions_mm[start:stop, None, :]
+        margin = EDGE_MARGIN_MM + np.where(kind == 3, 0.0, patch)
+        xy_parts.append(xy[touch])
+        margin_parts.append(np.broadcast_to(margin[:, None], touch.shape)[touch])
+    return np.concatenate(xy_parts), np.concatenate(margin_parts)
 
 
 def _still_label(solid: AnalyticSolid, kind: str, rot: NDArray[np.float64]) -> str:

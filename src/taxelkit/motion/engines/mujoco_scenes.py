@@ -9,7 +9,8 @@ frame, exactly as for the kinematic scripts of
 
 Scenes (what paper 001's recogniser must see; segments in
 :mod:`~taxelkit.motion.engines._mj_hand`, timing ranges shared with the
-kinematic scripts, :mod:`taxelkit.motion._script`)
+kinematic scripts, :mod:`taxelkit.motion._script`):
+
 =============== ==============================================================
 sphere          placed, pushed in 2-3 straight runs, each braked to a stop,
                 the next at +-90 deg (PC, PC moves, PC takes an orthogonal turn)
@@ -23,9 +24,13 @@ cube,           on a face, tipped about 2-3 bottom edges in turn by a couple
 tetrahedron     (tilt, hold on the edge, back onto the face or over onto the
                 next), never the same edge twice in a row
 sliding         a face-down cube, tetrahedron, cylinder, cone or truncated
-                cone on a low-friction skin (:data:`~taxelkit.motion.engines.
-                _mjcf.SLIDING_FRICTION`): dragged, spun, or both
+                cone on a low-friction skin (``SLIDING_FRICTION`` in
+                :mod:`~taxelkit.motion.engines._mjcf`): dragged, spun, or both
 =============== ==============================================================
+
+Drawn per scene from the seed, besides the choices of the script: the sizes
+(as the kinematic scripts), the press depth, the friction and the density
+(ranges in :mod:`~taxelkit.motion.engines._mjcf`), the yaw and the placement.
 
 Every scene starts held lifted, is lowered onto the plate, and is lifted off
 at the end. With ``lift_gap_s > 0`` the body is lifted clear once after its
@@ -52,7 +57,6 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -62,16 +66,16 @@ from numpy.typing import NDArray
 from taxelkit.errors import InputError, check_in_range, check_positive
 from taxelkit.motion import _script as sc
 from taxelkit.motion.engines import _mj_hand as mh
+from taxelkit.motion.engines import _mj_scripts as ms_scripts
 from taxelkit.motion.engines._mjcf import (
     BODY_NAME,
     M_PER_MM,
     PHYSICS_HZ,
-    ROLLING_FRICTION,
-    SLIDING_FRICTION,
     scene_xml,
 )
 from taxelkit.motion.engines._sampling import (
     StepRecord,
+    contact_footprint_mm,
     contact_kinds,
     matrices_from_quats,
     motion_measures,
@@ -80,12 +84,7 @@ from taxelkit.motion.engines._sampling import (
 )
 from taxelkit.motion.engines.registry import MUJOCO_INSTALL_HINT
 from taxelkit.motion.rolling import DEFAULT_DEPTH_MM, DEFAULT_RATE_HZ, E_Z, Scenario
-from taxelkit.motion.scenarios import (
-    SCENARIO_NAMES,
-    SLIDING_OBJECTS,
-    SPHERE_MAX_CONTACT_RADIUS_MM,
-    _random_solid,
-)
+from taxelkit.motion.scenarios import SCENARIO_NAMES
 from taxelkit.sensors.noise import RngLike
 from taxelkit.sensors.presets import BONNEVILLE_16X16, Sensor
 from taxelkit.world.pose import matrix_from_axis_angle
@@ -99,8 +98,6 @@ ATTEMPTS = 6
 #: Longest mid-script lift-off, s (a recogniser's loss-of-contact window is
 #: far shorter; longer gaps are two placements).
 MAX_LIFT_GAP_S = 2.0
-#: Each scene draws its random choices from this many uniform numbers.
-_N_DRAWS = 256
 #: Steps between the poses checked for fitting on the array (10 ms at
 #: 1 kHz: the fastest contact point moves 0.06 mm in that time, well inside
 #: the 1 mm edge margin).
@@ -110,8 +107,6 @@ _FIT_STRIDE = 10
 #: chatters by a fraction of a micrometre, far below the skin's 30 um
 #: threshold, and the press does not vanish in a millisecond.
 TOUCH_GAP_MM = 0.005
-#: Pushes shrink by this factor per attempt after the second.
-_SHRINK = 0.8
 #: Hard cap on a scene's length, s (a script lasts 5-15 s).
 _MAX_DURATION_S = 60.0
 #: Yaw tried for fitting, in pi / _YAW_TRIES steps.
@@ -141,6 +136,10 @@ class MujocoScene:
         Physics steps simulated (:data:`~taxelkit.motion.engines._mjcf.TIMESTEP_S` each).
     attempts : int
         Simulations run to fit the scene on the array.
+    friction : float
+        Coulomb friction drawn for the scene.
+    density_kg_m3 : float
+        Density drawn for the solid, kg/m^3.
     mujoco_version : str
     wall_s : float
         Seconds spent simulating and sampling (a diagnostic; not compared
@@ -153,151 +152,10 @@ class MujocoScene:
     contact: tuple[str, ...]
     n_steps: int
     attempts: int
+    friction: float
+    density_kg_m3: float
     mujoco_version: str
     wall_s: float
-
-
-@dataclass(frozen=True)
-class _Plan:
-    """What a scene draws before simulating."""
-
-    object_name: str
-    solid: AnalyticSolid
-    depth_mm: float
-    yaw: float
-    shift_fraction: NDArray[np.float64]
-    draws: NDArray[np.float64]
-    slides: bool
-    flip: bool
-
-
-# --- scripts: lists of hand segments --------------------------------------------------------
-
-
-def _begin(d: sc.Draws) -> list[mh.Segment]:
-    return [mh.Hover(d.span(sc.LIFTED_S)), mh.Place(d.span(sc.PLACE_S)), mh.Rest(d.span(sc.HOLD_S))]
-
-
-def _end(d: sc.Draws) -> list[mh.Segment]:
-    return [mh.Unpress(d.span(sc.PLACE_S)), mh.Rise(), mh.Hover(d.span(sc.LIFTED_S))]
-
-
-def _script_sphere(
-    d: sc.Draws, solid: AnalyticSolid, yaw: float, shrink: float, lay: bool
-) -> list[list[mh.Segment]]:
-    out = [_begin(d)]
-    runs = 2 + d.index(2)
-    direction = np.array([math.cos(yaw), math.sin(yaw)])
-    for _ in range(runs):
-        dist = d.span(sc.SPHERE_RUN_MM) * shrink
-        speed = d.span(sc.ROLL_MM_S)
-        push = mh.Push(dist, speed, "vector", (float(direction[0]), float(direction[1])))
-        out.append([push, mh.Brake(), mh.Rest(d.span(sc.HOLD_S))])
-        direction = np.array([-direction[1], direction[0]]) * d.sign()
-    out.append(_end(d))
-    return out
-
-
-def _script_round(
-    d: sc.Draws, solid: AnalyticSolid, yaw: float, shrink: float, lay: bool
-) -> list[list[mh.Segment]]:
-    """Cylinder, cone, truncated cone: maybe laid from a face onto the side, then rolled."""
-    out = [_begin(d)]
-    u = (math.cos(yaw), math.sin(yaw))
-    tip = mh.Tip(
-        direction=u,
-        hold_fraction=d.span(sc.HOLD_FRACTION),
-        hold_s=d.span(sc.HOLD_S),
-        over=True,
-        speed_deg_s=d.span(sc.TIP_DEG_S),
-    )
-    rest = d.span(sc.HOLD_S)
-    if lay:  # standing on a face: tilt onto the rim, hold, lay it on its side
-        out.append([tip, mh.Brake(), mh.Rest(rest)])
-    sign = d.sign()
-    if isinstance(solid, Cone | TruncatedCone):  # the far rim's path about the apex
-        prof = solid.profile
-        reach = max(math.hypot(r, z - prof.vertex_z_mm) for z, r in prof.rims)
-        turns = sc.FRUSTUM_TURN_DEG if isinstance(solid, TruncatedCone) else sc.CONE_TURN_DEG
-        dist = math.radians(d.span(turns)) * reach * shrink
-    else:
-        dist = d.span(sc.CYLINDER_ROLL_MM) * shrink
-    speed = d.span(sc.ROLL_MM_S)
-    out.append([mh.Push(dist, speed, "across", sign=sign), mh.Brake(), mh.Rest(d.span(sc.HOLD_S))])
-    if d.coin():
-        back = d.uniform(0.3, 0.8) * dist
-        out.append(
-            [mh.Push(back, speed, "across", sign=-sign), mh.Brake(), mh.Rest(d.span(sc.HOLD_S))]
-        )
-    out.append(_end(d))
-    return out
-
-
-def _script_polyhedron(
-    d: sc.Draws, solid: AnalyticSolid, yaw: float, shrink: float, lay: bool
-) -> list[list[mh.Segment]]:
-    out = [_begin(d)]
-    previous: mh.Tip | None = None
-    for _ in range(2 + d.index(2)):
-        previous = mh.Tip(
-            choice=d.uniform(0.0, 1.0),
-            hold_fraction=d.span(sc.HOLD_FRACTION),
-            hold_s=d.span(sc.HOLD_S),
-            over=d.coin(sc.P_OVER) and lay,
-            speed_deg_s=d.span(sc.TIP_DEG_S),
-            previous=previous,
-        )
-        out.append([previous, mh.Rest(d.span(sc.HOLD_S))])
-    out.append(_end(d))
-    return out
-
-
-def _script_sliding(
-    d: sc.Draws, solid: AnalyticSolid, yaw: float, shrink: float, lay: bool
-) -> list[list[mh.Segment]]:
-    out = [_begin(d)]
-    mode = d.index(3)  # 0 drag, 1 spin, 2 drag then spin
-    heading = yaw + d.uniform(0.0, 2.0 * math.pi)
-    dist = d.span(sc.SLIDE_MM) * shrink
-    speed = d.span(sc.SLIDE_MM_S)
-    spin = d.sign() * d.span(sc.SPIN_DEG)
-    spin_speed = d.span(sc.SPIN_DEG_S)
-    if mode in (0, 2):
-        push = mh.Push(dist, speed, "vector", (math.cos(heading), math.sin(heading)))
-        out.append([push, mh.Brake(), mh.Rest(d.span(sc.HOLD_S))])
-    if mode in (1, 2):
-        out.append([mh.Spin(spin, spin_speed), mh.Brake(), mh.Rest(d.span(sc.HOLD_S))])
-    out.append(_end(d))
-    return out
-
-
-_Script = Callable[[sc.Draws, AnalyticSolid, float, float, bool], list[list[mh.Segment]]]
-_SCRIPTS: dict[str, _Script] = {
-    "sphere": _script_sphere,
-    "cylinder": _script_round,
-    "cone": _script_round,
-    "truncated-cone": _script_round,
-    "cube": _script_polyhedron,
-    "tetrahedron": _script_polyhedron,
-}
-
-
-def _start_rotation(plan: _Plan, d: sc.Draws, allow_lay: bool) -> tuple[NDArray[np.float64], bool]:
-    """Initial rotation (yaw included) and whether a round body starts on a face."""
-    solid = plan.solid
-    base = matrix_from_axis_angle([1.0, 0.0, 0.0], math.pi if plan.flip else 0.0)
-    on_side = False
-    if not plan.slides and isinstance(solid, Cylinder | Cone | TruncatedCone):
-        first = d.index(3 if isinstance(solid, TruncatedCone) else 2)
-        if first == 2:  # a frustum's top face
-            base = matrix_from_axis_angle([1.0, 0.0, 0.0], math.pi)
-        on_side = first == 1 or not allow_lay
-        if on_side:
-            b = sc.Builder(solid, sc.rest_pose(solid, base), rate_hz=1.0, depth_mm=1.0)
-            sc.lay_silently(b, np.array([1.0, 0.0, 0.0]))
-            base = b.pose.rotation
-    out: NDArray[np.float64] = matrix_from_axis_angle(E_Z, plan.yaw) @ base
-    return out, not on_side
 
 
 # --- simulation ------------------------------------------------------------------------------
@@ -312,12 +170,14 @@ def _import_mujoco() -> Any:
 
 
 def _simulate(
-    mujoco: Any, plan: _Plan, segments: list[mh.Segment], rotation0: NDArray[np.float64]
+    mujoco: Any,
+    sensor: Sensor,
+    plan: ms_scripts.Plan,
+    segments: list[mh.Segment],
+    rotation0: NDArray[np.float64],
 ) -> StepRecord:
-    friction = SLIDING_FRICTION if plan.slides else ROLLING_FRICTION
-    model = mujoco.MjModel.from_xml_string(
-        scene_xml(plan.solid, BONNEVILLE_16X16, friction=friction)
-    )
+    xml = scene_xml(plan.solid, sensor, friction=plan.friction, density_kg_m3=plan.density_kg_m3)
+    model = mujoco.MjModel.from_xml_string(xml)
     data = mujoco.MjData(model)
     bid = model.body(BODY_NAME).id
     ri = np.zeros(9)
@@ -329,44 +189,48 @@ def _simulate(
     rest = sc.rest_pose(plan.solid, rotation0)
     quat = np.zeros(4)
     mujoco.mju_mat2Quat(quat, rotation0.ravel())
-    data.qpos[:3] = (rest.centroid_mm + [0.0, 0.0, mh.HOVER_CLEARANCE_MM]) * M_PER_MM
+    data.qpos[:3] = (rest.centroid_mm + mh.HOVER_CLEARANCE_MM * E_Z) * M_PER_MM
     data.qpos[3:7] = quat
     radius_mm = _bounding_radius_mm(plan.solid)
     rows: list[tuple[float, ...]] = []
     seg_i = 0
-    segments[0].start(hand, _state(data, 0.0, False))
+    mujoco.mj_forward(model, data)
+    segments[0].start(hand, _state(data, bid, 0.0, False))
     max_steps = int(_MAX_DURATION_S * PHYSICS_HZ)
     for step in range(max_steps):
         mujoco.mj_step1(model, data)
         t = step / PHYSICS_HZ
         ncon = int(data.ncon)
-        s = _state(data, t, ncon > 0)
-        slip = 0.0
-        if ncon:
+        s = _state(data, bid, t, ncon > 0)
+        slip_now = 0.0
+        if ncon:  # material velocity of the body at its contact points
             rel = data.contact.pos[:ncon] - s.pos_m
-            v = s.vel_m_s + np.cross(s.omega_rad_s, rel)
-            slip = float(np.max(np.hypot(v[:, 0], v[:, 1]))) / M_PER_MM
+            w = s.omega_rad_s
+            v = s.vel_m_s + np.column_stack(  # v + w x rel
+                [
+                    w[1] * rel[:, 2] - w[2] * rel[:, 1],
+                    w[2] * rel[:, 0] - w[0] * rel[:, 2],
+                    w[0] * rel[:, 1] - w[1] * rel[:, 0],
+                ]
+            )
+            slip_now = float(np.max(np.hypot(v[:, 0], v[:, 1]))) / M_PER_MM
         wrench = segments[seg_i].wrench(hand, s)
         while wrench is None and seg_i + 1 < len(segments):
             seg_i += 1
             segments[seg_i].start(hand, s)
             wrench = segments[seg_i].wrench(hand, s)
         ramp = {"": 0, "placing": 1, "lifting": 2}[hand.ramp]
-        rows.append((*data.qpos[:7], ncon > 0, hand.press, ramp, slip))
+        rows.append((*data.qpos[:7], ncon > 0, hand.press, ramp, slip_now))
         if wrench is None:
             break
         data.xfrc_applied[bid] = wrench
         mujoco.mj_step2(model, data)
-    else:
-        raise InputError(
-            f"a {plan.object_name} scene ran past {_MAX_DURATION_S} s"
-        )  # pragma: no cover
     arr = np.array(rows, dtype=np.float64)
     quats = arr[:, 3:7] / np.linalg.norm(arr[:, 3:7], axis=1, keepdims=True)
     centroids = arr[:, :3] / M_PER_MM
     gap = centroids[:, 2] + plan.solid.lowest_z_mm(matrices_from_quats(quats))
     touching = (arr[:, 7] > 0.5) | (gap < TOUCH_GAP_MM)
-    speed, spin, slip = motion_measures(
+    speed, spin, slip = motion_measures(  # the script ends after at most _MAX_DURATION_S
         quats, centroids, arr[:, 10], radius_mm=radius_mm, steps_per_s=PHYSICS_HZ
     )
     return StepRecord(
@@ -381,9 +245,9 @@ def _simulate(
     )
 
 
-def _state(data: Any, t: float, touching: bool) -> mh.BodyState:
-    q = np.array(data.qpos[3:7])
-    rot = _matrix(q)
+def _state(data: Any, bid: int, t: float, touching: bool) -> mh.BodyState:
+    """The body's state after MuJoCo's position stage (``xmat`` matches ``qpos``)."""
+    rot = np.array(data.xmat[bid]).reshape(3, 3)
     return mh.BodyState(
         t_s=t,
         pos_m=np.array(data.qpos[:3]),
@@ -394,11 +258,6 @@ def _state(data: Any, t: float, touching: bool) -> mh.BodyState:
     )
 
 
-def _matrix(q: NDArray[np.float64]) -> NDArray[np.float64]:
-    out: NDArray[np.float64] = matrices_from_quats((q / np.linalg.norm(q))[None])[0]
-    return out
-
-
 def _bounding_radius_mm(solid: AnalyticSolid) -> float:
     if isinstance(solid, Sphere):
         return float(solid.radius_mm)
@@ -407,15 +266,14 @@ def _bounding_radius_mm(solid: AnalyticSolid) -> float:
     return float(np.max(np.linalg.norm(solid.vertices_mm, axis=1)))
 
 
-def _fit(plan: _Plan, rec: StepRecord, sensor: Sensor) -> tuple[float, NDArray[np.float64]] | None:
+def _fit(
+    plan: ms_scripts.Plan, rec: StepRecord, sensor: Sensor
+) -> tuple[float, NDArray[np.float64]] | None:
     """Extra yaw and xy shift that keep every contact on the array, or None."""
     idx = np.arange(0, rec.quats.shape[0], _FIT_STRIDE)
     idx = idx[rec.touching[idx]]
     rots = matrices_from_quats(rec.quats[idx])
-    cents = rec.centroids_mm[idx].copy()
-    cents[:, 2] = -plan.solid.lowest_z_mm(rots)
-    indent = np.full(idx.size, plan.depth_mm)
-    xy, margin = sc.contact_xy(plan.solid, rots, cents, indent)
+    xy, margin = contact_footprint_mm(plan.solid, rots, rec.centroids_mm[idx, :2], plan.depth_mm)
     half = 0.5 * np.array([sensor.array.width_mm, sensor.array.height_mm])
     for k in range(_YAW_TRIES):
         turn = k * math.pi / _YAW_TRIES
@@ -424,48 +282,6 @@ def _fit(plan: _Plan, rec: StepRecord, sensor: Sensor) -> tuple[float, NDArray[n
         if np.all(slack >= 0.0):
             return turn, -half - low + plan.shift_fraction * slack
     return None
-
-
-def _draw_plan(
-    name: str, gen: np.random.Generator, size_jitter: float, depth_mm: float, depth_jitter: float
-) -> _Plan:
-    slides = name == "sliding"
-    object_name = SLIDING_OBJECTS[int(gen.integers(len(SLIDING_OBJECTS)))] if slides else name
-    solid = _random_solid(object_name, gen, size_jitter)
-    depth = depth_mm * gen.uniform(1.0 - depth_jitter, 1.0 + depth_jitter)
-    if isinstance(solid, Sphere):  # a rolling ball is pressed lightly: a point contact
-        depth = min(depth, SPHERE_MAX_CONTACT_RADIUS_MM**2 / (2.0 * solid.radius_mm))
-    flip = slides and isinstance(solid, TruncatedCone) and bool(gen.integers(2))
-    return _Plan(
-        object_name=object_name,
-        solid=solid,
-        depth_mm=depth,
-        yaw=float(gen.uniform(0.0, 2.0 * math.pi)),
-        shift_fraction=gen.random(2),
-        draws=gen.random(_N_DRAWS),
-        slides=slides,
-        flip=flip,
-    )
-
-
-def _segments(
-    plan: _Plan, attempt: int, lift_gap_s: float
-) -> tuple[list[mh.Segment], NDArray[np.float64]]:
-    d = sc.Draws(plan.draws)
-    rotation0, on_face = _start_rotation(plan, d, allow_lay=attempt == 0)
-    shrink = _SHRINK ** max(0, attempt - 1)
-    script = _script_sliding if plan.slides else _SCRIPTS[plan.object_name]
-    # attempt 0 as drawn; later ones without tipping over or laying down
-    parts = script(
-        d, plan.solid, plan.yaw, shrink, on_face if _is_round(plan.solid) else attempt == 0
-    )
-    if lift_gap_s > 0.0:  # after the first motion's rest
-        parts.insert(2, [mh.Gap(lift_gap_s), mh.Rest(sc.HOLD_S[0])])
-    return [seg for part in parts for seg in part], rotation0
-
-
-def _is_round(solid: AnalyticSolid) -> bool:
-    return isinstance(solid, Cylinder | Cone | TruncatedCone)
 
 
 def mujoco_scene(
@@ -520,10 +336,10 @@ def mujoco_scene(
     gap = check_in_range("lift_gap_s", lift_gap_s, 0.0, MAX_LIFT_GAP_S)
     mujoco = _import_mujoco()
     t_start = time.perf_counter()
-    plan = _draw_plan(name, np.random.default_rng(rng), jitter, depth0, djit)
+    plan = ms_scripts.draw_plan(name, np.random.default_rng(rng), jitter, depth0, djit)
     for attempt in range(ATTEMPTS):
-        segments, rotation0 = _segments(plan, attempt, gap)
-        rec = _simulate(mujoco, plan, segments, rotation0)
+        segments, rotation0 = ms_scripts.segments_for(plan, attempt, gap)
+        rec = _simulate(mujoco, sensor, plan, segments, rotation0)
         placed = _fit(plan, rec, sensor)
         if placed is not None:
             return _sampled(name, plan, rec, placed, rate, attempt + 1, mujoco, t_start)
@@ -535,7 +351,7 @@ def mujoco_scene(
 
 def _sampled(
     name: str,
-    plan: _Plan,
+    plan: ms_scripts.Plan,
     rec: StepRecord,
     placed: tuple[float, NDArray[np.float64]],
     rate: float,
@@ -578,6 +394,8 @@ def _sampled(
         ),
         n_steps=int(rec.quats.shape[0]),
         attempts=attempts,
+        friction=plan.friction,
+        density_kg_m3=plan.density_kg_m3,
         mujoco_version=str(mujoco.__version__),
         wall_s=time.perf_counter() - t_start,
     )

@@ -1,13 +1,15 @@
-"""Labelled contact images from the simulator, for learning the Level 2 network.
+"""Labelled contact images from the simulator, for learning and testing the Level 2 network.
 
 The contact type of a solid pressed onto the sensor is known by construction
 when the pose is chosen: a sphere, a vertex or an apex touches at a point; a
 cylinder on its side or a polyhedron on an edge along a line; a flat face over
 an area. This module presses the solids of :mod:`taxelkit.world` onto a
 simulated sensor in such poses, with random sizes, depths, positions, yaw
-and read-out noise, and returns the images' Level 1 features with those
-labels. It is the only part of :mod:`taxelkit.smart` that knows about the
-world; the classifier itself never sees it.
+and read-out noise (:func:`pressed_contacts`), or takes the frames of whole
+rolls from either motion engine, labelled by the engine's phase of each
+frame (:func:`rolled_contacts`). It returns images and labels only: the
+features are the recogniser's business, and :mod:`taxelkit.smart` imports
+nothing of the world.
 
 Depth ranges (mm of indentation of the lowest point) are part of each
 scenario's construction: they keep the contact in the regime its label
@@ -33,21 +35,23 @@ from taxelkit.errors import InputError, check_positive
 from taxelkit.sensors.noise import RngLike
 from taxelkit.sensors.presets import BONNEVILLE_16X16, Sensor
 from taxelkit.sensors.press import displacement_from_solid
-from taxelkit.smart.contact_classes import ContactClass, contact_features
-from taxelkit.smart.moments import image_stats
 from taxelkit.world.base import Solid
 from taxelkit.world.pose import matrix_from_axis_angle
 from taxelkit.world.solids import Cone, Cube, Cylinder, Sphere, Tetrahedron
 
 __all__ = [
+    "CONTACT_LABELS",
     "CONTACT_SCENARIOS",
     "DEFAULT_OFFSET_MM",
     "DEFAULT_OVERSAMPLE",
     "POINT_MAX_CONTACT_RADIUS_MM",
-    "ContactSamples",
     "ContactScenario",
-    "contact_training_samples",
+    "LabelledContacts",
+    "pressed_contacts",
 ]
+
+#: The contact types a sample can be labelled with, in the order of Level 2's outputs.
+CONTACT_LABELS: tuple[str, ...] = ("point", "line", "area")
 
 #: Largest geometric contact radius of a sphere labelled "point", mm: 1.5 mm
 #: keeps the contact disc (3 mm across) within two Bonneville taxels.
@@ -99,8 +103,8 @@ class ContactScenario:
     ----------
     name : str
         ``"<solid>-<feature>"``, e.g. ``"cube-edge"``.
-    label : ContactClass
-        POINT, LINE or AREA.
+    label : str
+        ``"point"``, ``"line"`` or ``"area"``.
     make_solid : callable
         ``(rng) -> Solid`` with a random size.
     down : callable
@@ -113,7 +117,7 @@ class ContactScenario:
     """
 
     name: str
-    label: ContactClass
+    label: str
     make_solid: Callable[[np.random.Generator], Solid]
     down: Callable[[Solid], NDArray[np.float64]]
     depth_mm: tuple[float, float]
@@ -129,7 +133,7 @@ def _u(rng: np.random.Generator, lo: float, hi: float) -> float:
 CONTACT_SCENARIOS: tuple[ContactScenario, ...] = (
     ContactScenario(
         "sphere",
-        ContactClass.POINT,
+        "point",
         lambda r: Sphere(_u(r, 3.0, 8.0)),
         _fixed((0.0, 0.0, -1.0)),
         (0.08, 0.3),
@@ -137,7 +141,7 @@ CONTACT_SCENARIOS: tuple[ContactScenario, ...] = (
     ),
     ContactScenario(
         "cube-vertex",
-        ContactClass.POINT,
+        "point",
         lambda r: Cube(_u(r, 8.0, 14.0)),
         _fixed((1.0, 1.0, 1.0)),
         (0.08, 0.3),
@@ -145,7 +149,7 @@ CONTACT_SCENARIOS: tuple[ContactScenario, ...] = (
     ),
     ContactScenario(
         "tetrahedron-vertex",
-        ContactClass.POINT,
+        "point",
         lambda r: Tetrahedron(_u(r, 10.0, 18.0)),
         _down_apex_tetra,
         (0.08, 0.3),
@@ -153,7 +157,7 @@ CONTACT_SCENARIOS: tuple[ContactScenario, ...] = (
     ),
     ContactScenario(
         "cone-apex",
-        ContactClass.POINT,
+        "point",
         lambda r: Cone(_u(r, 4.0, 8.0), _u(r, 10.0, 16.0)),
         _fixed((0.0, 0.0, 1.0)),
         (0.08, 0.3),
@@ -161,7 +165,7 @@ CONTACT_SCENARIOS: tuple[ContactScenario, ...] = (
     ),
     ContactScenario(
         "cylinder-side",
-        ContactClass.LINE,
+        "line",
         lambda r: Cylinder(_u(r, 3.0, 8.0), _u(r, 12.0, 20.0)),
         _fixed((1.0, 0.0, 0.0)),
         (0.08, 0.5),
@@ -169,7 +173,7 @@ CONTACT_SCENARIOS: tuple[ContactScenario, ...] = (
     ),
     ContactScenario(
         "cube-edge",
-        ContactClass.LINE,
+        "line",
         lambda r: Cube(_u(r, 8.0, 14.0)),
         _fixed((1.0, 0.0, 1.0)),
         (0.4, 0.8),
@@ -177,7 +181,7 @@ CONTACT_SCENARIOS: tuple[ContactScenario, ...] = (
     ),
     ContactScenario(
         "tetrahedron-edge",
-        ContactClass.LINE,
+        "line",
         lambda r: Tetrahedron(_u(r, 12.0, 18.0)),
         _down_edge_tetra,
         (0.4, 0.8),
@@ -185,7 +189,7 @@ CONTACT_SCENARIOS: tuple[ContactScenario, ...] = (
     ),
     ContactScenario(
         "cube-face",
-        ContactClass.AREA,
+        "area",
         lambda r: Cube(_u(r, 6.0, 14.0)),
         _fixed((0.0, 0.0, -1.0)),
         (0.08, 0.5),
@@ -193,7 +197,7 @@ CONTACT_SCENARIOS: tuple[ContactScenario, ...] = (
     ),
     ContactScenario(
         "cylinder-end",
-        ContactClass.AREA,
+        "area",
         lambda r: Cylinder(_u(r, 3.0, 8.0), _u(r, 8.0, 16.0)),
         _fixed((0.0, 0.0, -1.0)),
         (0.08, 0.5),
@@ -201,7 +205,7 @@ CONTACT_SCENARIOS: tuple[ContactScenario, ...] = (
     ),
     ContactScenario(
         "tetrahedron-face",
-        ContactClass.AREA,
+        "area",
         lambda r: Tetrahedron(_u(r, 10.0, 18.0)),
         _fixed((0.0, 0.0, -1.0)),
         (0.08, 0.5),
@@ -209,7 +213,7 @@ CONTACT_SCENARIOS: tuple[ContactScenario, ...] = (
     ),
     ContactScenario(
         "cone-base",
-        ContactClass.AREA,
+        "area",
         lambda r: Cone(_u(r, 3.0, 8.0), _u(r, 8.0, 16.0)),
         _fixed((0.0, 0.0, -1.0)),
         (0.08, 0.5),
@@ -233,15 +237,13 @@ def _rotation_down(direction: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 @dataclass(frozen=True, eq=False)
-class ContactSamples:
-    """Labelled contact images and their Level 1 features.
+class LabelledContacts:
+    """Contact images labelled with the contact type that made them.
 
     Parameters
     ----------
-    features : (N, 2) float
-        ``(area_mm2, elongation)`` of each image.
-    labels : (N,) int8
-        :class:`~taxelkit.smart.contact_classes.ContactClass` codes.
+    labels : (N,) str
+        ``"point"``, ``"line"`` or ``"area"`` (:data:`CONTACT_LABELS`).
     scenario : (N,) str
         Name of the scenario that made each sample.
     images : (N, rows, cols) bool
@@ -252,8 +254,7 @@ class ContactSamples:
         Taxel pitch of the sensor, mm.
     """
 
-    features: NDArray[np.float64]
-    labels: NDArray[np.int8]
+    labels: NDArray[np.str_]
     scenario: NDArray[np.str_]
     images: NDArray[np.bool_]
     depth_mm: NDArray[np.float64]
@@ -262,10 +263,9 @@ class ContactSamples:
     def __len__(self) -> int:
         return int(self.labels.shape[0])
 
-    def subset(self, index: NDArray[Any]) -> ContactSamples:
+    def subset(self, index: NDArray[Any]) -> LabelledContacts:
         """The samples selected by an index or boolean mask."""
-        return ContactSamples(
-            self.features[index],
+        return LabelledContacts(
             self.labels[index],
             self.scenario[index],
             self.images[index],
@@ -327,7 +327,7 @@ def _press_scenario(
     return np.concatenate(images)[:n], np.concatenate(depths)[:n]
 
 
-def contact_training_samples(
+def pressed_contacts(
     sensor: Sensor = BONNEVILLE_16X16,
     *,
     n_per_class: int = 400,
@@ -336,7 +336,7 @@ def contact_training_samples(
     oversample: int = DEFAULT_OVERSAMPLE,
     add_noise: bool = True,
     rng: RngLike = None,
-) -> ContactSamples:
+) -> LabelledContacts:
     """Simulated contact images labelled point, line or area by construction.
 
     Each class's samples are split evenly between its scenarios; every sample
@@ -364,8 +364,8 @@ def contact_training_samples(
 
     Returns
     -------
-    ContactSamples
-        Ordered by class (POINT, LINE, AREA) and scenario.
+    LabelledContacts
+        Ordered by class (point, line, area) and scenario.
 
     Raises
     ------
@@ -380,9 +380,9 @@ def contact_training_samples(
     gen = np.random.default_rng(rng)
     images: list[NDArray[np.bool_]] = []
     depths: list[NDArray[np.float64]] = []
-    labels: list[NDArray[np.int8]] = []
+    labels: list[NDArray[np.str_]] = []
     names: list[NDArray[np.str_]] = []
-    for label in (ContactClass.POINT, ContactClass.LINE, ContactClass.AREA):
+    for label in CONTACT_LABELS:
         group = [s for s in scenarios if s.label == label]
         if not group:
             continue
@@ -402,15 +402,12 @@ def contact_training_samples(
             )
             images.append(img)
             depths.append(dep)
-            labels.append(np.full(int(count), int(label), dtype=np.int8))
+            labels.append(np.full(int(count), label))
             names.append(np.full(int(count), scenario.name))
-    all_images = np.concatenate(images)
-    stats = image_stats(all_images, pitch_mm=sensor.array.pitch_mm)
-    return ContactSamples(
-        features=contact_features(stats),
+    return LabelledContacts(
         labels=np.concatenate(labels),
         scenario=np.concatenate(names),
-        images=all_images,
+        images=np.concatenate(images),
         depth_mm=np.concatenate(depths),
         pitch_mm=float(sensor.array.pitch_mm),
     )

@@ -1,0 +1,165 @@
+"""The robust pipeline: limits with hysteresis, Level 3 in time, sliding lines, lift-off grace."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from taxelkit.frames import TactileFrames
+from taxelkit.motion.engines import scenario_from_engine
+from taxelkit.motion.rolling import frames_from_scenario
+from taxelkit.sensors import BONNEVILLE_16X16
+from taxelkit.sensors.frame_rate import frames_at_rate
+from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.contact_limits import ContactLimits, LimitState, apply_limits, schmitt
+from taxelkit.smart.recogniser import SmartSensor, recognise
+from taxelkit.smart.tacteme_table import OBJECTS
+from taxelkit.smart.tactemes import PAPER_LEVEL3, TactemeConfig, debounce_counts
+
+PITCH = 1.7625
+LINE, POINT, INDET = (
+    int(ContactClass.LINE),
+    int(ContactClass.POINT),
+    int(ContactClass.INDETERMINATE),
+)
+
+
+def test_schmitt_trigger_holds_its_state_inside_the_band() -> None:
+    v = np.array([0.0, 5.0, 6.5, 5.5, 5.2, 4.0, 5.5, 7.0])
+    np.testing.assert_array_equal(
+        schmitt(v, 6.0, 5.1), [False, False, True, True, True, False, False, True]
+    )
+    assert schmitt(np.array([5.5]), 6.0, 5.1, start=True)[0]
+
+
+def test_limits_batch_equals_one_frame_at_a_time() -> None:
+    rng = np.random.default_rng(4)
+    classes = rng.choice([POINT, LINE, INDET], 200).astype(np.int8)
+    n = rng.integers(0, 12, 200)
+    length = rng.uniform(2.0, 9.0, 200)
+    elong = rng.uniform(1.0, 5.0, 200)
+    lim = ContactLimits()
+    batch = apply_limits(classes, n, length, elong, lim)
+    state = LimitState()
+    one = [
+        apply_limits(classes[i : i + 1], n[i : i + 1], length[i : i + 1], elong[i : i + 1], lim,
+                     state=state)[0]
+        for i in range(200)
+    ]  # fmt: skip
+    np.testing.assert_array_equal(batch, one)
+    assert np.all(batch[(classes == LINE) & (length < 5.1)] != LINE)
+
+
+def test_a_three_taxel_bar_is_no_edge_but_a_long_line_is() -> None:
+    frames = np.zeros((30, 16, 16), bool)
+    frames[2:14, 8, 6:9] = True  # three taxels: 5.3 mm
+    frames[16:28, 8, 4:10] = True  # six taxels: 10.6 mm
+    rec = TactileFrames(frames, t_s=np.arange(30) / 20.0, pitch_mm=PITCH)
+    robust = recognise(rec, cleaning=None).classes
+    paper = recognise(rec, cleaning=None, limits=None).classes
+    assert paper[5] == LINE and robust[5] != LINE
+    assert paper[20] == LINE and robust[20] == LINE
+
+
+def test_a_two_by_two_point_is_a_point_at_a_coarse_pitch() -> None:
+    frames = np.zeros((10, 8, 8), bool)
+    frames[1:9, 3:5, 3:5] = True
+    rec = TactileFrames(frames, t_s=np.arange(10) / 20.0, pitch_mm=2.5)  # 25 mm^2
+    assert recognise(rec, cleaning=None).classes[4] == POINT
+    assert recognise(rec, cleaning=None, limits=None).classes[4] != POINT
+
+
+def test_debounce_counts_are_time_based_but_never_under_k_frames() -> None:
+    cfg = TactemeConfig()
+    assert debounce_counts(cfg, 1 / 20) == (3, 4)
+    assert debounce_counts(cfg, 1 / 240) == (36, 48)
+    assert debounce_counts(cfg, 1 / 5) == (2, 2)
+    assert debounce_counts(PAPER_LEVEL3, 1 / 240) == (3, 3)
+    assert debounce_counts(cfg, None) == (2, 2)
+
+
+def line_frames(centres: list[tuple[int, int]], half: int = 4) -> np.ndarray:
+    """A horizontal line of 2 half + 1 taxels centred at each (row, col), one per frame."""
+    out = np.zeros((len(centres) + 8, 16, 16), bool)
+    for t, (r, c) in enumerate(centres, start=4):
+        out[t, r, c - half : c + half + 1] = True
+    return out
+
+
+def test_a_line_sliding_along_itself_is_not_rolling() -> None:
+    cols = [5] * 6 + [5 + k // 3 for k in range(18)] + [11] * 6
+    rec = TactileFrames(
+        line_frames([(8, c) for c in cols]), t_s=np.arange(38) / 20.0, pitch_mm=PITCH
+    )
+    r = recognise(rec, cleaning=None)
+    names = [n for n, _ in r.tactemes]
+    assert "LC slides along itself" in names and "LCMP" not in names
+    assert r.identified == "unknown"
+    rolled = [(5 + k // 3, 8) for k in range(18)]  # across itself: a cylinder's roll
+    rec2 = TactileFrames(
+        line_frames([(5, 8)] * 6 + rolled), t_s=np.arange(32) / 20.0, pitch_mm=PITCH
+    )
+    assert recognise(rec2, cleaning=None).identified == "cylinder"
+
+
+def test_evidence_survives_a_short_loss_of_contact() -> None:
+    frames = line_frames([(5, 8)] * 6 + [(5 + k // 3, 8) for k in range(18)])
+    frames[14] = False  # 50 ms without contact at 20 Hz, mid-roll
+    rec = TactileFrames(frames, t_s=np.arange(frames.shape[0]) / 20.0, pitch_mm=PITCH)
+    robust = recognise(rec, cleaning=None)
+    assert [e.kind for e in robust.events].count("lifted") == 1  # only at the end
+    assert robust.identified == "cylinder"
+    frames[13:16] = False  # 150 ms: the paper's k = 3 frames of no contact end it
+    paper = recognise(
+        TactileFrames(frames, t_s=rec.t_s, pitch_mm=PITCH), cleaning=None, config=PAPER_LEVEL3
+    )
+    assert [e.kind for e in paper.events].count("lifted") == 2
+
+
+@pytest.mark.parametrize("name", OBJECTS)
+def test_the_same_roll_at_240_100_20_and_5_frames_per_s_gives_the_same_tactemes(
+    name: str,
+) -> None:
+    """Level 3 is defined in time and distance: resampling changes nothing the frames resolve."""
+    sc = scenario_from_engine("kinematic", name, rng=300 + OBJECTS.index(name), rate_hz=240.0)
+    rec = frames_from_scenario(BONNEVILLE_16X16, sc, rng=0)
+    base = recognise(rec)
+    assert base.identified == name
+    for rate in (100.0, 20.0, 5.0):
+        r = recognise(frames_at_rate(rec, rate))
+        assert r.identified == name, rate
+        assert {n for n, _ in r.tactemes} == {n for n, _ in base.tactemes}, rate
+
+
+def test_streaming_equals_batch_at_240_frames_per_s_with_faults() -> None:
+    from taxelkit.sensors.faults import fault_model
+
+    sc = scenario_from_engine("kinematic", "cube", rng=5, rate_hz=240.0)
+    rec = fault_model("all").apply(
+        frames_from_scenario(BONNEVILLE_16X16, sc, rng=5), threshold=0.03, rng=5
+    )
+    batch = recognise(rec)
+    sensor = SmartSensor((16, 16), pitch_mm=rec.pitch_mm)
+    for f, t in zip(rec.frames, rec.t_s, strict=True):
+        sensor.push(f, t)
+    assert list(sensor.result().events) == list(batch.events)
+
+
+def test_every_verdict_says_why() -> None:
+    from taxelkit.smart.elimination import explain
+
+    undecided = explain([("LC", 3), ("LCM", 9), ("LCMT", 20)])
+    assert undecided.outcome is None and undecided.candidates == ("cone", "truncated-cone")
+    assert {t for t, _, _ in undecided.deciders} == {"LCMT about one end", "LCMT in an arc"}
+    assert "undecided between cone, truncated-cone" in undecided.sentence()
+    gone = dict((o, t) for o, t, _, _ in undecided.eliminated)
+    assert gone["sphere"] == "LC" and gone["cube"] == "LCM" and gone["cylinder"] == "LCMT"
+    unknown = explain([("LC", 3), ("LCMP", 9), ("LCMT", 20)])
+    assert unknown.outcome == "unknown" and "LCMT at frame 20" in unknown.sentence()
+    rec = TactileFrames(
+        line_frames([(5, 8)] * 6 + [(5 + k // 3, 8) for k in range(18)]),
+        t_s=np.arange(32) / 20.0,
+        pitch_mm=PITCH,
+    )
+    doc = recognise(rec, cleaning=None).to_json()
+    assert doc["why"]["outcome"] == "cylinder" and doc["why"]["eliminated"]
