@@ -16,6 +16,8 @@ from numpy.typing import NDArray
 
 import taxelkit.smart.contact_classes as classes_module
 from taxelkit.errors import InputError
+from taxelkit.experiments.contact_classes import features_of
+from taxelkit.motion.contact_samples import CONTACT_SCENARIOS, LabelledContacts, pressed_contacts
 from taxelkit.plotting.decision_regions import plot_decision_regions
 from taxelkit.sensors.array_geometry import TaxelArray
 from taxelkit.sensors.presets import BONNEVILLE_16X16
@@ -35,8 +37,6 @@ from taxelkit.smart.contact_training import (
     train_contact_network,
 )
 from taxelkit.smart.moments import image_stats
-from taxelkit.experiments.contact_classes import features_of
-from taxelkit.motion.contact_samples import CONTACT_SCENARIOS, LabelledContacts, pressed_contacts
 
 
 @dataclasses.dataclass(frozen=True)
