@@ -10,19 +10,24 @@ from __future__ import annotations
 import json
 import logging
 import sys
+import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
 import click
+import numpy as np
 
 from taxelkit._version import __version__
 from taxelkit.cli_common import (
     check_figure_suffix,
     save_figure,
 )
+from taxelkit.cli_options import MAX_MB, PITCH_MM, THRESHOLD
 from taxelkit.errors import InputError, TaxelkitError
 from taxelkit.frames import TactileFrames
+from taxelkit.io._raw import describe_exception, one_line
+from taxelkit.io.limits import DEFAULT_MAX_MB, MAX_MB_ENV, read_limit
 
 EXIT_BAD_INPUT = 2
 _TOPIC_HELP = "Frames topic of a ROS 2 bag or MCAP file (default: its only frames topic)."
@@ -57,19 +62,32 @@ def _summary(rec: TactileFrames, path: Path) -> dict[str, Any]:
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="taxelkit")
 @click.option("-v", "--verbose", is_flag=True, help="Log diagnostics to stderr.")
-def cli(verbose: bool) -> None:
+@click.option(
+    "--max-mb",
+    type=MAX_MB,
+    default=None,
+    envvar=MAX_MB_ENV,
+    help=f"Read limit per input file, MiB (default {DEFAULT_MAX_MB:g}; env {MAX_MB_ENV}). "
+    "Files, and arrays they declare, beyond it are refused before reading (docs/security.md).",
+)
+@click.pass_context
+def cli(ctx: click.Context, verbose: bool, max_mb: float | None) -> None:
     """taxelkit: sense and recognise shapes by touch with array tactile sensors.
 
     Simulate tactile arrays, read and inspect recordings, and run the
     recognition systems of the two reference papers.
     """
+    if max_mb is not None:
+        ctx.with_resource(read_limit(max_mb))
     if verbose:
         logging.basicConfig(level=logging.INFO, format="%(name)s: %(message)s")
 
 
 @cli.command()
 @click.argument("file", type=click.Path(path_type=Path, dir_okay=True))
-@click.option("--pitch-mm", type=float, default=None, help="Override the file's taxel pitch, mm.")
+@click.option(
+    "--pitch-mm", type=PITCH_MM, default=None, help="Override the file's taxel pitch, mm."
+)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 @click.option("--topic", default=None, help=_TOPIC_HELP)
 def info(file: Path, pitch_mm: float | None, as_json: bool, topic: str | None) -> None:
@@ -99,7 +117,7 @@ def info(file: Path, pitch_mm: float | None, as_json: bool, topic: str | None) -
 @click.option("--max-frames", type=click.IntRange(1, 200), default=12, show_default=True)
 @click.option("--start", type=click.IntRange(0), default=0, help="First frame to consider.")
 @click.option("--stop", type=click.IntRange(1), default=None, help="One past the last frame.")
-@click.option("--threshold", type=float, default=None, help="Draw contact images frames > T.")
+@click.option("--threshold", type=THRESHOLD, default=None, help="Draw contact images frames > T.")
 @click.option("--force", is_flag=True, help="Overwrite an existing output.")
 @click.option("--topic", default=None, help=_TOPIC_HELP)
 def show(
@@ -174,21 +192,41 @@ def run(argv: Sequence[str] | None = None, *, echo_err: Callable[[str], None] | 
         (echo_err or (lambda m: click.echo(m, err=True)))(msg)
 
     try:
-        result = cli.main(args=list(argv) if argv is not None else None, standalone_mode=False)
+        # Numerical trouble (overflow, invalid values) is an error, never a
+        # warning printed before one: numpy raises FloatingPointError and any
+        # RuntimeWarning becomes an exception, both reported in one line.
+        with np.errstate(divide="raise", over="raise", invalid="raise"), warnings.catch_warnings():
+            warnings.simplefilter("error", RuntimeWarning)
+            result = cli.main(args=list(argv) if argv is not None else None, standalone_mode=False)
     except click.exceptions.Exit as e:
         return int(e.exit_code)
-    except click.exceptions.Abort:
+    except click.exceptions.Abort as e:
+        if isinstance(e.__cause__, EOFError):  # click turns an EOFError into Abort
+            err(f"taxelkit: error: unexpected end of input ({describe_exception(e.__cause__)})")
+            return EXIT_BAD_INPUT
         err("taxelkit: aborted")
         return 130
     except click.ClickException as e:
-        err(f"taxelkit: error: {e.format_message()} (see --help)")
+        err(f"taxelkit: error: {one_line(e.format_message())} (see --help)")
         return EXIT_BAD_INPUT if isinstance(e, click.UsageError) else e.exit_code
     except TaxelkitError as e:
-        err(f"taxelkit: error: {e}")
+        err(f"taxelkit: error: {one_line(str(e))}")
+        return EXIT_BAD_INPUT
+    except (FloatingPointError, RuntimeWarning) as e:
+        err(
+            f"taxelkit: error: numerical overflow or invalid value ({describe_exception(e)}); "
+            "check that the inputs are in range"
+        )
+        return EXIT_BAD_INPUT
+    except MemoryError:
+        err(
+            "taxelkit: error: not enough memory for this input; "
+            "use smaller inputs or a lower --max-mb"
+        )
         return EXIT_BAD_INPUT
     except OSError as e:  # unreadable input or unwritable output
         where = f": {e.filename}" if getattr(e, "filename", None) else ""
-        err(f"taxelkit: error: {e.strerror or e}{where}")
+        err(f"taxelkit: error: {one_line(str(e.strerror or e))}{where}")
         return EXIT_BAD_INPUT
     return int(result) if isinstance(result, int) else 0
 

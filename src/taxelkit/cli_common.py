@@ -5,17 +5,13 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from taxelkit.errors import InputError
 
 __all__ = [
     "check_figure_suffix",
     "check_outputs",
-    "pair",
     "save_figure",
     "specimen_from_options",
-    "triple",
     "write_text",
 ]
 
@@ -39,26 +35,6 @@ def check_figure_suffix(out: Path) -> None:
         raise InputError(f"--out must end in .png, .pdf, .svg or .jpg, got {out.name!r}")
 
 
-def pair(value: str | None, name: str) -> tuple[float, float] | None:
-    if value is None:
-        return None
-    try:
-        a, b = (float(v) for v in value.split(","))
-    except ValueError:
-        raise InputError(f"{name} must be two numbers X,Y, got {value!r}") from None
-    if not (np.isfinite(a) and np.isfinite(b)):
-        raise InputError(f"{name} must be finite, got {value!r}")
-    return (a, b)
-
-
-def triple(value: str, name: str) -> tuple[float, float, float]:
-    try:
-        a, b, c = (float(v) for v in value.split(","))
-    except ValueError:
-        raise InputError(f"{name} must be three numbers A,B,C, got {value!r}") from None
-    return (a, b, c)
-
-
 def write_text(path: Path, text: str, force: bool) -> None:
     from taxelkit.io.atomic import atomic_write
 
@@ -80,7 +56,7 @@ def specimen_from_options(
     shape: str | None,
     specimen: Path | None,
     rotate_deg: float,
-    offset_mm: str,
+    offset_mm: tuple[float, float],
     diameter_mm: float,
     step_height_um: float,
 ) -> tuple[Any, tuple[float, float]]:
@@ -101,12 +77,11 @@ def specimen_from_options(
         heightmap = load_heightmap(specimen)
         x0, x1, y0, y1 = heightmap.extent_mm
         return heightmap, ((x0 + x1) / 2, (y0 + y1) / 2)
-    off = pair(offset_mm, "--offset-mm") or (0.0, 0.0)
     relief = relief_shape(
         str(shape),
         diameter_mm=diameter_mm,
         step_height_um=step_height_um,
         rotation_deg=rotate_deg,
-        offset_mm=off,
+        offset_mm=offset_mm,
     )
-    return relief, off
+    return relief, offset_mm

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import click
 
+from taxelkit.cli_options import PITCH_MM
 from taxelkit.errors import InputError
 
 __all__ = ["convert"]
@@ -47,7 +48,9 @@ def _writes_rosbag2(out: Path) -> bool:
     show_default=True,
     help="Storage plugin of a rosbag2 folder output.",
 )
-@click.option("--pitch-mm", type=float, default=None, help="Override the input's taxel pitch, mm.")
+@click.option(
+    "--pitch-mm", type=PITCH_MM, default=None, help="Override the input's taxel pitch, mm."
+)
 @click.option("--force", is_flag=True, help="Overwrite an existing output.")
 def convert(
     source: Path,

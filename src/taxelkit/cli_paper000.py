@@ -15,11 +15,11 @@ from tqdm import tqdm
 from taxelkit.cli_common import (
     check_figure_suffix,
     check_outputs,
-    pair,
     save_figure,
     specimen_from_options,
     write_text,
 )
+from taxelkit.cli_options import ANGLE_DEG, COORDINATE_MM, LENGTH_MM, SEED, STEP_HEIGHT_UM
 from taxelkit.errors import InputError
 
 __all__ = ["memorise", "reproduce", "trace"]
@@ -28,7 +28,7 @@ __all__ = ["memorise", "reproduce", "trace"]
 @click.command()
 @click.argument("name")
 @click.option("--out", type=click.Path(path_type=Path), required=True, help="Output folder.")
-@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--seed", type=SEED, default=0, show_default=True)
 @click.option(
     "--trials",
     type=click.IntRange(1),
@@ -54,12 +54,17 @@ def reproduce(
     scheduler: str | None,
     force: bool,
 ) -> None:
-    """Run a registered experiment (or 'all'): writes OUT/NAME.json and OUT/NAME.png."""
+    """Run a registered experiment (or 'all'): writes OUT/NAME.json and OUT/NAME.png.
+
+    NAME.json holds only results, so the same seed gives byte-identical JSON;
+    the wall-clock time goes to OUT/NAME.timing.json, which comparisons ignore.
+    """
     from taxelkit.experiments.registry import EXPERIMENTS, get_experiment
     from taxelkit.plotting.experiments import plot_experiment
 
     names = list(EXPERIMENTS) if name == "all" else [get_experiment(name).name]
-    check_outputs([out / f"{n}{ext}" for n in names for ext in (".json", ".png")], force)
+    exts = (".json", ".png", ".timing.json")
+    check_outputs([out / f"{n}{ext}" for n in names for ext in exts], force)
     out.mkdir(parents=True, exist_ok=True)
     t_all = time.perf_counter()
     for n in names:
@@ -82,12 +87,14 @@ def reproduce(
                 bar.refresh()
 
             result = exp.run(progress=progress, **kwargs)
+        seconds = round(time.perf_counter() - t0, 2)
         doc = result.to_json()
         doc["seed"] = seed
-        doc["seconds"] = round(time.perf_counter() - t0, 2)
         write_text(out / f"{n}.json", json.dumps(doc, indent=2) + "\n", force)
+        timing = {"experiment": n, "seed": seed, "seconds": seconds}
+        write_text(out / f"{n}.timing.json", json.dumps(timing, indent=2) + "\n", force)
         save_figure(plot_experiment(n, result), out / f"{n}.png", force=force)
-        click.echo(f"{n}: wrote {out / n}.json and .png in {doc['seconds']:.1f} s")
+        click.echo(f"{n}: wrote {out / n}.json, .timing.json and .png in {seconds:.1f} s")
     if len(names) > 1:
         click.echo(f"all done in {time.perf_counter() - t_all:.1f} s")
 
@@ -99,7 +106,6 @@ def _load_memory(path: Path | None, rule: str) -> Any:
         RecallSetup,
         reference_memory,
     )
-    from taxelkit.memory.associatron import AssociativeMemory
     from taxelkit.memory.recall_rules import get_recall_rule
 
     get_recall_rule(rule)  # validates the name
@@ -108,27 +114,26 @@ def _load_memory(path: Path | None, rule: str) -> Any:
             return reference_memory(FAITHFUL)
         return reference_memory(RecallSetup(rule, rule, IMPROVED.phases, IMPROVED.config))
 
-    if not path.is_file():
-        raise InputError(f"{path}: no such memory file")
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            arrays = {k: data[k] for k in data.files}
-    except (OSError, ValueError) as exc:
-        raise InputError(f"{path}: not a taxelkit memory file ({exc})") from None
-    try:
-        return AssociativeMemory.from_arrays(arrays).with_rule(rule)
-    except InputError as exc:
-        raise InputError(f"{path}: {exc}") from None
+    from taxelkit.io.memory_file import read_memory
+
+    return read_memory(path).with_rule(rule)
 
 
 @click.command()
 @click.option("--shape", default=None, help="circle, square, triangle, star, hexagon")
 @click.option("--specimen", type=click.Path(path_type=Path), default=None, help="Heightmap .npz.")
-@click.option("--rotate-deg", type=float, default=0.0, show_default=True)
-@click.option("--offset-mm", default="0,0", show_default=True, help="Shape offset X,Y.")
-@click.option("--diameter-mm", type=float, default=90.0, show_default=True)
-@click.option("--step-height-um", type=float, default=200.0, show_default=True)
-@click.option("--start-mm", default=None, help="Where the sensor first meets the edge, X,Y.")
+@click.option("--rotate-deg", type=ANGLE_DEG, default=0.0, show_default=True)
+@click.option(
+    "--offset-mm", type=COORDINATE_MM, default="0,0", show_default=True, help="Shape offset X,Y."
+)
+@click.option("--diameter-mm", type=LENGTH_MM, default=90.0, show_default=True)
+@click.option("--step-height-um", type=STEP_HEIGHT_UM, default=200.0, show_default=True)
+@click.option(
+    "--start-mm",
+    type=COORDINATE_MM,
+    default=None,
+    help="Where the sensor first meets the edge, X,Y.",
+)
 @click.option(
     "--rule",
     default="matched",
@@ -142,7 +147,7 @@ def _load_memory(path: Path | None, rule: str) -> Any:
     default=None,
     help="Memory file from 'taxelkit memorise' (default: the five built-in shapes).",
 )
-@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--seed", type=SEED, default=0, show_default=True)
 @click.option("--plot", type=click.Path(path_type=Path), default=None, help="Figure (.png).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 @click.option("--force", is_flag=True, help="Overwrite an existing --plot file.")
@@ -150,10 +155,10 @@ def trace(
     shape: str | None,
     specimen: Path | None,
     rotate_deg: float,
-    offset_mm: str,
+    offset_mm: tuple[float, float],
     diameter_mm: float,
     step_height_um: float,
-    start_mm: str | None,
+    start_mm: tuple[float, float] | None,
     rule: str,
     memory: Path | None,
     seed: int,
@@ -177,7 +182,7 @@ def trace(
     )
     mem = _load_memory(memory, rule)
     probe = SimulatedProbe(relief, rng=seed)
-    start = pair(start_mm, "--start-mm")
+    start = start_mm
     if start is None:
         start = tuple(find_edge(probe, centre))
     tr = trace_edge(probe, start)
@@ -224,7 +229,7 @@ def trace(
     help="Start from this memory file instead of the five built-in shapes.",
 )
 @click.option("--rule", default="matched", show_default=True)
-@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--seed", type=SEED, default=0, show_default=True)
 @click.option("--out", type=click.Path(path_type=Path), required=True, help="Memory file (.npz).")
 @click.option("--force", is_flag=True)
 def memorise(

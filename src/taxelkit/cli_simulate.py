@@ -11,11 +11,17 @@ import click
 import numpy as np
 from tqdm import tqdm
 
-from taxelkit.cli_common import (
-    pair,
-    save_figure,
-    specimen_from_options,
-    triple,
+from taxelkit.cli_common import save_figure, specimen_from_options
+from taxelkit.cli_options import (
+    ANGLE_DEG,
+    COORDINATE_MM,
+    EULER_DEG,
+    INDENT_MM,
+    LENGTH_MM,
+    RATE_HZ,
+    SCALE,
+    SEED,
+    STEP_HEIGHT_UM,
 )
 from taxelkit.errors import InputError
 from taxelkit.frames import TactileFrames
@@ -35,10 +41,12 @@ def _write(rec: TactileFrames, out: Path, force: bool) -> None:
 _common = [
     click.option("--sensor", "sensor_name", default=None, help="Sensor preset (taxelkit sensors)."),
     click.option("--frames", "n_frames", type=click.IntRange(1, 1_000_000), default=None),
-    click.option("--rate-hz", type=float, default=None, help="Frame rate; default: the sensor's."),
+    click.option(
+        "--rate-hz", type=RATE_HZ, default=None, help="Frame rate; default: the sensor's."
+    ),
     click.option("--contact", is_flag=True, help="Write binary contact images instead of mm."),
     click.option("--no-noise", is_flag=True, help="Noise-free frames."),
-    click.option("--seed", type=int, default=0, show_default=True, help="Noise seed."),
+    click.option("--seed", type=SEED, default=0, show_default=True, help="Noise seed."),
     click.option("--out", type=click.Path(path_type=Path), required=True, help=".npz/.h5/.csv"),
     click.option("--force", is_flag=True, help="Overwrite an existing output."),
 ]
@@ -85,14 +93,25 @@ def simulate() -> None:
 @simulate.command("press")
 @click.option("--shape", default=None, help="circle, square, triangle, star, hexagon")
 @click.option("--specimen", type=click.Path(path_type=Path), default=None, help="Heightmap .npz.")
-@click.option("--diameter-mm", type=float, default=90.0, show_default=True)
-@click.option("--step-height-um", type=float, default=200.0, show_default=True)
-@click.option("--rotate-deg", type=float, default=0.0, show_default=True)
-@click.option("--offset-mm", default="0,0", show_default=True, help="Shape offset X,Y.")
-@click.option("--at", "at_mm", default="0,0", show_default=True, help="Sensor centre X,Y (mm).")
-@click.option("--to", "to_mm", default=None, help="Slide the sensor to X,Y over --frames.")
-@click.option("--indent-mm", type=float, default=0.1, show_default=True)
-@click.option("--yaw-deg", type=float, default=0.0, show_default=True)
+@click.option("--diameter-mm", type=LENGTH_MM, default=90.0, show_default=True)
+@click.option("--step-height-um", type=STEP_HEIGHT_UM, default=200.0, show_default=True)
+@click.option("--rotate-deg", type=ANGLE_DEG, default=0.0, show_default=True)
+@click.option(
+    "--offset-mm", type=COORDINATE_MM, default="0,0", show_default=True, help="Shape offset X,Y."
+)
+@click.option(
+    "--at",
+    "at_mm",
+    type=COORDINATE_MM,
+    default="0,0",
+    show_default=True,
+    help="Sensor centre X,Y (mm).",
+)
+@click.option(
+    "--to", "to_mm", type=COORDINATE_MM, default=None, help="Slide the sensor to X,Y over --frames."
+)
+@click.option("--indent-mm", type=INDENT_MM, default=0.1, show_default=True)
+@click.option("--yaw-deg", type=ANGLE_DEG, default=0.0, show_default=True)
 @click.option("--active-only", is_flag=True, help="Keep only the sensor's active block.")
 @_with_common
 def press(
@@ -101,9 +120,9 @@ def press(
     diameter_mm: float,
     step_height_um: float,
     rotate_deg: float,
-    offset_mm: str,
-    at_mm: str,
-    to_mm: str | None,
+    offset_mm: tuple[float, float],
+    at_mm: tuple[float, float],
+    to_mm: tuple[float, float] | None,
     indent_mm: float,
     yaw_deg: float,
     active_only: bool,
@@ -125,8 +144,8 @@ def press(
     )
     name = sensor_name or "optical-3axis"
     sensor = get_sensor(name)
-    start = np.array(pair(at_mm, "--at"))
-    stop = pair(to_mm, "--to")
+    start = np.array(at_mm)
+    stop = to_mm
     n = n_frames or (1 if stop is None else 30)
     end = start if stop is None else np.array(stop)
     positions = start + np.linspace(0.0, 1.0, n)[:, None] * (end - start)
@@ -145,12 +164,16 @@ def press(
 @simulate.command("solid")
 @click.option("--object", "object_name", default=None, help="cube, sphere, cone, ...")
 @click.option("--mesh", type=click.Path(path_type=Path), default=None, help="Convex STL/OBJ.")
-@click.option("--scale", type=float, default=1.0, show_default=True)
-@click.option("--euler-deg", default="0,0,0", show_default=True, help="Rotation RX,RY,RZ.")
-@click.option("--at", "at_mm", default="0,0", show_default=True, help="Position X,Y (mm).")
+@click.option("--scale", type=SCALE, default=1.0, show_default=True)
+@click.option(
+    "--euler-deg", type=EULER_DEG, default="0,0,0", show_default=True, help="Rotation RX,RY,RZ."
+)
+@click.option(
+    "--at", "at_mm", type=COORDINATE_MM, default="0,0", show_default=True, help="Position X,Y (mm)."
+)
 @click.option(
     "--indent-mm",
-    type=float,
+    type=INDENT_MM,
     default=0.3,
     show_default=True,
     help="Final depth of the lowest point; with --frames N > 1 a press from 0.",
@@ -160,8 +183,8 @@ def solid(
     object_name: str | None,
     mesh: Path | None,
     scale: float,
-    euler_deg: str,
-    at_mm: str,
+    euler_deg: tuple[float, float, float],
+    at_mm: tuple[float, float],
     indent_mm: float,
     sensor_name: str | None,
     n_frames: int | None,
@@ -186,8 +209,8 @@ def solid(
     sensor = get_sensor(name)
     n = n_frames or 1
     depth = np.full(n, indent_mm) if n == 1 else np.linspace(0.0, indent_mm, n)
-    rot = np.repeat(matrix_from_euler_xyz_deg(triple(euler_deg, "--euler-deg"))[None], n, 0)
-    pos = np.repeat(np.array(pair(at_mm, "--at"))[None], n, 0)
+    rot = np.repeat(matrix_from_euler_xyz_deg(euler_deg)[None], n, 0)
+    pos = np.repeat(np.array(at_mm)[None], n, 0)
     disp = displacement_from_solid(
         sensor, body, rot, pos, indent_mm=depth, add_noise=not no_noise, rng=seed
     )
@@ -196,7 +219,7 @@ def solid(
 
 @click.command()
 @click.option("--out", type=click.Path(path_type=Path), default=Path("demo-out"), show_default=True)
-@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--seed", type=SEED, default=0, show_default=True)
 @click.option("--force", is_flag=True, help="Overwrite existing outputs.")
 def demo(out: Path, seed: int, force: bool) -> None:
     """Run the main job: both papers' systems on the built-in simulated sensors, with figures."""

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import click
 
+from taxelkit.cli_options import DURATION_S, PITCH_MM, RATE_HZ, SEED, THRESHOLD, TIMEOUT_S
 from taxelkit.errors import InputError
 
 __all__ = ["recognize", "roll"]
@@ -16,11 +17,11 @@ __all__ = ["recognize", "roll"]
 @click.argument("file", type=click.Path(path_type=Path), required=False)
 @click.option(
     "--threshold",
-    type=float,
+    type=THRESHOLD,
     default=None,
     help="Contact threshold for float frames (default 0.03 mm).",
 )
-@click.option("--pitch-mm", type=float, default=None, help="Override the recording's pitch.")
+@click.option("--pitch-mm", type=PITCH_MM, default=None, help="Override the recording's pitch.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 @click.option(
     "--live",
@@ -36,7 +37,7 @@ __all__ = ["recognize", "roll"]
 )
 @click.option(
     "--timeout-s",
-    type=float,
+    type=TIMEOUT_S,
     default=10.0,
     show_default=True,
     help="Stop a live stream after this long without data.",
@@ -151,19 +152,19 @@ def recognize(
 )
 @click.option(
     "--rate-hz",
-    type=float,
+    type=RATE_HZ,
     default=20.0,
     show_default=True,
     help="Frame rate (mujoco: 1-1000 Hz, the same motion at every rate).",
 )
 @click.option(
     "--lift-gap-s",
-    type=float,
+    type=DURATION_S,
     default=0.0,
     show_default=True,
     help="Lift the body clear once mid-script for this long (mujoco only).",
 )
-@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--seed", type=SEED, default=0, show_default=True)
 @click.option("--contact", is_flag=True, help="Write binary contact images instead of mm.")
 @click.option("--no-noise", is_flag=True, help="Noise-free frames.")
 @click.option("--out", type=click.Path(path_type=Path), required=True, help=".npz/.h5/.csv")

@@ -15,6 +15,7 @@ from numpy.typing import ArrayLike, NDArray
 __all__ = [
     "CorruptRecordingError",
     "EmptyRecordingError",
+    "FileTooLargeError",
     "InputError",
     "InvalidRecordingError",
     "OutputExistsError",
@@ -23,11 +24,15 @@ __all__ = [
     "RecordingError",
     "RecordingNotFoundError",
     "TaxelkitError",
+    "UnsafeFileError",
     "UnsupportedFormatError",
     "check_finite_array",
     "check_in_range",
     "check_ndim",
     "check_positive",
+    "check_shape",
+    "check_threshold",
+    "check_type",
 ]
 
 
@@ -61,6 +66,23 @@ class InvalidRecordingError(RecordingError, InputError):
     Wrong number of dimensions, NaN or Inf, non-increasing or mismatched
     timestamps, a pitch that is not a positive number, text fields that are not
     text. Both a :class:`RecordingError` and an :class:`InputError`.
+    """
+
+
+class FileTooLargeError(RecordingError):
+    """The file, or the arrays it declares, exceed the read limit.
+
+    The limit is checked against the sizes a file declares (array headers, HDF5
+    dataset shapes) before anything is allocated; see :mod:`taxelkit.io.limits`
+    for its default and how to raise it.
+    """
+
+
+class UnsafeFileError(RecordingError):
+    """The file points outside itself, which taxelkit never follows.
+
+    HDF5 external raw storage, virtual datasets, external and soft links, and
+    archive members whose names carry a folder path.
     """
 
 
@@ -114,6 +136,71 @@ def check_in_range(name: str, value: float, low: float, high: float) -> float:
     if not (math.isfinite(v) and low <= v <= high):
         raise InputError(f"{name} must be in [{low}, {high}], got {value!r}")
     return v
+
+
+def check_shape(name: str, value: object, ndim: int = 2) -> tuple[int, ...]:
+    """Return ``value`` as a tuple of ``ndim`` positive ints, else raise.
+
+    A string, a float, a bool or anything but a tuple, list or 1-D integer
+    array is refused, never reinterpreted (``"16x16"`` is not a shape).
+
+    Raises
+    ------
+    InputError
+        Naming ``name``, the expectation and the value received.
+
+    Examples
+    --------
+    >>> check_shape("shape", (16, 16))
+    (16, 16)
+    """
+    expected = f"{ndim} positive integers"
+    if isinstance(value, np.ndarray):
+        if value.ndim != 1 or value.dtype.kind not in "iu":
+            raise InputError(f"{name} must be {expected}, got {value!r}")
+        items: list[object] = list(value.tolist())
+    elif isinstance(value, tuple | list):
+        items = list(value)
+    else:
+        raise InputError(f"{name} must be a tuple of {expected}, got {value!r}")
+    ok = all(isinstance(v, int | np.integer) and not isinstance(v, bool) for v in items)
+    if len(items) != ndim or not ok or any(int(v) < 1 for v in items):  # type: ignore[call-overload]
+        raise InputError(f"{name} must be {expected}, got {value!r}")
+    return tuple(int(v) for v in items)  # type: ignore[call-overload]
+
+
+def check_threshold(name: str, value: object) -> float:
+    """Return a contact threshold as float if it is a finite real number, else raise.
+
+    Raises
+    ------
+    InputError
+        If ``value`` is not a real number (a string, a bool) or is NaN/Inf.
+    """
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+        raise InputError(f"{name} must be a finite number, got {value!r}")
+    v = float(value)
+    if not math.isfinite(v):
+        raise InputError(f"{name} must be a finite number, got {value!r}")
+    return v
+
+
+def check_type(name: str, value: object, cls: type, expected: str) -> None:
+    """Raise :class:`InputError` unless ``value`` is an instance of ``cls``.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the message.
+    value : object
+        Value to check.
+    cls : type
+        Required type.
+    expected : str
+        The type in words, e.g. ``"a TactileFrames"``.
+    """
+    if not isinstance(value, cls):
+        raise InputError(f"{name} must be {expected}, got {type(value).__name__}")
 
 
 def check_ndim(name: str, array: ArrayLike, ndim: int, shape_doc: str) -> NDArray[Any]:

@@ -9,7 +9,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from taxelkit._arrays import readonly_copy
-from taxelkit.errors import InputError, check_finite_array, check_ndim, check_positive
+from taxelkit.errors import (
+    InputError,
+    check_finite_array,
+    check_ndim,
+    check_positive,
+    check_threshold,
+)
 
 __all__ = [
     "CONTACT_UNITS",
@@ -159,7 +165,7 @@ class TactileFrames:
         """
         if self.is_contact:
             return np.asarray(self.frames)
-        return np.asarray(self.frames > float(threshold))
+        return np.asarray(self.frames > check_threshold("threshold", threshold))
 
     def equals(self, other: object) -> bool:
         """True if frames, timestamps, pitch, units and sensor are all identical."""

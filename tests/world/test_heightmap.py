@@ -12,7 +12,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from taxelkit.errors import CorruptRecordingError, InputError
+from taxelkit.errors import (
+    CorruptRecordingError,
+    InputError,
+    RecordingAccessError,
+    RecordingNotFoundError,
+)
 from taxelkit.world.base import Relief
 from taxelkit.world.heightmap import (
     HeightmapRelief,
@@ -195,10 +200,10 @@ def _pickled(path: Path) -> None:
     ("write", "error", "match"),
     [
         (lambda p: p.write_text("not a zip archive\n"), CorruptRecordingError, "not an .npz"),
-        (lambda p: p.write_bytes(b""), CorruptRecordingError, "not an .npz"),
-        (_truncated, CorruptRecordingError, "not a readable"),
-        (_damaged, CorruptRecordingError, "damaged"),
-        (_pickled, CorruptRecordingError, "damaged"),
+        (lambda p: p.write_bytes(b""), CorruptRecordingError, "is empty"),
+        (_truncated, CorruptRecordingError, "unreadable .npz heightmap"),
+        (_damaged, CorruptRecordingError, "unreadable .npz heightmap"),
+        (_pickled, CorruptRecordingError, "never loads"),
         (lambda p: np.save(p.with_suffix(".npy"), np.zeros((2, 2))), CorruptRecordingError, ".npy"),
         (lambda p: _save(p, pixel_mm=1.0), CorruptRecordingError, "missing array.*height_mm"),
         (
@@ -238,12 +243,12 @@ def test_bad_files_raise_typed_errors_naming_the_file(
         assert not isinstance(info.value, CorruptRecordingError)
 
 
-def test_missing_file_is_an_input_error_naming_the_path(tmp_path: Path) -> None:
+def test_missing_file_is_an_access_error_naming_the_path(tmp_path: Path) -> None:
     path = tmp_path / "nowhere.npz"
-    with pytest.raises(InputError, match="does not exist") as info:
+    with pytest.raises(RecordingNotFoundError, match="no such heightmap file") as info:
         load_heightmap(path)
     assert str(path) in str(info.value)
-    with pytest.raises(InputError, match="not a file"):
+    with pytest.raises(RecordingAccessError, match="not a regular file"):
         load_heightmap(tmp_path)
 
 

@@ -21,7 +21,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numpy.typing import NDArray
 
-from taxelkit.errors import CorruptRecordingError, InputError, UnsupportedFormatError
+from taxelkit.errors import (
+    CorruptRecordingError,
+    InputError,
+    RecordingNotFoundError,
+    UnsupportedFormatError,
+)
 from taxelkit.sensors.array_geometry import TaxelArray
 from taxelkit.sensors.noise import NoiseModel
 from taxelkit.sensors.presets import BONNEVILLE_16X16, Sensor
@@ -633,7 +638,7 @@ def test_truncated_and_missing_and_unsupported_mesh_files(tmp_path: Path) -> Non
     with pytest.raises(CorruptRecordingError) as info:
         load_mesh_solid(truncated)
     assert "\n" not in str(info.value)
-    with pytest.raises(InputError, match="not found"):
+    with pytest.raises(RecordingNotFoundError, match="no such mesh file"):
         load_mesh_solid(tmp_path / "nothing.stl")
     other = tmp_path / "cube.txt"
     other.write_text("hello")

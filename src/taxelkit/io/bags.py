@@ -27,9 +27,11 @@ from taxelkit.errors import (
     OutputExistsError,
     OutputWriteError,
     TaxelkitError,
+    UnsafeFileError,
 )
 from taxelkit.frames import TactileFrames
 from taxelkit.io._raw import RawRecording, describe_exception, fail
+from taxelkit.io.limits import ReadBudget
 from taxelkit.io.ros_messages import (
     DEFAULT_TOPIC,
     BagDependencyError,
@@ -73,6 +75,24 @@ def _import_error() -> BagDependencyError:
 
 
 # ----------------------------------------------------------------------------- rosbag2
+def _check_folder_size(path: Path) -> None:
+    """Refuse a bag folder whose files together exceed the read limit.
+
+    Only regular files directly in the folder count; a symbolic link is refused,
+    so the bag cannot make taxelkit read a file elsewhere.
+    """
+    budget = ReadBudget(path)
+    total = 0
+    for entry in path.iterdir():
+        if entry.is_symlink():
+            raise fail(
+                UnsafeFileError, path, f"{entry.name!r} is a symbolic link; bag files must be files"
+            )
+        if entry.is_file():
+            total += entry.stat().st_size
+    budget.check_file_size(total)
+
+
 def raw_from_rosbag2(path: Path, *, topic: str | None = None) -> RawRecording:
     """Raw recording fields from the frames topic of a rosbag2 folder.
 
@@ -100,6 +120,7 @@ def raw_from_rosbag2(path: Path, *, topic: str | None = None) -> RawRecording:
         If the topic has no messages.
     """
     typestore()  # a clear error before anything else when rosbags is missing
+    _check_folder_size(path)
     try:
         from rosbags.rosbag2 import Reader
     except ImportError:
@@ -259,6 +280,10 @@ def raw_from_mcap(path: Path, *, topic: str | None = None) -> RawRecording:
             summary = reader.get_summary()
             if summary is None:
                 raise fail(CorruptRecordingError, path, "MCAP file without a summary section")
+            # A compressed chunk is inflated whole: check its declared size first.
+            budget = ReadBudget(path)
+            for index in summary.chunk_indexes:
+                budget.check_block("an MCAP chunk", int(index.uncompressed_size))
             topics = _mcap_topics(path, summary)
             chosen = select_topic(path, topics, topic)
             stream = (

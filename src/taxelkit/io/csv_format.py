@@ -17,6 +17,7 @@ taxel in row-major order; the array shape is recovered from the largest indices.
 from __future__ import annotations
 
 import re
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -26,6 +27,7 @@ from numpy.typing import NDArray
 from taxelkit.errors import CorruptRecordingError, EmptyRecordingError
 from taxelkit.frames import CONTACT_UNITS, TactileFrames
 from taxelkit.io._raw import RawRecording, describe_exception, fail
+from taxelkit.io.limits import ReadBudget
 
 __all__ = [
     "CSV_DTYPES",
@@ -163,36 +165,53 @@ def _shape_from_header(path: Path, names: list[str]) -> tuple[int, int]:
     return rows, cols
 
 
-def _first_bad_cell(
-    path: Path, table: list[list[str]], linenos: list[int], names: list[str]
-) -> CorruptRecordingError:
-    """The error naming the first cell that does not parse as a number."""
-    for lineno, cells in zip(linenos, table, strict=True):
+def _bad_cell(path: Path, lineno: int, cells: list[str], names: list[str]) -> CorruptRecordingError:
+    """The error naming the first cell of a line that does not parse as a number."""
+    for name, cell in zip(names, cells, strict=True):
         try:
-            _parse_cells(np.array(cells, dtype=np.str_))
+            _parse_cells(np.array([cell], dtype=np.str_))
         except ValueError:
-            pass
-        else:
-            continue
-        for name, cell in zip(names, cells, strict=True):
-            try:
-                _parse_cells(np.array([cell], dtype=np.str_))
-            except ValueError:
-                return fail(
-                    CorruptRecordingError,
-                    path,
-                    f"line {lineno}, column {name}: not a number: {cell.strip()[:40]!r}",
-                )
-    return fail(CorruptRecordingError, path, "a cell is not a number")
+            return fail(
+                CorruptRecordingError,
+                path,
+                f"line {lineno}, column {name}: not a number: {cell.strip()[:40]!r}",
+            )
+    return fail(CorruptRecordingError, path, f"line {lineno}: a cell is not a number")
 
 
-def read_csv_recording(path: Path) -> RawRecording:
+def _lines(text: str, start: int = 0, lineno: int = 1) -> Iterator[tuple[int, int, str]]:
+    """``(line number, end index, line)`` of ``\\n``-separated ``text`` from index ``start``.
+
+    Slices one line at a time, so a large file is never held twice.
+    """
+    pos = start
+    while pos < len(text):
+        end = text.find("\n", pos)
+        if end < 0:
+            end = len(text)
+        yield lineno, end, text[pos:end]
+        pos = end + 1
+        lineno += 1
+
+
+def _data_lines(text: str, start: int, lineno: int) -> Iterator[tuple[int, str]]:
+    """``(line number, stripped line)`` of the frame lines from index ``start``."""
+    for number, _, line in _lines(text, start, lineno):
+        stripped = line.strip()
+        if stripped and not stripped.startswith(_COMMENT):
+            yield number, stripped
+
+
+def read_csv_recording(path: Path, budget: ReadBudget | None = None) -> RawRecording:
     """Read the fields of a CSV recording, unchecked.
 
     Parameters
     ----------
     path : pathlib.Path
         An existing, non-empty file.
+    budget : ReadBudget, optional
+        Charged with the size of the parsed table before it is allocated;
+        default a fresh budget at :func:`~taxelkit.io.limits.max_read_bytes`.
 
     Returns
     -------
@@ -208,6 +227,8 @@ def read_csv_recording(path: Path) -> RawRecording:
         row, a cell that is not a number, or an unknown ``# dtype:``.
     EmptyRecordingError
         If the file has a header but no frame lines.
+    FileTooLargeError
+        If the table would exceed the read limit.
     """
     try:
         data = path.read_bytes()
@@ -219,10 +240,12 @@ def read_csv_recording(path: Path) -> RawRecording:
         raise fail(
             CorruptRecordingError, path, f"not UTF-8 text (bad byte at offset {exc.start})"
         ) from None
-    lines = text.splitlines()
+    del data
+    text = text.replace("\r\n", "\n").replace("\r", "\n")
     meta: dict[str, str] = {}
-    header_index = -1
-    for index, line in enumerate(lines):
+    header: str | None = None
+    start = header_lineno = 0
+    for lineno, end, line in _lines(text):
         stripped = line.strip()
         if not stripped:
             continue
@@ -231,40 +254,39 @@ def read_csv_recording(path: Path) -> RawRecording:
             if colon:
                 meta[key.strip()] = value.strip()
             continue
-        header_index = index
+        header, start, header_lineno = stripped, end + 1, lineno
         break
-    if header_index < 0:
+    if header is None:
         raise fail(
             CorruptRecordingError,
             path,
             f"no CSV header line (expected '{TIME_COLUMN},r0c0,r0c1,...')",
         )
-    names = [n.strip().strip('"') for n in lines[header_index].split(",")]
+    names = [n.strip().strip('"') for n in header.split(",")]
     rows, cols = _shape_from_header(path, names)
-
-    table: list[list[str]] = []
-    linenos: list[int] = []
-    for index in range(header_index + 1, len(lines)):
-        stripped = lines[index].strip()
-        if not stripped or stripped.startswith(_COMMENT):
-            continue
+    n_frames = sum(1 for _ in _data_lines(text, start, header_lineno + 1))
+    if n_frames == 0:
+        raise fail(EmptyRecordingError, path, "holds zero frames (a CSV header and no data lines)")
+    # Charged before the values are allocated: the parsed table and its copy
+    # into a TactileFrames.
+    (budget or ReadBudget(path)).take(
+        "the CSV table", (2, n_frames, len(names)), np.dtype(np.float64)
+    )
+    values = np.empty((n_frames, len(names)), dtype=np.float64)
+    for k, (lineno, stripped) in enumerate(_data_lines(text, start, header_lineno + 1)):
         cells = stripped.split(",")
         if len(cells) != len(names):
             raise fail(
                 CorruptRecordingError,
                 path,
-                f"line {index + 1} has {len(cells)} cells, expected {len(names)} "
+                f"line {lineno} has {len(cells)} cells, expected {len(names)} "
                 f"({TIME_COLUMN} and {rows}x{cols} taxels)",
             )
-        table.append(cells)
-        linenos.append(index + 1)
-    if not table:
-        raise fail(EmptyRecordingError, path, "holds zero frames (a CSV header and no data lines)")
-
-    try:
-        values = _parse_cells(np.array(table, dtype=np.str_))
-    except ValueError:
-        raise _first_bad_cell(path, table, linenos, names) from None
+        try:
+            values[k] = _parse_cells(np.array(cells, dtype=np.str_))
+        except ValueError:
+            raise _bad_cell(path, lineno, cells, names) from None
+    del text
 
     dtype_name = meta.get("dtype")
     if dtype_name is not None and dtype_name not in CSV_DTYPES:
@@ -274,7 +296,7 @@ def read_csv_recording(path: Path) -> RawRecording:
             f"unsupported '# dtype: {dtype_name}' comment; expected one of {', '.join(CSV_DTYPES)}",
         )
     contact = dtype_name == "bool" or meta.get("units") == CONTACT_UNITS
-    frames: NDArray[Any] = values[:, 1:].reshape(len(table), rows, cols)
+    frames: NDArray[Any] = values[:, 1:].reshape(n_frames, rows, cols)
     if dtype_name is not None and not contact:
         with np.errstate(over="ignore"):  # an overflow becomes Inf, rejected later
             frames = frames.astype(CSV_DTYPES[dtype_name])

@@ -25,6 +25,7 @@ from numpy.typing import NDArray
 from taxelkit.errors import (
     CorruptRecordingError,
     EmptyRecordingError,
+    FileTooLargeError,
     InputError,
     InvalidRecordingError,
     RecordingAccessError,
@@ -32,11 +33,19 @@ from taxelkit.errors import (
     TaxelkitError,
     UnsupportedFormatError,
     check_positive,
+    check_type,
 )
 from taxelkit.frames import CONTACT_UNITS, DEFAULT_PITCH_MM, TactileFrames
 from taxelkit.io._raw import RECORDING_FIELDS, RawRecording, describe_exception, fail
 from taxelkit.io.atomic import atomic_write
 from taxelkit.io.csv_format import read_csv_recording, write_csv_recording
+from taxelkit.io.limits import (
+    ReadBudget,
+    check_h5_attribute,
+    check_h5_dataset,
+    h5_node,
+    read_npz,
+)
 
 __all__ = [
     "BAG_SUFFIXES",
@@ -107,19 +116,10 @@ def _raw_from_fields(fields: dict[str, object], found: tuple[str, ...]) -> RawRe
 def _read_npz(path: Path, head: bytes) -> RawRecording:
     if _sniff(head) != "npz":
         raise fail(CorruptRecordingError, path, "not an .npz file (no zip archive signature)")
-    # Any failure of the zip/npy parser means a damaged file; allow_pickle=False
-    # refuses object arrays, so no code in the file is ever run.
-    try:
-        with np.load(path, allow_pickle=False) as archive:
-            found = tuple(archive.files)
-            fields: dict[str, object] = {
-                name: archive[name] for name in RECORDING_FIELDS if name in found
-            }
-    except Exception as exc:
-        raise fail(
-            CorruptRecordingError, path, f"unreadable .npz archive ({describe_exception(exc)})"
-        ) from exc
-    return _raw_from_fields(fields, found)
+    # Declared sizes are checked before allocating; object arrays are refused,
+    # so no code in the file is ever run.
+    contents = read_npz(path, RECORDING_FIELDS, what="recording")
+    return _raw_from_fields(dict(contents.arrays), contents.names)
 
 
 def _write_npz(rec: TactileFrames, path: Path) -> None:
@@ -137,29 +137,40 @@ def _write_npz(rec: TactileFrames, path: Path) -> None:
 
 
 # ----------------------------------------------------------------------------- HDF5
-def _h5_field(path: Path, root: Any, name: str, *, dataset_only: bool = False) -> object | None:
-    """A root attribute (preferred for scalars) or a root dataset, else ``None``."""
+def _h5_field(
+    path: Path, root: Any, name: str, budget: ReadBudget, *, dataset_only: bool = False
+) -> object | None:
+    """A root attribute (preferred for scalars) or a root dataset, else ``None``.
+
+    Links, external storage and virtual datasets are refused, and the declared
+    size is charged to ``budget``, before any data are read.
+    """
     if not dataset_only and name in root.attrs:
+        check_h5_attribute(path, root.attrs, name, budget)
         return root.attrs[name]  # type: ignore[no-any-return]
-    if name not in root:
+    node = h5_node(path, root, name)
+    if node is None:
         return None
-    node = root[name]
     if not isinstance(node, h5py.Dataset):
         raise fail(CorruptRecordingError, path, f"{name!r} is an HDF5 group, expected a dataset")
+    check_h5_dataset(path, name, node, budget)
     return node[()]  # type: ignore[no-any-return]
 
 
 def _read_h5(path: Path, head: bytes) -> RawRecording:
     del head  # HDF5 allows a user block before the signature; h5py finds it.
+    budget = ReadBudget(path)
     try:
         with h5py.File(path, "r") as root:
             found = tuple(root.keys()) + tuple(root.attrs.keys())
             fields = {
-                name: _h5_field(path, root, name, dataset_only=name == "frames")
+                name: _h5_field(path, root, name, budget, dataset_only=name == "frames")
                 for name in RECORDING_FIELDS
             }
     except TaxelkitError:
         raise
+    except MemoryError:
+        raise fail(FileTooLargeError, path, "not enough memory to read the file") from None
     except Exception as exc:
         # h5py reports damage as OSError, KeyError, RuntimeError, ValueError, ...
         raise fail(
@@ -431,6 +442,12 @@ def read_recording(
     ------
     InputError
         If ``pitch_mm`` is given and is not a finite number > 0.
+    FileTooLargeError
+        If the file, or the arrays it declares, exceed the read limit of
+        :mod:`taxelkit.io.limits` (checked before they are read).
+    UnsafeFileError
+        If the file points outside itself: HDF5 external storage, virtual
+        datasets, external or soft links; archive members with a path.
     RecordingNotFoundError
         If nothing exists at ``path``.
     RecordingAccessError
@@ -469,6 +486,7 @@ def read_recording(
     fmt = _format_for(p)
     if size == 0:
         raise fail(EmptyRecordingError, p, "is empty (0 bytes)")
+    ReadBudget(p).check_file_size(size)
     _check_signature(p, head, fmt)
     if fmt is _MCAP:
         return _build(_read_mcap(p, head, topic), p, override)
@@ -508,6 +526,8 @@ def write_recording(
 
     Raises
     ------
+    InputError
+        If ``rec`` is not a :class:`TactileFrames` (a bare array, say).
     UnsupportedFormatError
         If the extension is not one of :data:`RECORDING_SUFFIXES`.
     EmptyRecordingError
@@ -519,6 +539,9 @@ def write_recording(
     OutputWriteError
         If the operating system refuses the write.
     """
+    check_type(
+        "rec", rec, TactileFrames, "a TactileFrames (wrap bare arrays: TactileFrames(frames))"
+    )
     p = Path(path)
     fmt = _format_for(p)
     if rec.n_frames == 0:

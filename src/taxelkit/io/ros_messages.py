@@ -48,6 +48,7 @@ from taxelkit.errors import (
 )
 from taxelkit.frames import CONTACT_UNITS, TactileFrames
 from taxelkit.io._raw import RawRecording, describe_exception, fail
+from taxelkit.io.limits import ReadBudget
 
 if TYPE_CHECKING:
     from rosbags.typesys.store import Typestore
@@ -330,6 +331,8 @@ def raw_from_messages(
     CorruptRecordingError
         If a message cannot be decoded, has an unknown encoding, a size that
         does not match its data, or other dimensions than the first.
+    FileTooLargeError
+        If the decoded frames exceed the read limit of :mod:`taxelkit.io.limits`.
     InvalidRecordingError
         If the info message is not a JSON object.
     """
@@ -337,13 +340,22 @@ def raw_from_messages(
     info_topic = topic + INFO_SUFFIX
     frames: list[_Frame] = []
     info: dict[str, Any] = {}
+    # Every decoded frame is charged to the read limit (taxelkit.io.limits),
+    # twice: the list of frames and the stacked array built from it.
+    budget = ReadBudget(path)
     for name, log_ns, data in messages:
         if name == topic:
             msg = _deserialize(path, data, msgtype, len(frames))
             if msgtype == IMAGE_MSGTYPE:
-                frames.append(_frame_from_image(path, msg, len(frames)))
+                frame = _frame_from_image(path, msg, len(frames))
             else:
-                frames.append(_frame_from_multiarray(path, msg, len(frames), log_ns))
+                frame = _frame_from_multiarray(path, msg, len(frames), log_ns)
+            budget.take(
+                f"frame {len(frames)} of topic {topic!r}",
+                (2, *frame.taxels.shape),
+                frame.taxels.dtype,
+            )
+            frames.append(frame)
         elif name == info_topic and topics.get(info_topic) == STRING_MSGTYPE and not info:
             info = _parse_info(path, data)
     if not frames:

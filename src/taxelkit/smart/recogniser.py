@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from taxelkit.errors import InputError, check_positive
+from taxelkit.errors import InputError, check_positive, check_shape, check_threshold
 from taxelkit.frames import DEFAULT_FRAME_INTERVAL_S, TactileFrames
 from taxelkit.smart.cleaning import CleaningConfig, ImageCleaner, clean_images
 from taxelkit.smart.contact_classes import (
@@ -285,7 +285,7 @@ def recognise(
         if pitch_mm is None:
             raise InputError("pitch_mm is required when recording is a bare array")
         pitch = check_positive("pitch_mm", pitch_mm)
-    thr = _DEFAULT_THRESHOLD_MM if threshold is None else float(threshold)
+    thr = _DEFAULT_THRESHOLD_MM if threshold is None else check_threshold("threshold", threshold)
     images = binary_images(frames, None if frames.dtype == bool else thr)
     if cleaning is not None and images.ndim == 3:
         images = clean_images(images, t_s, config=cleaning)
@@ -362,15 +362,17 @@ class SmartSensor:
         limits: ContactLimits | None = DEFAULT_LIMITS,
         evaluate_every: int = 16,
     ) -> None:
-        rows, cols = int(shape[0]), int(shape[1])
-        if int(evaluate_every) < 1:
-            raise InputError(f"evaluate_every must be >= 1, got {evaluate_every!r}")
+        rows, cols = check_shape("shape", shape)
+        if (
+            isinstance(evaluate_every, bool)
+            or not isinstance(evaluate_every, int | np.integer)
+            or evaluate_every < 1
+        ):
+            raise InputError(f"evaluate_every must be an integer >= 1, got {evaluate_every!r}")
         self.evaluate_every = int(evaluate_every)
-        if rows < 1 or cols < 1:
-            raise InputError(f"shape must be two positive integers, got {shape!r}")
         self.shape = (rows, cols)
         self.pitch_mm = check_positive("pitch_mm", pitch_mm)
-        self.threshold = float(threshold)
+        self.threshold = check_threshold("threshold", threshold)
         self.network = network
         self.confidence = float(confidence)
         self.config = TactemeConfig() if config is None else config

@@ -24,8 +24,6 @@ from __future__ import annotations
 
 import math
 import os
-import zipfile
-import zlib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -34,11 +32,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import CorruptRecordingError, InputError, check_positive
+from taxelkit.io.limits import read_npz
 from taxelkit.world.base import Relief
 
 __all__ = [
     "HEIGHTMAP_OPTIONAL_KEYS",
     "HEIGHTMAP_REQUIRED_KEYS",
+    "MAX_HEIGHT_MM",
+    "MAX_ORIGIN_MM",
+    "MAX_PIXEL_MM",
     "HeightmapRelief",
     "heightmap_from_relief",
     "load_heightmap",
@@ -56,12 +58,16 @@ HEIGHTMAP_OPTIONAL_KEYS: tuple[str, ...] = ("x0_mm", "y0_mm")
 #: sample despite rounding.
 _EXTENT_SLACK_PIXELS = 1e-9
 
-#: First bytes of a zip archive (an ``.npz``) and of a single ``.npy`` array.
-_ZIP_MAGIC = b"PK"
-_NPY_MAGIC = b"\x93NUMPY"
+#: Largest height magnitude a heightmap may hold, mm: a relief taller than a
+#: metre is not a tactile specimen, and the bound keeps every product of
+#: heights and coordinates far from float64 overflow.
+MAX_HEIGHT_MM = 1e3
 
-#: Exceptions NumPy and zipfile raise for a damaged or non-npz file.
-_READ_ERRORS = (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error)
+#: Largest sample spacing, mm.
+MAX_PIXEL_MM = 1e3
+
+#: Largest magnitude of the map's origin coordinates, mm (a kilometre).
+MAX_ORIGIN_MM = 1e6
 
 
 def _check_scalar(name: str, value: Any) -> float:
@@ -71,8 +77,8 @@ def _check_scalar(name: str, value: Any) -> float:
             f"{name} must be a real scalar, got dtype {arr.dtype} and shape {arr.shape}"
         )
     v = float(arr)
-    if not math.isfinite(v):
-        raise InputError(f"{name} must be finite, got {v!r}")
+    if not (math.isfinite(v) and abs(v) <= MAX_ORIGIN_MM):
+        raise InputError(f"{name} must be finite and within +-{MAX_ORIGIN_MM:g} mm, got {v!r}")
     return v
 
 
@@ -119,9 +125,17 @@ class HeightmapRelief:
         if not np.all(np.isfinite(heights)):
             n_bad = int(np.count_nonzero(~np.isfinite(heights)))
             raise InputError(f"height_mm must be finite, got {n_bad} NaN/Inf value(s)")
+        peak = float(np.abs(heights).max())
+        if peak > MAX_HEIGHT_MM:
+            raise InputError(
+                f"height_mm must be within +-{MAX_HEIGHT_MM:g} mm, got a height of {peak:g} mm"
+            )
         heights.setflags(write=False)
         object.__setattr__(self, "heights_mm", heights)
-        object.__setattr__(self, "pixel_mm", check_positive("pixel_mm", self.pixel_mm))
+        pixel = check_positive("pixel_mm", self.pixel_mm)
+        if pixel > MAX_PIXEL_MM:
+            raise InputError(f"pixel_mm must be <= {MAX_PIXEL_MM:g} mm, got {pixel!r}")
+        object.__setattr__(self, "pixel_mm", pixel)
         object.__setattr__(self, "x0_mm", _check_scalar("x0_mm", self.x0_mm))
         object.__setattr__(self, "y0_mm", _check_scalar("y0_mm", self.y0_mm))
 
@@ -326,48 +340,31 @@ def load_heightmap(path: str | os.PathLike[str]) -> HeightmapRelief:
     Raises
     ------
     InputError
-        If the file does not exist, or an array has the wrong shape or type,
-        holds NaN/Inf, or ``pixel_mm <= 0``. The message names the file.
+        If an array has the wrong shape or type, holds NaN/Inf, a height
+        beyond :data:`MAX_HEIGHT_MM`, or ``pixel_mm`` is not in
+        ``(0, MAX_PIXEL_MM]``. The message names the file.
+    RecordingNotFoundError, RecordingAccessError
+        If the file does not exist or is not a regular file.
+    FileTooLargeError
+        If the file or its arrays exceed the read limit
+        (:func:`taxelkit.io.limits.max_read_bytes`), checked before reading.
+    UnsafeFileError
+        If an archive member name carries a path.
     CorruptRecordingError
-        If the file is not a readable ``.npz`` archive (not a zip, truncated,
-        damaged, pickled objects) or lacks a required array.
+        If the file is not a readable ``.npz`` archive (empty, not a zip, a
+        bare ``.npy``, truncated, damaged, pickled objects) or lacks a
+        required array.
     """
     p = Path(path)
-    if not p.is_file():
-        raise InputError(f"heightmap file {p} does not exist or is not a file")
-    try:
-        with p.open("rb") as fh:
-            magic = fh.read(len(_NPY_MAGIC))
-    except OSError as exc:
-        raise CorruptRecordingError(f"{p}: cannot be read ({exc.strerror})") from None
-    if magic.startswith(_NPY_MAGIC):
-        raise CorruptRecordingError(f"{p}: expected an .npz archive of named arrays, got .npy data")
-    if not magic.startswith(_ZIP_MAGIC):
-        raise CorruptRecordingError(f"{p}: not an .npz archive (no zip signature)")
-    try:
-        loaded = np.load(p, allow_pickle=False)
-    except _READ_ERRORS as exc:
-        detail = " ".join(str(exc).split())
-        raise CorruptRecordingError(f"{p}: not a readable .npz archive ({detail})") from None
-    if not isinstance(loaded, np.lib.npyio.NpzFile):  # the signatures above rule this out
-        raise CorruptRecordingError(f"{p}: expected an .npz archive of named arrays")
-    with loaded as data:
-        missing = [k for k in HEIGHTMAP_REQUIRED_KEYS if k not in data.files]
-        if missing:
-            raise CorruptRecordingError(
-                f"{p}: missing array(s) {', '.join(missing)}; a heightmap needs "
-                f"{' and '.join(HEIGHTMAP_REQUIRED_KEYS)} (optional: "
-                f"{', '.join(HEIGHTMAP_OPTIONAL_KEYS)})"
-            )
-        try:
-            arrays = {
-                k: data[k]
-                for k in (*HEIGHTMAP_REQUIRED_KEYS, *HEIGHTMAP_OPTIONAL_KEYS)
-                if k in data.files
-            }
-        except _READ_ERRORS as exc:
-            detail = " ".join(str(exc).split())
-            raise CorruptRecordingError(f"{p}: damaged array data ({detail})") from None
+    contents = read_npz(p, (*HEIGHTMAP_REQUIRED_KEYS, *HEIGHTMAP_OPTIONAL_KEYS), what="heightmap")
+    arrays = contents.arrays
+    missing = [k for k in HEIGHTMAP_REQUIRED_KEYS if k not in arrays]
+    if missing:
+        raise CorruptRecordingError(
+            f"{p}: missing array(s) {', '.join(missing)}; a heightmap needs "
+            f"{' and '.join(HEIGHTMAP_REQUIRED_KEYS)} (optional: "
+            f"{', '.join(HEIGHTMAP_OPTIONAL_KEYS)})"
+        )
     try:
         return relief_from_heightmap(
             arrays["height_mm"],

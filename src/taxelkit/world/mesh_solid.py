@@ -10,6 +10,7 @@ says otherwise.
 
 from __future__ import annotations
 
+import io
 from dataclasses import dataclass
 from os import PathLike
 from pathlib import Path
@@ -20,11 +21,14 @@ from numpy.typing import NDArray
 
 from taxelkit.errors import (
     CorruptRecordingError,
+    FileTooLargeError,
     InputError,
+    RecordingAccessError,
     UnsupportedFormatError,
     check_finite_array,
     check_positive,
 )
+from taxelkit.io.limits import open_budget
 from taxelkit.world.solids_polyhedra import PolytopeSolidMethods
 
 if TYPE_CHECKING:
@@ -195,30 +199,44 @@ def load_mesh_solid(
     Raises
     ------
     InputError
-        If the file does not exist, or the mesh is not a closed convex body
-        (and ``convex_hull`` is false).
+        If the mesh is not a closed convex body (and ``convex_hull`` is
+        false). The message names the file.
+    RecordingNotFoundError, RecordingAccessError
+        If the file does not exist or is not a regular file.
+    FileTooLargeError
+        If the file is over the read limit (:mod:`taxelkit.io.limits`).
     UnsupportedFormatError
         If the suffix is not one of :data:`MESH_SUFFIXES`.
     CorruptRecordingError
         If the file cannot be parsed or holds no triangles.
     """
     p = Path(path)
-    if not p.is_file():
-        raise InputError(f"mesh file not found: {p}")
     suffix = p.suffix.lower().lstrip(".")
     if suffix not in MESH_SUFFIXES:
         raise UnsupportedFormatError(
             f"cannot read {p.name}: mesh suffix must be one of {', '.join(MESH_SUFFIXES)}"
         )
+    open_budget(p, what="mesh")
+    try:
+        data = p.read_bytes()
+    except OSError as exc:
+        raise RecordingAccessError(f"{p}: cannot read ({exc.strerror or exc})") from None
     import trimesh
 
     try:
-        mesh = trimesh.load(p, force="mesh")
+        # From bytes, with no resolver: material, texture and buffer files that
+        # the mesh names (OBJ mtllib, glTF uri) are never opened.
+        mesh = trimesh.load(io.BytesIO(data), file_type=suffix, force="mesh", resolver=None)
+    except MemoryError:
+        raise FileTooLargeError(f"{p}: not enough memory to read the mesh") from None
     except Exception as exc:  # trimesh raises many kinds on damaged files
-        first_line = (str(exc).splitlines() or [""])[0]
+        first_line = " ".join((str(exc).splitlines() or [""])[0].split())[:120]
         raise CorruptRecordingError(
-            f"cannot read mesh file {p.name}: {type(exc).__name__}: {first_line}"
+            f"{p}: cannot read mesh file: {type(exc).__name__}: {first_line}"
         ) from None
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
-        raise CorruptRecordingError(f"mesh file {p.name} holds no triangles")
-    return MeshSolid.from_trimesh(mesh, convex_hull=convex_hull, scale=scale, label=p.name)
+        raise CorruptRecordingError(f"{p}: mesh file holds no triangles")
+    try:
+        return MeshSolid.from_trimesh(mesh, convex_hull=convex_hull, scale=scale, label=p.name)
+    except InputError as exc:
+        raise InputError(f"{p}: {exc}") from None

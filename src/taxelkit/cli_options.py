@@ -1,0 +1,190 @@
+"""Option types shared by every command: one rule per kind of value.
+
+Each numeric option of the CLI is parsed by one of these types, so the same
+option obeys the same rule in every command (``--seed`` in ``simulate``,
+``trace``, ``memorise``, ``reproduce``, ``demo``; ``--threshold`` in ``show``
+and ``recognize``; ...). A bad value ends as one line on stderr and exit
+code 2, naming the option, the rule and the value.
+
+The bounds are physical sanity limits, not precision limits: they keep every
+product of inputs far from float64 overflow, so that no numpy warning can
+precede the error they would announce.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from typing import TYPE_CHECKING, Any
+
+import click
+
+if TYPE_CHECKING:  # click >= 8.5 types ParamType by its value and input types
+    _ParamType = click.ParamType[Any, Any]
+else:
+    _ParamType = click.ParamType
+
+__all__ = [
+    "ANGLE_DEG",
+    "COORDINATE_MM",
+    "DURATION_S",
+    "EULER_DEG",
+    "INDENT_MM",
+    "LENGTH_MM",
+    "MAX_ANGLE_DEG",
+    "MAX_COORDINATE_MM",
+    "MAX_MB",
+    "MAX_SEED",
+    "MAX_THRESHOLD",
+    "PITCH_MM",
+    "RATE_HZ",
+    "SCALE",
+    "SEED",
+    "STEP_HEIGHT_UM",
+    "THRESHOLD",
+    "TIMEOUT_S",
+    "FiniteFloat",
+    "Numbers",
+    "Seed",
+]
+
+#: Largest seed: NumPy seeds are unsigned 64-bit; the CLI keeps to signed
+#: 64-bit so that every seed is also a valid JSON and C ``int64`` value.
+MAX_SEED = 2**63 - 1
+#: A seed as typed: ASCII decimal digits with an optional sign (no ``1_000``,
+#: no other scripts' digits, which Python's ``int`` would accept).
+_DECIMAL_INTEGER = re.compile(r"[+-]?[0-9]+")
+#: Largest magnitude of a position or offset, mm (10 m: far beyond any specimen).
+MAX_COORDINATE_MM = 1e4
+#: Largest magnitude of an angle, degrees (ten turns).
+MAX_ANGLE_DEG = 3600.0
+#: Largest contact threshold, in the frames' units (mm, or counts up to 65535).
+MAX_THRESHOLD = 1e6
+
+
+class Seed(_ParamType):
+    """A seed: an integer from 0 to :data:`MAX_SEED`."""
+
+    name = "seed"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> int:
+        """Parse ``value``; ``self.fail`` (a usage error) if it is not a valid seed."""
+        if isinstance(value, int) and not isinstance(value, bool):
+            number = value
+        else:
+            text = str(value).strip()
+            if not _DECIMAL_INTEGER.fullmatch(text):
+                self.fail(f"{value!r} is not an integer seed (0 to 2**63-1)", param, ctx)
+            number = int(text, 10)
+        if not 0 <= number <= MAX_SEED:
+            self.fail(f"{value!r} is not in 0 to 2**63-1", param, ctx)
+        return number
+
+
+def _parse_float(text: str) -> float | None:
+    try:
+        return float(text)
+    except ValueError:
+        return None
+
+
+class FiniteFloat(_ParamType):
+    """A finite number in ``[low, high]`` (``(low, high]`` with ``low_open``).
+
+    Parameters
+    ----------
+    low, high : float
+        Bounds.
+    low_open : bool
+        Exclude ``low`` (for quantities that must be > 0).
+    """
+
+    name = "number"
+
+    def __init__(self, low: float, high: float, *, low_open: bool = False) -> None:
+        self.low, self.high, self.low_open = float(low), float(high), low_open
+
+    def _rule(self) -> str:
+        left = "(" if self.low_open else "["
+        return f"a finite number in {left}{self.low:g}, {self.high:g}]"
+
+    def convert(
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> float:
+        """Parse ``value``; ``self.fail`` if it is not finite or out of range."""
+        number = _parse_float(str(value)) if not isinstance(value, float | int) else float(value)
+        if number is None or not math.isfinite(number):
+            self.fail(f"{value!r} is not {self._rule()}", param, ctx)
+        below = number <= self.low if self.low_open else number < self.low
+        if below or number > self.high:
+            self.fail(f"{value!r} is not {self._rule()}", param, ctx)
+        return number
+
+
+class Numbers(_ParamType):
+    """``count`` comma-separated finite numbers, each within ``+-bound``.
+
+    Parameters
+    ----------
+    count : int
+        How many numbers (2 for ``X,Y``, 3 for ``RX,RY,RZ``).
+    bound : float
+        Largest magnitude of each number.
+    metavar : str
+        How the value is written in messages, e.g. ``"X,Y"``.
+    """
+
+    name = "numbers"
+
+    def __init__(self, count: int, bound: float, metavar: str) -> None:
+        self.count, self.bound, self.metavar = count, float(bound), metavar
+
+    def get_metavar(self, param: click.Parameter, ctx: click.Context | None = None) -> str:
+        """The metavar shown by ``--help``."""
+        return self.metavar
+
+    def convert(
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> tuple[float, ...]:
+        """Parse ``"a,b[,c]"``; ``self.fail`` on a wrong count or a bad number."""
+        if isinstance(value, tuple):
+            return value
+        parts = str(value).split(",")
+        numbers = [_parse_float(p) for p in parts]
+        rule = f"{self.count} finite numbers {self.metavar} within +-{self.bound:g}"
+        if len(parts) != self.count or any(n is None for n in numbers):
+            self.fail(f"{value!r} is not {rule}", param, ctx)
+        checked = tuple(float(n) for n in numbers if n is not None)
+        if not all(math.isfinite(n) and abs(n) <= self.bound for n in checked):
+            self.fail(f"{value!r} is not {rule}", param, ctx)
+        return checked
+
+
+#: ``--seed`` everywhere.
+SEED = Seed()
+#: Contact thresholds (``show --threshold``, ``recognize --threshold``).
+THRESHOLD = FiniteFloat(0.0, MAX_THRESHOLD)
+#: Single angles (``--rotate-deg``, ``--yaw-deg``).
+ANGLE_DEG = FiniteFloat(-MAX_ANGLE_DEG, MAX_ANGLE_DEG)
+#: ``X,Y`` positions and offsets, mm.
+COORDINATE_MM = Numbers(2, MAX_COORDINATE_MM, "X,Y")
+#: ``RX,RY,RZ`` rotations, degrees.
+EULER_DEG = Numbers(3, MAX_ANGLE_DEG, "RX,RY,RZ")
+#: Lengths that must be > 0, mm (diameters, 10 m at most).
+LENGTH_MM = FiniteFloat(0.0, MAX_COORDINATE_MM, low_open=True)
+#: Taxel pitch, mm.
+PITCH_MM = FiniteFloat(0.0, 1e3, low_open=True)
+#: Step heights of relief specimens, um (> 0, 10 cm at most).
+STEP_HEIGHT_UM = FiniteFloat(0.0, 1e5, low_open=True)
+#: Indentation depths, mm (0 to 100).
+INDENT_MM = FiniteFloat(0.0, 100.0)
+#: Scale factors (mm per file unit, or size multipliers).
+SCALE = FiniteFloat(0.0, 1e4, low_open=True)
+#: Frame rates, Hz.
+RATE_HZ = FiniteFloat(0.0, 1e6, low_open=True)
+#: Time-outs, s.
+TIMEOUT_S = FiniteFloat(0.0, 1e6, low_open=True)
+#: Durations that may be 0, s.
+DURATION_S = FiniteFloat(0.0, 1e6)
+#: The read limit of ``taxelkit --max-mb``, MiB (see :mod:`taxelkit.io.limits`).
+MAX_MB = FiniteFloat(0.0, 1e7, low_open=True)

@@ -1,0 +1,551 @@
+"""One reader discipline for every file taxelkit opens: limits, then allocation.
+
+Recordings, heightmaps, memories, meshes (and any future format) come from
+other people and programs. Every reader goes through the same steps, which
+this module provides so that new readers can call them too:
+
+1. **Look before allocating.** A :class:`ReadBudget` is charged with the size
+   of the file on disk and with the size every array *declares* (the ``.npy``
+   header of an ``.npz`` member, the shape and dtype of an HDF5 dataset or
+   attribute) before the array is read. Going over the limit raises
+   :class:`~taxelkit.errors.FileTooLargeError`.
+2. **Stay inside the file.** Archive members whose names carry a folder path,
+   HDF5 external raw storage, virtual datasets, external and soft links are
+   refused with :class:`~taxelkit.errors.UnsafeFileError`; nothing they name
+   is opened.
+3. **One typed error, one line.** Every library exception (``BadZipFile``,
+   ``zlib.error``, ``EOFError``, ``OSError``, ``ValueError``, h5py errors,
+   ``MemoryError``, ...) becomes a :class:`~taxelkit.errors.RecordingError`
+   whose message starts with the file's path (:func:`~taxelkit.io._raw.fail`).
+   Object arrays are refused, never unpickled.
+
+The limit
+---------
+:data:`DEFAULT_MAX_MB` MiB of data per file (on disk, and declared arrays in
+memory). Raise it for one command with ``taxelkit --max-mb N ...``, for a
+shell with the environment variable :data:`MAX_MB_ENV` (``TAXELKIT_MAX_MB``),
+or in Python with ``with read_limit(N): ...``. See ``docs/security.md``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import os
+import zipfile
+from collections.abc import Iterable, Iterator, Mapping
+from contextvars import ContextVar
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import IO, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.errors import (
+    CorruptRecordingError,
+    FileTooLargeError,
+    InputError,
+    RecordingAccessError,
+    RecordingNotFoundError,
+    TaxelkitError,
+    UnsafeFileError,
+)
+from taxelkit.io._raw import describe_exception, fail
+
+__all__ = [
+    "DEFAULT_MAX_MB",
+    "MAX_MB_ENV",
+    "MAX_NPZ_MEMBERS",
+    "ReadBudget",
+    "check_h5_attribute",
+    "check_h5_dataset",
+    "h5_node",
+    "max_read_bytes",
+    "open_budget",
+    "read_limit",
+    "read_npz",
+]
+
+#: Default read limit, MiB per file: the file on disk, and the arrays it
+#: declares together. 48 MiB holds about 49,000 frames of a 16 x 16 float32
+#: array (3.4 minutes at 240 Hz); reading a file at the limit (the array, the
+#: validated copy, the interpreter) peaks under 200 MB.
+DEFAULT_MAX_MB = 48.0
+#: Bytes charged per element of an integer array: readers turn integer frames
+#: into float64.
+_INTEGER_CHARGE_BYTES = 8
+#: Environment variable that replaces :data:`DEFAULT_MAX_MB` (a number of MiB).
+MAX_MB_ENV = "TAXELKIT_MAX_MB"
+#: Most members an ``.npz`` archive may hold (a recording holds 5).
+MAX_NPZ_MEMBERS = 64
+#: Largest ``.npy`` header read from an archive member, bytes (NumPy's own default).
+MAX_NPY_HEADER_BYTES = 10_000
+#: Bytes in a MiB.
+_MIB = 1 << 20
+#: The read limit set by :func:`read_limit`, if any (it wins over the environment).
+_LIMIT_MB: ContextVar[float | None] = ContextVar("taxelkit_read_limit_mb", default=None)
+#: How to raise the limit, for messages.
+_HOW_TO_RAISE = f"raise the limit with --max-mb or {MAX_MB_ENV}"
+
+
+def _check_mb(value: object, where: str) -> float:
+    try:
+        mb = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise InputError(f"{where} must be a number of MiB > 0, got {value!r}") from None
+    if not (math.isfinite(mb) and mb > 0):
+        raise InputError(f"{where} must be a finite number of MiB > 0, got {value!r}")
+    return mb
+
+
+def max_read_bytes() -> int:
+    """The read limit in force, bytes.
+
+    Returns
+    -------
+    int
+        From :func:`read_limit` if one is active, else from the environment
+        variable :data:`MAX_MB_ENV`, else :data:`DEFAULT_MAX_MB` MiB.
+
+    Raises
+    ------
+    InputError
+        If :data:`MAX_MB_ENV` is set to something other than a number > 0.
+    """
+    mb = _LIMIT_MB.get()
+    if mb is None:
+        env = os.environ.get(MAX_MB_ENV)
+        mb = DEFAULT_MAX_MB if env is None or not env.strip() else _check_mb(env, MAX_MB_ENV)
+    return int(mb * _MIB)
+
+
+@contextlib.contextmanager
+def read_limit(max_mb: float) -> Iterator[None]:
+    """Set the read limit for the readers called inside the ``with`` block.
+
+    Parameters
+    ----------
+    max_mb : float
+        MiB per file, > 0.
+
+    Raises
+    ------
+    InputError
+        If ``max_mb`` is not a finite number > 0.
+
+    Examples
+    --------
+    >>> with read_limit(1024):
+    ...     max_read_bytes() == 1024 * 2**20
+    True
+    """
+    token = _LIMIT_MB.set(_check_mb(max_mb, "max_mb"))
+    try:
+        yield
+    finally:
+        _LIMIT_MB.reset(token)
+
+
+def _mb(nbytes: int) -> str:
+    return f"{nbytes / _MIB:.4g} MiB"
+
+
+@dataclass
+class ReadBudget:
+    """Bytes a reader may still take from one file.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file, named in every message.
+    limit : int, optional
+        Bytes; default :func:`max_read_bytes`.
+
+    Examples
+    --------
+    >>> budget = ReadBudget(Path("run.npz"), limit=1000)
+    >>> budget.take("frames", (10, 10), np.dtype(np.float64))
+    >>> budget.used
+    800
+    """
+
+    path: Path
+    limit: int = field(default_factory=max_read_bytes)
+    used: int = 0
+
+    def check_file_size(self, size: int) -> None:
+        """Refuse a file larger on disk than the limit."""
+        if size > self.limit:
+            raise fail(
+                FileTooLargeError,
+                self.path,
+                f"the file has {_mb(size)}, over the read limit of {_mb(self.limit)}; "
+                f"{_HOW_TO_RAISE}",
+            )
+
+    def check_block(self, what: str, nbytes: int) -> None:
+        """Refuse one block (a compressed chunk, a buffer) that alone exceeds the limit.
+
+        Unlike :meth:`take`, nothing is charged: the block is freed once decoded.
+
+        Raises
+        ------
+        FileTooLargeError
+            If ``nbytes`` exceeds the limit.
+        """
+        if nbytes > self.limit:
+            raise fail(
+                FileTooLargeError,
+                self.path,
+                f"{what} declares {_mb(nbytes)}, over the read limit of {_mb(self.limit)}; "
+                f"{_HOW_TO_RAISE}",
+            )
+
+    def take(self, what: str, shape: tuple[int, ...], dtype: np.dtype[Any]) -> None:
+        """Charge an array's declared size before it is read.
+
+        Parameters
+        ----------
+        what : str
+            The array's name, for the message.
+        shape : tuple of int
+            Declared shape.
+        dtype : numpy.dtype
+            Declared dtype. Integer elements count as 8 bytes, the float64
+            they become.
+
+        Raises
+        ------
+        FileTooLargeError
+            If the arrays charged so far exceed the limit.
+        """
+        itemsize = _INTEGER_CHARGE_BYTES if dtype.kind in "iu" else int(dtype.itemsize)
+        nbytes = math.prod(int(n) for n in shape) * max(itemsize, 1)
+        self.used += nbytes
+        if self.used > self.limit:
+            total = "" if nbytes == self.used else f" ({_mb(self.used)} with the arrays before)"
+            raise fail(
+                FileTooLargeError,
+                self.path,
+                f"{what} declares shape {tuple(shape)} of {dtype} ({_mb(nbytes)}){total}, "
+                f"over the read limit of {_mb(self.limit)}; {_HOW_TO_RAISE}",
+            )
+
+
+def open_budget(path: Path, *, what: str) -> ReadBudget:
+    """Check that ``path`` is a non-empty regular file within the limit; its budget.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    what : str
+        What the file should be (``"heightmap"``, ``"memory"``), for messages.
+
+    Raises
+    ------
+    RecordingNotFoundError, RecordingAccessError, FileTooLargeError
+    CorruptRecordingError
+        If the file has 0 bytes.
+    """
+    try:
+        info = path.stat()
+    except FileNotFoundError:
+        raise fail(RecordingNotFoundError, path, f"no such {what} file") from None
+    except (OSError, ValueError) as exc:
+        raise fail(
+            RecordingAccessError, path, f"cannot access ({describe_exception(exc)})"
+        ) from None
+    if not path.is_file():
+        raise fail(RecordingAccessError, path, f"is not a regular file; expected a {what} file")
+    if info.st_size == 0:
+        raise fail(CorruptRecordingError, path, f"is empty (0 bytes); expected a {what} file")
+    budget = ReadBudget(path)
+    budget.check_file_size(info.st_size)
+    return budget
+
+
+# ----------------------------------------------------------------------------- npz
+@dataclass(frozen=True)
+class _Member:
+    info: zipfile.ZipInfo
+    shape: tuple[int, ...]
+    dtype: np.dtype[Any]
+
+
+def _read_header(path: Path, name: str, fh: IO[bytes]) -> tuple[tuple[int, ...], np.dtype[Any]]:
+    version = np.lib.format.read_magic(fh)
+    if version == (1, 0):
+        shape, _, dtype = np.lib.format.read_array_header_1_0(fh, MAX_NPY_HEADER_BYTES)
+    elif version == (2, 0):
+        shape, _, dtype = np.lib.format.read_array_header_2_0(fh, MAX_NPY_HEADER_BYTES)
+    else:
+        raise fail(
+            CorruptRecordingError,
+            path,
+            f"array {name!r} uses .npy format version {version}; expected 1.0 or 2.0",
+        )
+    if dtype.hasobject:
+        raise fail(
+            CorruptRecordingError,
+            path,
+            f"array {name!r} holds Python objects (a pickle), which taxelkit never loads",
+        )
+    if dtype.fields is not None or dtype.kind not in "biufcUS":
+        raise fail(CorruptRecordingError, path, f"array {name!r} has unsupported dtype {dtype}")
+    return tuple(int(n) for n in shape), dtype
+
+
+def _members(path: Path, archive: zipfile.ZipFile) -> dict[str, zipfile.ZipInfo]:
+    infos = archive.infolist()
+    if len(infos) > MAX_NPZ_MEMBERS:
+        raise fail(
+            CorruptRecordingError,
+            path,
+            f"the archive holds {len(infos)} members; an .npz file taxelkit reads holds at "
+            f"most {MAX_NPZ_MEMBERS}",
+        )
+    out: dict[str, zipfile.ZipInfo] = {}
+    for info in infos:
+        name = info.filename
+        if "/" in name or "\\" in name or name.startswith(".") or ":" in name:
+            raise fail(
+                UnsafeFileError,
+                path,
+                f"archive member {name[:60]!r} has a path; an .npz holds only top-level "
+                f"NAME.npy arrays",
+            )
+        key = name.removesuffix(".npy")
+        if key in out:
+            raise fail(CorruptRecordingError, path, f"archive holds {key!r} twice")
+        out[key] = info
+    return out
+
+
+@dataclass(frozen=True)
+class NpzContents:
+    """What :func:`read_npz` read.
+
+    Parameters
+    ----------
+    arrays : mapping of str to ndarray
+        The requested arrays the file holds.
+    names : tuple of str
+        Names of every array in the archive, in stored order.
+    """
+
+    arrays: Mapping[str, NDArray[Any]]
+    names: tuple[str, ...]
+
+
+def read_npz(path: Path, names: Iterable[str], *, what: str) -> NpzContents:
+    """Read named arrays from an ``.npz`` file under the read limit.
+
+    The sizes that the ``.npy`` headers of the requested members declare are
+    checked (against the member's stored size and the read limit) before any
+    array is allocated; object arrays are refused without unpickling.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    names : iterable of str
+        Arrays to read; absent ones are left out of the result.
+    what : str
+        What the file should be (``"recording"``, ``"heightmap"``,
+        ``"memory"``), for messages.
+
+    Returns
+    -------
+    NpzContents
+
+    Raises
+    ------
+    RecordingNotFoundError, RecordingAccessError
+        If the path is missing or not a regular file.
+    FileTooLargeError
+        If the file or its requested arrays exceed :func:`max_read_bytes`.
+    UnsafeFileError
+        If an archive member name carries a path.
+    CorruptRecordingError
+        If the file is empty, not a zip archive (a bare ``.npy`` included), is
+        truncated or damaged, or an array is an object array, of an
+        unsupported dtype, or larger than its stored bytes.
+    """
+    budget = open_budget(path, what=what)
+    try:
+        with path.open("rb") as fh:
+            magic = fh.read(6)
+    except OSError as exc:
+        raise fail(RecordingAccessError, path, f"cannot open ({describe_exception(exc)})") from None
+    if magic.startswith(b"\x93NUMPY"):
+        raise fail(
+            CorruptRecordingError,
+            path,
+            f"holds a single .npy array, not an .npz archive of named arrays as a {what} "
+            f"file must; save it with numpy.savez(path, name=array, ...)",
+        )
+    if not magic.startswith(b"PK"):
+        raise fail(CorruptRecordingError, path, f"not an .npz {what} file (no zip signature)")
+    try:
+        with zipfile.ZipFile(path) as archive:
+            members = _members(path, archive)
+            wanted = [n for n in dict.fromkeys(names) if n in members]
+            headers: dict[str, _Member] = {}
+            for name in wanted:
+                info = members[name]
+                with archive.open(info) as fh:
+                    shape, dtype = _read_header(path, name, fh)
+                    stored = info.file_size - fh.tell()
+                declared = math.prod(shape) * dtype.itemsize
+                if declared > stored:
+                    raise fail(
+                        CorruptRecordingError,
+                        path,
+                        f"array {name!r} declares shape {shape} of {dtype} "
+                        f"({declared} bytes) but stores {max(stored, 0)} bytes",
+                    )
+                budget.take(name, shape, dtype)
+                headers[name] = _Member(info, shape, dtype)
+            arrays: dict[str, NDArray[Any]] = {}
+            for name, member in headers.items():
+                with archive.open(member.info) as fh:
+                    arrays[name] = np.lib.format.read_array(
+                        fh, allow_pickle=False, max_header_size=MAX_NPY_HEADER_BYTES
+                    )
+    except TaxelkitError:
+        raise
+    except MemoryError:
+        raise fail(
+            FileTooLargeError, path, f"not enough memory to read the file; {_HOW_TO_RAISE}"
+        ) from None
+    except Exception as exc:  # zipfile, zlib and numpy report damage in many ways
+        raise fail(
+            CorruptRecordingError,
+            path,
+            f"unreadable .npz {what} file ({describe_exception(exc)})",
+        ) from None
+    return NpzContents(arrays, tuple(members))
+
+
+# ----------------------------------------------------------------------------- HDF5
+def h5_node(path: Path, group: Any, name: str) -> Any | None:
+    """The object ``group[name]`` if it is a hard link inside the file, else ``None`` if absent.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file, for messages.
+    group : h5py.Group
+        An open group (or file).
+    name : str
+        A member name.
+
+    Raises
+    ------
+    UnsafeFileError
+        If ``name`` is an external link or a soft link: neither is followed,
+        so no other file (or other part of this one) is opened through it.
+    """
+    import h5py
+
+    link = group.get(name, getlink=True)
+    if link is None:
+        return None
+    if isinstance(link, h5py.ExternalLink):
+        raise fail(
+            UnsafeFileError,
+            path,
+            f"{name!r} is an external link to {link.filename!r}; taxelkit reads no other file",
+        )
+    if isinstance(link, h5py.SoftLink):
+        raise fail(
+            UnsafeFileError,
+            path,
+            f"{name!r} is a soft link to {link.path!r}; links are not followed",
+        )
+    return group[name]
+
+
+def check_h5_dataset(path: Path, name: str, dataset: Any, budget: ReadBudget) -> None:
+    """Refuse a dataset stored outside the file or too large, before reading it.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file, for messages.
+    name : str
+        The dataset's name.
+    dataset : h5py.Dataset
+        The open dataset; its data are not read.
+    budget : ReadBudget
+        Charged with the declared size.
+
+    Raises
+    ------
+    UnsafeFileError
+        If the raw data live in external files or the dataset is virtual.
+    CorruptRecordingError
+        If the dtype is variable-length (other than one text value) or compound.
+    FileTooLargeError
+        If the declared size exceeds the budget.
+    """
+    import h5py
+
+    if dataset.external:
+        files = ", ".join(repr(str(e[0])) for e in dataset.external[:3])
+        raise fail(
+            UnsafeFileError,
+            path,
+            f"dataset {name!r} keeps its data in external file(s) {files}; "
+            f"taxelkit reads no other file",
+        )
+    if dataset.is_virtual:
+        raise fail(
+            UnsafeFileError,
+            path,
+            f"dataset {name!r} is a virtual dataset (data mapped from other files); "
+            f"taxelkit reads no other file",
+        )
+    _check_h5_type(path, f"dataset {name!r}", dataset.dtype, dataset.shape, h5py)
+    budget.take(name, dataset.shape or (), dataset.dtype)
+
+
+def check_h5_attribute(path: Path, attrs: Any, name: str, budget: ReadBudget) -> None:
+    """Refuse an attribute of unsupported type or too large, before reading it.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file, for messages.
+    attrs : h5py.AttributeManager
+        The attributes of a group or dataset.
+    name : str
+        The attribute's name.
+    budget : ReadBudget
+        Charged with the declared size.
+    """
+    import h5py
+
+    aid = attrs.get_id(name)
+    dtype = aid.dtype
+    shape = aid.shape or ()
+    _check_h5_type(path, f"attribute {name!r}", dtype, shape, h5py)
+    budget.take(name, shape, dtype)
+
+
+def _check_h5_type(
+    path: Path, what: str, dtype: np.dtype[Any], shape: tuple[int, ...] | None, h5py: Any
+) -> None:
+    size = 0 if shape is None else math.prod(shape)
+    if h5py.check_string_dtype(dtype) is not None and dtype.kind == "O":
+        if size > 1:
+            raise fail(
+                CorruptRecordingError,
+                path,
+                f"{what} holds {size} variable-length strings; expected one text value",
+            )
+        return
+    if dtype.hasobject or dtype.fields is not None or dtype.kind not in "biufcSU":
+        raise fail(CorruptRecordingError, path, f"{what} has unsupported HDF5 type {dtype}")
