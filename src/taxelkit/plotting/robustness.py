@@ -32,7 +32,7 @@ def plot_robustness(result: Any) -> Figure:
         figsize=(1.0 + 0.42 * len(rates) * len(objects), 1.2 + 2.6 * len(engines)),
         squeeze=False,
     )
-    for ax, engine in zip(axes[:, 0], engines, strict=True):
+    for ax, engine in zip(axes[: len(engines), 0], engines, strict=True):
         acc = np.full((len(rows), len(rates) * len(objects)), np.nan)
         for i, fault in enumerate(rows):
             for j, rate in enumerate(rates):
