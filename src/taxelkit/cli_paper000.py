@@ -44,6 +44,12 @@ __all__ = ["memorise", "reproduce", "trace"]
     metavar="tcp://HOST:PORT",
     help="Run the robustness sweep on this Dask scheduler (needs taxelkit[dask]).",
 )
+@click.option(
+    "--readme",
+    type=click.Path(path_type=Path, dir_okay=False, exists=True),
+    default=None,
+    help="Also rewrite this README's <!-- results:NAME --> blocks from the new results.",
+)
 @click.option("--force", is_flag=True, help="Overwrite existing outputs.")
 def reproduce(
     name: str,
@@ -52,6 +58,7 @@ def reproduce(
     trials: int,
     workers: int | None,
     scheduler: str | None,
+    readme: Path | None,
     force: bool,
 ) -> None:
     """Run a registered experiment (or 'all'): writes OUT/NAME.json and OUT/NAME.png.
@@ -67,6 +74,7 @@ def reproduce(
     check_outputs([out / f"{n}{ext}" for n in names for ext in exts], force)
     out.mkdir(parents=True, exist_ok=True)
     t_all = time.perf_counter()
+    docs: dict[str, dict[str, Any]] = {}
     for n in names:
         exp = EXPERIMENTS[n]
         kwargs: dict[str, Any] = {"seed": seed}
@@ -95,6 +103,15 @@ def reproduce(
         write_text(out / f"{n}.timing.json", json.dumps(timing, indent=2) + "\n", force)
         save_figure(plot_experiment(n, result), out / f"{n}.png", force=force)
         click.echo(f"{n}: wrote {out / n}.json, .timing.json and .png in {seconds:.1f} s")
+        docs[n] = doc
+    if readme is not None:
+        from taxelkit.experiments.report import update_blocks
+
+        before = readme.read_text(encoding="utf-8")
+        after = update_blocks(before, docs)
+        if after != before:
+            write_text(readme, after, True)  # the README is rewritten in place by request
+        click.echo(f"{readme}: results blocks {'rewritten' if after != before else 'unchanged'}")
     if len(names) > 1:
         click.echo(f"all done in {time.perf_counter() - t_all:.1f} s")
 

@@ -38,16 +38,20 @@ def test_limits_batch_equals_one_frame_at_a_time() -> None:
     n = rng.integers(0, 12, 200)
     length = rng.uniform(2.0, 9.0, 200)
     elong = rng.uniform(1.0, 5.0, 200)
+    area = rng.uniform(5.0, 40.0, 200)
     lim = ContactLimits()
-    batch = apply_limits(classes, n, length, elong, lim)
+    batch = apply_limits(classes, n, length, elong, lim, area_mm2=area)
     state = LimitState()
     one = [
         apply_limits(classes[i : i + 1], n[i : i + 1], length[i : i + 1], elong[i : i + 1], lim,
-                     state=state)[0]
+                     area_mm2=area[i : i + 1], state=state)[0]
         for i in range(200)
     ]  # fmt: skip
     np.testing.assert_array_equal(batch, one)
     assert np.all(batch[(classes == LINE) & (length < 5.1)] != LINE)
+    assert np.all(
+        batch[(classes == int(ContactClass.AREA)) & (area < 20.0)] != int(ContactClass.AREA)
+    )
 
 
 def test_a_three_taxel_bar_is_no_edge_but_a_long_line_is() -> None:

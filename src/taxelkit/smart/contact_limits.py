@@ -14,6 +14,14 @@ Two things go wrong on other arrays and imperfect sensors:
   contact becomes a line at ``line_min_length_mm`` and stays one down to
   ``(1 - hysteresis)`` of it, so a line whose end taxel flickers does not
   flip (a Schmitt trigger, :func:`schmitt`).
+* **A pressed ball is not a face.** The skin around a ball pressed to a
+  2 mm contact radius lights up to 22.5 mm^2 on arrays of 1-1.5 mm pitch,
+  above the network's 20 mm^2 for an area, while the smallest face of the
+  six objects covers 28 mm^2 or more. With hysteresis again: a contact
+  becomes an area only once it has reached ``(1 + area_hysteresis) x
+  AREA_MIN_AREA_MM2`` (26 mm^2), and stays one down to the network's limit;
+  below, the network's "area" is indeterminate. A face landing from an edge
+  or a rim passes the higher mark on its way.
 * **A point covers up to four taxels at any pitch.** A contact patch smaller
   than a taxel still lights the 2 x 2 block it straddles: at 2.5 mm pitch
   that block is 25 mm^2, an "area" for the network. A compact contact of at
@@ -30,7 +38,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.errors import check_in_range, check_positive
-from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.contact_classes import AREA_MIN_AREA_MM2, ContactClass
 
 __all__ = ["ContactLimits", "LimitState", "apply_limits", "schmitt"]
 
@@ -38,6 +46,7 @@ _LINE = int(ContactClass.LINE)
 _POINT = int(ContactClass.POINT)
 _INDET = int(ContactClass.INDETERMINATE)
 _NONE = int(ContactClass.NONE)
+_AREA = int(ContactClass.AREA)
 
 
 @dataclass(frozen=True)
@@ -54,16 +63,20 @@ class ContactLimits:
         A line stays a line down to ``(1 - hysteresis) x line_min_length_mm``.
     point_max_taxels : int
         A compact contact (elongation <= 2) of at most this many taxels is a point.
+    area_hysteresis : float
+        An area must first reach ``(1 + area_hysteresis) x AREA_MIN_AREA_MM2``.
     """
 
     line_min_length_mm: float = 6.0
     hysteresis: float = 0.15
     point_max_taxels: int = 4
+    area_hysteresis: float = 0.3
 
     def __post_init__(self) -> None:
         check_positive("line_min_length_mm", self.line_min_length_mm)
         check_in_range("hysteresis", self.hysteresis, 0.0, 0.9)
         check_positive("point_max_taxels", self.point_max_taxels)
+        check_in_range("area_hysteresis", self.area_hysteresis, 0.0, 2.0)
 
 
 def schmitt(
@@ -94,9 +107,11 @@ def schmitt(
 
 @dataclass
 class LimitState:
-    """Streaming state of :func:`apply_limits`: is the current contact long enough for a line."""
+    """Streaming state of :func:`apply_limits`: is the contact long enough for a line, big
+    enough for an area."""
 
     long: bool = False
+    big: bool = False
 
 
 def _length_thresholds(limits: ContactLimits) -> tuple[float, float]:
@@ -110,6 +125,7 @@ def apply_limits(
     elongation: NDArray[np.float64],
     limits: ContactLimits,
     *,
+    area_mm2: NDArray[np.float64] | None = None,
     state: LimitState | None = None,
 ) -> NDArray[np.int8]:
     """Refine Level 2 classes with the limits (batch, or one frame at a time with ``state``).
@@ -124,6 +140,8 @@ def apply_limits(
         ``2 sqrt(3 lambda_max)``: the contact's length.
     elongation : (T,) float
     limits : ContactLimits
+    area_mm2 : (T,) float, mm^2, optional
+        Contact areas, for the area rule (skipped without them).
     state : LimitState, optional
         Carried from call to call when frames come one at a time; updated.
 
@@ -140,6 +158,14 @@ def apply_limits(
         state.long = bool(long[-1])
     out = classes.copy()
     out[(out == _LINE) & ~long] = _INDET
+    if area_mm2 is not None:
+        enter = AREA_MIN_AREA_MM2 * (1.0 + limits.area_hysteresis)
+        big = schmitt(
+            area_mm2, enter, AREA_MIN_AREA_MM2, start=False if state is None else state.big
+        )
+        if state is not None and big.size:
+            state.big = bool(big[-1])
+        out[(out == _AREA) & ~big] = _INDET
     few = (n_taxels > 0) & (n_taxels <= limits.point_max_taxels) & (elongation <= 2.0)
     out[few & (out != _LINE)] = _POINT
     return out

@@ -294,7 +294,7 @@ def recognise(
     half = _half_length(stats)
     if limits is not None:
         classes = apply_limits(
-            classes, stats.n_taxels, 2.0 * half, stats.elongation, limits
+            classes, stats.n_taxels, 2.0 * half, stats.elongation, limits, area_mm2=stats.area_mm2
         ).astype(np.int8)
 
     def track_of(idx: NDArray[np.intp]) -> SegmentTrack:
@@ -436,6 +436,7 @@ class SmartSensor:
         n, su, sv, suu, svv, suv = (self._basis_t @ b.ravel()).tolist()
         if n == 0:
             self._limit_state.long = False  # as the batch path: no contact, no length
+            self._limit_state.big = False
             return int(ContactClass.NONE), ()
         p = self.pitch_mm
         cuu = (n * suu - su * su) / (n * n) + CELL_SECOND_MOMENT
@@ -469,6 +470,7 @@ class SmartSensor:
                     np.array([2.0 * half]),
                     np.array([elong]),
                     self.limits,
+                    area_mm2=np.array([area]),
                     state=self._limit_state,
                 )[0]
             )
