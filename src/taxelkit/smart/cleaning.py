@@ -15,7 +15,9 @@ Rules, in order (:class:`CleaningConfig` holds the numbers)
        taxel for longer than ``stuck_s`` (default 1.5 s; the scripts hold
        still states 0.4-0.9 s) is therefore taken for a stuck taxel, and a
        recording that begins in contact loses the taxels on from its first
-       frame until they lift.
+       frame until they lift. A masked taxel is released once it has read off
+       for ``stuck_release_s`` (a flickering stuck taxel that drops out for a
+       frame stays masked).
     2. **Dead taxels and holes** are bridged: an off taxel whose two
        horizontal or two vertical neighbours are on is set on. A contact of a
        convex body contains the taxels between two of its taxels, so this
@@ -66,6 +68,8 @@ class CleaningConfig:
         Mask stuck taxels (rule 1).
     stuck_s : float
         Time a taxel must stay isolated and on to be taken as stuck, s.
+    stuck_release_s : float
+        Time a stuck taxel must read off to be released, s (at least 2 frames).
     bridge : bool
         Bridge dead taxels and holes (rule 2).
     persistence : bool
@@ -76,12 +80,14 @@ class CleaningConfig:
 
     stuck: bool = True
     stuck_s: float = 1.5
+    stuck_release_s: float = 0.2
     bridge: bool = True
     persistence: bool = True
     strays: bool = True
 
     def __post_init__(self) -> None:
         check_positive("stuck_s", self.stuck_s)
+        check_positive("stuck_release_s", self.stuck_release_s)
 
 
 # -- two backends with the same operations: packed rows (uint64) and bool arrays -------------
@@ -254,10 +260,16 @@ def stuck_frames_for(dt_s: float, config: CleaningConfig) -> int:
     return max(3, math.ceil(config.stuck_s / dt_s - 1e-9)) if dt_s > 0 else 3
 
 
+def release_frames_for(dt_s: float | None, config: CleaningConfig) -> int:
+    """Frames a stuck taxel must read off to be released, from the frame interval."""
+    return max(2, math.ceil(config.stuck_release_s / dt_s - 1e-9)) if dt_s else 2
+
+
 def _stuck_mask(
     ops: _Packed,
     on: NDArray[Any],
     n_stuck: int,
+    n_release: int,
     *,
     since_start: NDArray[Any] | None = None,
 ) -> NDArray[Any]:
@@ -266,7 +278,7 @@ def _stuck_mask(
     seed = start | _held(on & ~_neighbours8(ops, on), n_stuck)
     if not np.any(seed):
         return np.zeros_like(on)
-    # a seeded taxel stays masked while it stays on: per taxel, over its on-runs
+    # a seeded taxel stays masked until it has read off for n_release frames: per taxel
     frames, rest = on.shape[0], on.shape[1:]
     on_f = on.reshape(frames, -1)
     seed_f = seed.reshape(frames, -1)
@@ -277,9 +289,11 @@ def _stuck_mask(
         for bit in _bits_of(int(np.bitwise_or.reduce(seed_f[:, j])), on_f.dtype):
             o = (on_f[:, j] & bit) != 0
             s = (seed_f[:, j] & bit) != 0
-            last_off = np.maximum.accumulate(np.where(o, -1, idx))
+            last_on = np.maximum.accumulate(np.where(o, idx, -1))
+            released = (idx - last_on) >= n_release
+            last_release = np.maximum.accumulate(np.where(released, idx, -1))
             last_seed = np.maximum.accumulate(np.where(s, idx, -1))
-            masked = o & (last_seed > last_off)
+            masked = o & (last_seed > last_release)
             out[masked, j] |= bit
     return out.reshape((frames, *rest))
 
@@ -345,7 +359,11 @@ def clean_images(
     ops = _backend(img.shape[2])
     on = ops.pack(img)
     dt = float(t[1] - t[0]) if t.size > 1 else 1.0
-    stuck = _stuck_mask(ops, on, stuck_frames_for(dt, cfg)) if cfg.stuck else np.zeros_like(on)
+    stuck = (
+        _stuck_mask(ops, on, stuck_frames_for(dt, cfg), release_frames_for(dt, cfg))
+        if cfg.stuck
+        else np.zeros_like(on)
+    )
     out = _clean(ops, _bridged(ops, on, stuck, cfg), np.zeros_like(on[0]), cfg)
     return ops.unpack(out, img.shape[2])
 
@@ -371,7 +389,9 @@ class ImageCleaner:
         self._n_stuck: int | None = None
         self._since_start: NDArray[Any] | None = None
         self._held: NDArray[np.int64] | None = None  # frames each taxel has been isolated
-        self._masked: NDArray[Any] | None = None
+        self._off_run: NDArray[np.int64] | None = None
+        self._armed = np.zeros(self.shape, bool)
+        self._dt: float | None = None
         self._prev: NDArray[Any] | None = None
 
     def push(self, image: NDArray[np.bool_], t_s: float) -> NDArray[np.bool_]:
@@ -380,12 +400,12 @@ class ImageCleaner:
         on = ops.pack(np.asarray(image, dtype=bool)[None])
         if self._since_start is None:
             self._since_start = on.copy()
-            self._masked = np.zeros_like(on)
             self._prev = np.zeros_like(on)
             self._t0 = float(t_s)
         elif self._n_stuck is None:
-            self._n_stuck = stuck_frames_for(float(t_s) - (self._t0 or 0.0), cfg)
-        assert self._masked is not None and self._prev is not None
+            self._dt = float(t_s) - (self._t0 or 0.0)
+            self._n_stuck = stuck_frames_for(self._dt, cfg)
+        assert self._prev is not None
         self._since_start &= on
         stuck = np.zeros_like(on)
         if cfg.stuck:
@@ -401,12 +421,13 @@ class ImageCleaner:
         iso = self._unpacked(on & ~_neighbours8(ops, on))
         self._held = np.where(iso, (0 if self._held is None else self._held) + 1, 0)
         n = 3 if self._n_stuck is None else self._n_stuck
-        assert self._since_start is not None and self._masked is not None
+        assert self._since_start is not None
         seed = self._unpacked(self._since_start) | (self._held >= n)
         on_u = self._unpacked(on)
-        masked = on_u & (seed | self._unpacked(self._masked))
-        self._masked = ops.pack(masked[None])
-        return self._masked
+        self._off_run = np.where(on_u, 0, (0 if self._off_run is None else self._off_run) + 1)
+        released = self._off_run >= release_frames_for(self._dt, self.config)
+        self._armed = seed | (self._armed & ~released)
+        return ops.pack((on_u & self._armed)[None])
 
     def _unpacked(self, a: NDArray[Any]) -> NDArray[np.bool_]:
         out: NDArray[np.bool_] = self._ops.unpack(a, self.shape[1])[0]
