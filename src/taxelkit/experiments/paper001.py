@@ -22,6 +22,7 @@ from taxelkit.motion.scenarios import cylinder_fig3_scenario, make_scenario
 from taxelkit.sensors.presets import BONNEVILLE_16X16
 from taxelkit.smart.recogniser import Recognition, recognise
 from taxelkit.smart.tacteme_table import OBJECTS, TABLE
+from taxelkit.smart.tactemes import PAPER_LEVEL3
 
 __all__ = [
     "CylinderResult",
@@ -42,10 +43,16 @@ PAPER_ACCURACY = 0.83
 
 @dataclass(frozen=True, eq=False)
 class CylinderResult:
-    """The paper's Fig. 3 sequence on the simulated sensor."""
+    """The paper's Fig. 3 sequence on the simulated sensor.
+
+    ``recognition`` is paper 001's pipeline as printed (no cleaning, no
+    Level 2 limits, Level 3 in frames, k = 3); ``robust`` is the default
+    pipeline on the same frames.
+    """
 
     recording: TactileFrames
     recognition: Recognition
+    robust: Recognition
 
     def to_json(self) -> dict[str, Any]:
         """``classes`` per frame, ``tactemes``, ``identified``."""
@@ -57,6 +64,11 @@ class CylinderResult:
             "identified": r.identified,
             "candidates": list(r.candidates),
             "paper": {"tactemes": ["AC", "PC", "LC", "LCMP"], "identified": "cylinder"},
+            "pipeline": "faithful (paper 001 as printed)",
+            "robust": {
+                "tactemes": [{"name": n, "frame": f} for n, f in self.robust.tactemes],
+                "identified": self.robust.identified,
+            },
         }
 
 
@@ -72,10 +84,11 @@ def run_cylinder(
         rec.pitch_mm,
         sensor=rec.sensor,
     )
-    result = recognise(contact)
+    faithful = recognise(contact, cleaning=None, limits=None, config=PAPER_LEVEL3)
+    robust = recognise(contact)
     if progress is not None:
         progress(1, 1)
-    return CylinderResult(contact, result)
+    return CylinderResult(contact, faithful, robust)
 
 
 def _trial(args: tuple[str, np.random.SeedSequence]) -> tuple[str, str, int | None, list[str]]:

@@ -26,7 +26,7 @@ import importlib.util
 import os
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -38,6 +38,7 @@ from taxelkit.sensors.faults import fault_model
 from taxelkit.sensors.presets import BONNEVILLE_16X16, Sensor
 from taxelkit.smart.recogniser import recognise
 from taxelkit.smart.tacteme_table import OBJECTS
+from taxelkit.smart.tactemes import PAPER_LEVEL3
 
 __all__ = [
     "FAULTS",
@@ -103,6 +104,8 @@ class TrialOutcome:
     identified : str or None
         The recogniser's verdict (``"unknown"``, an object, or None: undecided).
     candidates : tuple of str
+    faithful : str or None
+        The verdict of paper 001's pipeline as printed on the same frames.
     """
 
     engine: str
@@ -113,6 +116,7 @@ class TrialOutcome:
     identified: str | None
     candidates: tuple[str, ...]
     array: str = MAIN_ARRAY
+    faithful: str | None = None
 
     @property
     def correct(self) -> bool:
@@ -175,10 +179,13 @@ def _run_unit(unit: _Unit) -> list[TrialOutcome]:
                 rec, threshold=THRESHOLD_MM, rng=np.random.default_rng(fseed)
             )
             r = recognise(seen, threshold=THRESHOLD_MM)
+            paper = recognise(
+                seen, threshold=THRESHOLD_MM, cleaning=None, limits=None, config=PAPER_LEVEL3
+            )
             out.append(
                 TrialOutcome(
                     unit.engine, rate, name, unit.truth, unit.trial, r.identified,
-                    r.candidates, label,
+                    r.candidates, label, paper.identified,
                 )
             )  # fmt: skip
     return out
@@ -278,6 +285,7 @@ class RobustnessResult:
         def stats(items: list[TrialOutcome]) -> dict[str, Any]:
             n = len(items)
             correct = sum(o.correct for o in items)
+            paper = [replace(o, identified=o.faithful) for o in items]
             return {
                 "n": n,
                 "correct": correct,
@@ -285,6 +293,8 @@ class RobustnessResult:
                 "unknown": sum(o.identified == "unknown" for o in items),
                 "undecided": sum(o.identified is None for o in items),
                 "accuracy": round(correct / n, 4) if n else None,
+                "faithful_accuracy": round(sum(o.correct for o in paper) / n, 4) if n else None,
+                "faithful_wrong": sum(o.wrong for o in paper),
             }
 
         cells = [
