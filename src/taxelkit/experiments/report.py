@@ -16,7 +16,13 @@ from typing import Any
 
 from taxelkit.errors import InputError
 
-__all__ = ["BLOCKS", "render_block", "robustness_markdown", "update_blocks"]
+__all__ = [
+    "BLOCKS",
+    "paper001_markdown",
+    "render_block",
+    "robustness_markdown",
+    "update_blocks",
+]
 
 
 def _pct(x: float | None) -> str:
@@ -91,27 +97,83 @@ def robustness_markdown(doc: dict[str, Any]) -> str:
     return "\n".join(text)
 
 
-#: Blocks of the README rendered from results, by experiment name.
-BLOCKS: dict[str, Callable[[dict[str, Any]], str]] = {"robustness": robustness_markdown}
+def paper001_markdown(docs: dict[str, dict[str, Any]]) -> str:
+    """Paper 001's results table from ``contact-classes``, ``cylinder``, ``smart-sensor``
+    and ``tacteme-table``."""
+    cc, cyl = docs["contact-classes"], docs["cylinder"]
+    ss, tt = docs["smart-sensor"], docs["tacteme-table"]
+    rolls = cc["rolls"]["scores"]
+    confusion = ss["confusion"]
+    wrong_pairs = [
+        f"a {obj} read as a {out}"
+        for obj, row in confusion.items()
+        for out, count in row.items()
+        if out not in (obj, "unknown", "undecided") and count
+    ]
+    fig3 = ", ".join(t["name"] for t in cyl["tactemes"])
+    robust3 = ", ".join(t["name"] for t in cyl["robust"]["tactemes"])
+    n_rolls = len(tt["produced"]) * tt["n_trials_per_object"]
+    rows = [
+        "| experiment | taxelkit | paper |",
+        "| --- | --- | --- |",
+        f"| `contact-classes` (Level 2), pressed contacts | held-out accuracy "
+        f"{cc['hand_set']['accuracy']:.3f} with hand-set weights, "
+        f"{cc['trained']['accuracy']:.3f} trained by back-propagation ({cc['samples']} "
+        "simulated contacts) | weights set by hand |",
+        f"| `contact-classes`, frames of rolls ({', '.join(cc['rolls']['engines'])}; every "
+        f"imperfection) | hand-set {rolls['hand_set']['all']['accuracy']:.3f}, trained on "
+        f"rolls {rolls['trained_on_rolls']['all']['accuracy']:.3f} "
+        f"({cc['rolls']['held_out_frames']} held-out frames) | n/a |",
+        f"| `cylinder` (Fig. 3), paper's pipeline as printed | {fig3}: identified as the "
+        f"{cyl['identified']} (robust pipeline: {robust3}, {cyl['robust']['identified']}) | "
+        "AC, PC, LC, LCMP, cylinder |",
+        f"| `smart-sensor`: {ss['member_trials']} randomised trials (sizes +-30 %, noise on, "
+        f"20 frames/s) | accuracy {ss['accuracy']:.3f}; {ss['wrong']} wrong"
+        + (f" ({'; '.join(wrong_pairs)})" if wrong_pairs else "")
+        + f", {ss['unknown']} unknown, {ss['undecided']} undecided | 83 % (3 tests x 6 objects) |",
+        f"| `smart-sensor`: {ss['sliding_trials']} sliding trials | {ss['sliding_identified']} "
+        'given an identity | sliding ends in "unknown" |',
+        f"| `tacteme-table`: tactemes produced in simulation vs the table | "
+        f"{len(tt['violations'])} violations in {n_rolls} rolls | (Table 1 marks lost in our "
+        "copy) |",
+    ]
+    return "\n".join(rows)
 
 
-def render_block(name: str, doc: dict[str, Any]) -> str:
-    """The README block of experiment ``name`` from its JSON document."""
+#: Blocks of the README rendered from results: name -> (experiments it needs, renderer).
+BLOCKS: dict[str, tuple[tuple[str, ...], Callable[[dict[str, dict[str, Any]]], str]]] = {
+    "robustness": (("robustness",), lambda docs: robustness_markdown(docs["robustness"])),
+    "paper001": (
+        ("contact-classes", "cylinder", "smart-sensor", "tacteme-table"),
+        paper001_markdown,
+    ),
+}
+
+
+def render_block(name: str, docs: dict[str, dict[str, Any]]) -> str:
+    """The README block ``name`` from the JSON documents of the experiments it needs."""
     if name not in BLOCKS:
         raise InputError(f"no README block for {name!r}; known: {', '.join(BLOCKS)}")
-    return BLOCKS[name](doc)
+    return BLOCKS[name][1](docs)
 
 
 def update_blocks(text: str, docs: dict[str, dict[str, Any]]) -> str:
-    """Rewrite the ``<!-- results:NAME -->`` blocks of ``text`` for which ``docs`` has results.
+    """Rewrite the ``<!-- results:NAME -->`` blocks of ``text`` whose experiments ``docs`` has.
+
+    Parameters
+    ----------
+    text : str
+        The README.
+    docs : dict of str to dict
+        JSON documents by experiment name.
 
     Raises
     ------
     InputError
         If a block to rewrite has no closing marker.
     """
-    for name, doc in docs.items():
-        if name not in BLOCKS:
+    for name, (needs, _) in BLOCKS.items():
+        if not all(n in docs for n in needs):
             continue
         start, end = f"<!-- results:{name} -->", f"<!-- /results:{name} -->"
         if start not in text:
@@ -119,7 +181,7 @@ def update_blocks(text: str, docs: dict[str, dict[str, Any]]) -> str:
         if end not in text:
             raise InputError(f"README block {start} has no closing {end}")
         pattern = re.compile(re.escape(start) + r".*?" + re.escape(end), re.DOTALL)
-        body = f"{start}\n{render_block(name, doc)}\n{end}"
+        body = f"{start}\n{render_block(name, docs)}\n{end}"
 
         def replacement(_match: re.Match[str], body: str = body) -> str:
             return body
