@@ -34,10 +34,10 @@ def test_readme_block_is_what_the_committed_results_render(name: str) -> None:
 
 def test_update_blocks_rewrites_only_marked_blocks() -> None:
     doc = load("robustness")
-    text = "a\n<!-- results:robustness -->\nold\n<!-- /results:robustness -->\nb\n"
+    text = "a\n<!-- results:robustness -->\nSTALE-PLACEHOLDER\n<!-- /results:robustness -->\nb\n"
     new = update_blocks(text, {"robustness": doc, "fig7": {}})
     assert "| engine | imperfection |" in new
-    assert new.endswith("<!-- /results:robustness -->\nb\n") and "old" not in new
+    assert new.endswith("<!-- /results:robustness -->\nb\n") and "STALE-PLACEHOLDER" not in new
     assert update_blocks("no markers", {"robustness": doc}) == "no markers"
     with pytest.raises(InputError, match="closing"):
         update_blocks("<!-- results:robustness --> open", {"robustness": doc})
