@@ -23,8 +23,10 @@ a row, so the one-frame collapse of a contact that tips away is not motion)
     - PC takes an orthogonal turn: after moving, the point leaves the farthest
       point of its first run in a direction 60-120 deg away from that run.
     - LCMP: the line has moved ``parallel_move_mm`` with its orientation
-      within ``parallel_tol_deg`` of the start.
-    - LCMT: the line's orientation changes by more than ``turn_deg``; once it
+      within ``parallel_tol_deg`` of the segment's start.
+    - LCMT: the line's orientation changes by more than ``turn_deg`` from the
+      segment's start (orientation is not re-anchored: a line's width and
+      length changes do not turn it); once it
       has turned ``pivot_turn_deg`` the least-squares common point of the
       lines seen so far (the pivot) is compared with the line: within
       ``pivot_end_ratio`` half-lengths of the line's centre it is "about one
@@ -556,9 +558,13 @@ def segment_tactemes(
         if j_slide is not None and (j_lcm is None or j_slide < j_lcm):
             emit(Tacteme.LC_SLIDES, j_slide)
         emit(Tacteme.LCM, j_lcm)
-        parallel = (across >= config.parallel_move_mm) & (turned <= config.parallel_tol_deg)
+        # a line's orientation does not suffer from the width and length changes that
+        # re-anchor its centre: its turn counts from the segment's first reference
+        first = min(w - 1, n - 1)
+        turned_all = np.where(np.arange(n) >= first, _turn(angle, np.full(n, first)), 0.0)
+        parallel = (across >= config.parallel_move_mm) & (turned_all <= config.parallel_tol_deg)
         j_par = _first(_sustained(parallel, hold), 0)
-        j_turn = _first(_sustained(turned > config.turn_deg, hold), 0)
+        j_turn = _first(_sustained(turned_all > config.turn_deg, hold), 0)
         if j_par is not None and (j_turn is None or j_par < j_turn):
             emit(Tacteme.LCMP, j_par)
         if j_turn is not None:
