@@ -31,7 +31,8 @@ from taxelkit.motion.rolling import frames_from_scenario  # noqa: E402
 from taxelkit.motion.scenarios import make_scenario  # noqa: E402
 from taxelkit.sensors import BONNEVILLE_16X16  # noqa: E402
 from taxelkit.sensors.faults import fault_model  # noqa: E402
-from taxelkit.smart.cleaning import ImageCleaner, clean_images  # noqa: E402
+from taxelkit.smart.cleaning import clean_images  # noqa: E402
+from taxelkit.smart.cleaning_stream import ImageCleaner  # noqa: E402
 from taxelkit.smart.recogniser import recognise  # noqa: E402
 from taxelkit.smart.tacteme_table import OBJECTS  # noqa: E402
 

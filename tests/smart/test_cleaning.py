@@ -13,7 +13,8 @@ from taxelkit.motion.engines import scenario_from_engine
 from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.sensors import BONNEVILLE_16X16
 from taxelkit.sensors.faults import fault_model
-from taxelkit.smart.cleaning import CleaningConfig, ImageCleaner, clean_images
+from taxelkit.smart.cleaning import CleaningConfig, clean_images
+from taxelkit.smart.cleaning_stream import ImageCleaner
 from taxelkit.smart.recogniser import recognise
 
 T = np.arange(60) / 20.0

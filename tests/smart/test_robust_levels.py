@@ -11,7 +11,13 @@ from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.sensors import BONNEVILLE_16X16
 from taxelkit.sensors.frame_rate import frames_at_rate
 from taxelkit.smart.contact_classes import ContactClass
-from taxelkit.smart.contact_limits import ContactLimits, LimitState, apply_limits, schmitt
+from taxelkit.smart.contact_limits import (
+    ContactLimits,
+    LimitState,
+    apply_limits,
+    limit_one,
+    schmitt,
+)
 from taxelkit.smart.recogniser import SmartSensor, recognise
 from taxelkit.smart.tacteme_table import OBJECTS
 from taxelkit.smart.tactemes import PAPER_LEVEL3, TactemeConfig, debounce_counts
@@ -48,6 +54,12 @@ def test_limits_batch_equals_one_frame_at_a_time() -> None:
         for i in range(200)
     ]  # fmt: skip
     np.testing.assert_array_equal(batch, one)
+    scalar_state = LimitState()
+    scalar = [
+        limit_one(int(c), int(k), float(x), float(e), float(ar), lim, scalar_state)
+        for c, k, x, e, ar in zip(classes, n, length, elong, area, strict=True)
+    ]
+    np.testing.assert_array_equal(batch, scalar)  # the streaming path's plain-Python twin
     assert np.all(batch[(classes == LINE) & (length < 5.1)] != LINE)
     assert np.all(
         batch[(classes == int(ContactClass.AREA)) & (area < 20.0)] != int(ContactClass.AREA)

@@ -36,9 +36,12 @@ Rules, in order (:class:`CleaningConfig` holds the numbers)
        pitches (its 5 x 5 block) is removed when the frame also holds a
        larger contact.
 
-The hot path works on frames packed into one ``uint64`` per row (arrays up to
-64 columns; wider ones use the same rules on bool arrays), so cleaning costs
-a fraction of Levels 1-4 (``benchmarks/bench_cleaning.py``).
+The batch path works on frames packed into one unsigned word per row (arrays
+up to 64 columns; wider ones use the same rules on bool arrays), so cleaning
+costs a fraction of Levels 1-4 (``benchmarks/bench_cleaning.py``); the
+streaming twin, :class:`~taxelkit.smart.cleaning_stream.ImageCleaner`, holds
+one frame as a Python integer (a bitboard) and applies the same rule
+functions to it.
 """
 
 from __future__ import annotations
@@ -52,10 +55,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import InputError, check_positive
 
-__all__ = ["CleaningConfig", "ImageCleaner", "clean_images"]
+__all__ = ["CleaningConfig", "clean_images", "release_frames_for", "stuck_frames_for"]
 
 #: Widest array that is packed into one uint64 per row.
 _PACK_MAX_COLS = 64
+#: The frames a rule function works on: packed rows ``(T, R)``, bool frames
+#: ``(T, R, C)``, or one frame as a Python-integer bitboard (streaming).
+Board = Any
 
 
 @dataclass(frozen=True)
@@ -190,17 +196,17 @@ def _backend(cols: int) -> _Packed:
     return _Packed(cols) if cols <= _PACK_MAX_COLS else _Bool(cols)
 
 
-def _neighbours8(ops: _Packed, a: NDArray[Any]) -> NDArray[Any]:
+def _neighbours8(ops: Any, a: Board) -> Board:
     """Taxels with at least one of their eight neighbours on."""
     row = a | ops.left(a) | ops.right(a)
     out: NDArray[Any] = ops.left(a) | ops.right(a) | ops.up(row) | ops.down(row)
     return out
 
 
-def _crowded(ops: _Packed, a: NDArray[Any]) -> NDArray[Any]:
+def _crowded(ops: Any, a: Board) -> Board:
     """Taxels with at least two of their eight neighbours on (bit-sliced count)."""
-    one = np.zeros_like(a)
-    two = np.zeros_like(a)
+    one = a ^ a  # zeros of a's kind: an array, or a Python int (the streaming bitboard)
+    two = a ^ a
     lr = (ops.left(a), ops.right(a))
     for x in (*lr, *(move(v) for move in (ops.up, ops.down) for v in (a, *lr))):
         two |= one & x
@@ -208,13 +214,13 @@ def _crowded(ops: _Packed, a: NDArray[Any]) -> NDArray[Any]:
     return two
 
 
-def _dilate3(ops: _Packed, a: NDArray[Any]) -> NDArray[Any]:
+def _dilate3(ops: Any, a: Board) -> Board:
     row = a | ops.left(a) | ops.right(a)
     out: NDArray[Any] = row | ops.up(row) | ops.down(row)
     return out
 
 
-def _stray(ops: _Packed, a: NDArray[Any]) -> NDArray[Any]:
+def _stray(ops: Any, a: Board) -> Board:
     """Taxels with no other taxel in their 5 x 5 block."""
     beside = ops.left(a) | ops.right(a) | ops.left(a, 2) | ops.right(a, 2)
     row5 = a | beside
@@ -304,11 +310,9 @@ def _bits_of(word: int, dtype: Any) -> list[Any]:
     return [dtype.type(1 << b) for b in range(8 * dtype.itemsize) if (word >> b) & 1]
 
 
-def _bridged(
-    ops: _Packed, on: NDArray[Any], stuck: NDArray[Any], config: CleaningConfig
-) -> NDArray[Any]:
+def _bridged(ops: Any, on: Board, stuck: Board, config: CleaningConfig) -> Board:
     """Rules 1-2: stuck taxels masked, dead taxels and holes bridged."""
-    a: NDArray[Any] = on & ~stuck
+    a: Board = on & ~stuck
     if config.bridge:
         a = a | (ops.left(a) & ops.right(a)) | (ops.up(a) & ops.down(a))
     return a
@@ -366,69 +370,3 @@ def clean_images(
     )
     out = _clean(ops, _bridged(ops, on, stuck, cfg), np.zeros_like(on[0]), cfg)
     return ops.unpack(out, img.shape[2])
-
-
-class ImageCleaner:
-    """The cleaning of :func:`clean_images`, one frame at a time.
-
-    Parameters
-    ----------
-    shape : (rows, cols)
-    config : CleaningConfig, optional
-    """
-
-    def __init__(self, shape: tuple[int, int], *, config: CleaningConfig | None = None) -> None:
-        self.shape = (int(shape[0]), int(shape[1]))
-        self.config = CleaningConfig() if config is None else config
-        self._ops = _backend(self.shape[1])
-        self.reset()
-
-    def reset(self) -> None:
-        """Forget the stream."""
-        self._t0: float | None = None
-        self._n_stuck: int | None = None
-        self._since_start: NDArray[Any] | None = None
-        self._held: NDArray[np.int64] | None = None  # frames each taxel has been isolated
-        self._off_run: NDArray[np.int64] | None = None
-        self._armed = np.zeros(self.shape, bool)
-        self._dt: float | None = None
-        self._prev: NDArray[Any] | None = None
-
-    def push(self, image: NDArray[np.bool_], t_s: float) -> NDArray[np.bool_]:
-        """Clean one image ``(rows, cols)`` bool taken at ``t_s``; return the cleaned image."""
-        ops, cfg = self._ops, self.config
-        on = ops.pack(np.asarray(image, dtype=bool)[None])
-        if self._since_start is None:
-            self._since_start = on.copy()
-            self._prev = np.zeros_like(on)
-            self._t0 = float(t_s)
-        elif self._n_stuck is None:
-            self._dt = float(t_s) - (self._t0 or 0.0)
-            self._n_stuck = stuck_frames_for(self._dt, cfg)
-        assert self._prev is not None
-        self._since_start &= on
-        stuck = np.zeros_like(on)
-        if cfg.stuck:
-            stuck = self._stuck(on)
-        a = _bridged(ops, on, stuck, cfg)
-        out = _clean(ops, a, self._prev[0], cfg)
-        self._prev = a
-        cleaned: NDArray[np.bool_] = ops.unpack(out, self.shape[1])[0]
-        return cleaned
-
-    def _stuck(self, on: NDArray[Any]) -> NDArray[Any]:
-        ops = self._ops
-        iso = self._unpacked(on & ~_neighbours8(ops, on))
-        self._held = np.where(iso, (0 if self._held is None else self._held) + 1, 0)
-        n = 3 if self._n_stuck is None else self._n_stuck
-        assert self._since_start is not None
-        seed = self._unpacked(self._since_start) | (self._held >= n)
-        on_u = self._unpacked(on)
-        self._off_run = np.where(on_u, 0, (0 if self._off_run is None else self._off_run) + 1)
-        released = self._off_run >= release_frames_for(self._dt, self.config)
-        self._armed = seed | (self._armed & ~released)
-        return ops.pack((on_u & self._armed)[None])
-
-    def _unpacked(self, a: NDArray[Any]) -> NDArray[np.bool_]:
-        out: NDArray[np.bool_] = self._ops.unpack(a, self.shape[1])[0]
-        return out

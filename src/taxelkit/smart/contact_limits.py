@@ -40,7 +40,7 @@ from numpy.typing import NDArray
 from taxelkit.errors import check_in_range, check_positive
 from taxelkit.smart.contact_classes import AREA_MIN_AREA_MM2, ContactClass
 
-__all__ = ["ContactLimits", "LimitState", "apply_limits", "schmitt"]
+__all__ = ["ContactLimits", "LimitState", "apply_limits", "limit_one", "schmitt"]
 
 _LINE = int(ContactClass.LINE)
 _POINT = int(ContactClass.POINT)
@@ -169,3 +169,45 @@ def apply_limits(
     few = (n_taxels > 0) & (n_taxels <= limits.point_max_taxels) & (elongation <= 2.0)
     out[few & (out != _LINE)] = _POINT
     return out
+
+
+def limit_one(
+    cls: int,
+    n_taxels: int,
+    length_mm: float,
+    elongation: float,
+    area_mm2: float,
+    limits: ContactLimits,
+    state: LimitState,
+) -> int:
+    """:func:`apply_limits` for one frame, in plain Python (the streaming path).
+
+    Parameters
+    ----------
+    cls : int
+        Network class of the frame.
+    n_taxels : int
+    length_mm, elongation, area_mm2 : float
+    limits : ContactLimits
+    state : LimitState
+        Carried from frame to frame; updated.
+
+    Returns
+    -------
+    int
+        The refined class, as :func:`apply_limits` gives it.
+    """
+    high, low = _length_thresholds(limits)
+    length = length_mm if n_taxels > 0 else 0.0
+    if length >= high or length < low:
+        state.long = length >= high
+    enter = AREA_MIN_AREA_MM2 * (1.0 + limits.area_hysteresis)
+    if area_mm2 >= enter or area_mm2 < AREA_MIN_AREA_MM2:
+        state.big = area_mm2 >= enter
+    if cls == _LINE and not state.long:
+        cls = _INDET
+    if cls == _AREA and not state.big:
+        cls = _INDET
+    if 0 < n_taxels <= limits.point_max_taxels and elongation <= 2.0 and cls != _LINE:
+        cls = _POINT
+    return cls

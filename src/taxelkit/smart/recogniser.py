@@ -18,7 +18,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import InputError, check_positive, check_shape, check_threshold
 from taxelkit.frames import DEFAULT_FRAME_INTERVAL_S, TactileFrames
-from taxelkit.smart.cleaning import CleaningConfig, ImageCleaner, clean_images
+from taxelkit.smart.cleaning import CleaningConfig, clean_images
+from taxelkit.smart.cleaning_stream import ImageCleaner
 from taxelkit.smart.contact_classes import (
     DEFAULT_CONFIDENCE,
     HAND_SET,
@@ -28,7 +29,7 @@ from taxelkit.smart.contact_classes import (
     ContactNetwork,
     classify_contacts,
 )
-from taxelkit.smart.contact_limits import ContactLimits, LimitState, apply_limits
+from taxelkit.smart.contact_limits import ContactLimits, LimitState, apply_limits, limit_one
 from taxelkit.smart.elimination import Eliminator, Event, Verdict, explain
 from taxelkit.smart.moments import CELL_SECOND_MOMENT, ImageStats, binary_images, image_stats
 from taxelkit.smart.tacteme_table import Tacteme
@@ -463,17 +464,7 @@ class SmartSensor:
         )
         half = math.sqrt(3.0 * lam_max * p * p)
         if self.limits is not None:
-            cls = int(
-                apply_limits(
-                    np.array([cls], np.int8),
-                    np.array([int(n)]),
-                    np.array([2.0 * half]),
-                    np.array([elong]),
-                    self.limits,
-                    area_mm2=np.array([area]),
-                    state=self._limit_state,
-                )[0]
-            )
+            cls = limit_one(cls, int(n), 2.0 * half, elong, area, self.limits, self._limit_state)
         return cls, (su / n * p, sv / n * p, theta, area, elong, half)
 
     # -- Level 3 and 4 -------------------------------------------------------------------
