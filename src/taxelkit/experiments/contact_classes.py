@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit.experiments.robustness import FAULTS
 from taxelkit.motion.contact_samples import LabelledContacts, pressed_contacts
 from taxelkit.motion.rolled_contacts import LabelledRoll, rolled_contacts
 from taxelkit.smart.cleaning import clean_images
@@ -48,16 +49,8 @@ _CODE = {
     "line": int(ContactClass.LINE),
     "area": int(ContactClass.AREA),
 }
-#: Imperfections the rolled contacts are seen through (the robustness experiment's).
-ROLL_FAULTS: tuple[str, ...] = (
-    "none",
-    "dead",
-    "stuck",
-    "flicker",
-    "crosstalk",
-    "threshold-spread",
-    "all",
-)
+#: Imperfections the rolled contacts are seen through: the robustness experiment's.
+ROLL_FAULTS: tuple[str, ...] = FAULTS
 
 
 def features_of(samples: LabelledContacts) -> tuple[NDArray[np.float64], NDArray[np.int8]]:
