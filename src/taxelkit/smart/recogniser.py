@@ -165,6 +165,8 @@ class _Levels34:
         )
         if not self._transitions_done and ready:
             self._transitions_done = True
+            if cls == ContactClass.LINE:  # the new edge's direction over its held frames
+                self.history[-1] = (cls, _mean_axis_deg(track.orientation_deg[:held]))
             at = (
                 int(track.frames[min(track.frames.size, held) - 1])
                 if cls == ContactClass.LINE
@@ -186,7 +188,8 @@ class _Levels34:
                 self.events.extend(self.elim.apply(tac, frame))
         self._len = int(track.frames.size)
         self._held = held
-        self.history[-1] = (cls, _mean_axis_deg(track.orientation_deg[-self.k :]))
+        # a line's direction over all its frames (held still, an edge dominates its tips)
+        self.history[-1] = (cls, _mean_axis_deg(track.orientation_deg))
         self._last_frame = int(track.frames[-1])
 
     def close_run(self) -> None:

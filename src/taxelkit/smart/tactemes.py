@@ -20,8 +20,9 @@ a row, so the one-frame collapse of a contact that tips away is not motion)
       more than ``move_mm`` along it (the centre's shift along the line less
       the change of its half-length) and the centre less than half that across
       it, before any LCM: sliding, which no rolling object does.
-    - PC takes an orthogonal turn: after moving, the point leaves the farthest
-      point of its first run in a direction 60-120 deg away from that run.
+    - PC takes an orthogonal turn: after moving, the point's path turns by
+      60-120 deg, between legs of ``turn_leg_mm`` or at a corner between two
+      straight chords of that length (the earlier of the two).
     - LCMP: the line has moved ``parallel_move_mm`` with its orientation
       within ``parallel_tol_deg`` of the segment's start.
     - LCMT: the line's orientation changes by more than ``turn_deg`` from the
@@ -492,6 +493,38 @@ def _orthogonal_turn(centre: NDArray[np.float64], start: int, config: TactemeCon
     return None
 
 
+def _corner_turn(centre: NDArray[np.float64], start: int, config: TactemeConfig) -> int | None:
+    """First frame at which a corner of 60-120 deg is seen on a point's path (vectorised).
+
+    For every frame ``i`` of the smoothed path from ``start``, the chord from
+    the point ``turn_leg_mm`` of path length before ``i`` to ``i`` and the
+    chord from ``i`` to the point ``turn_leg_mm`` after it; a corner is where
+    both chords are nearly straight (each at least 70 % of the path length
+    they span: a resting, jittering point has short chords) and the angle
+    between them lies in the window. It is seen when the outgoing chord is
+    complete. This finds corners that fall between the legs of
+    :func:`_orthogonal_turn` when the runs are only a little longer than a leg.
+    """
+    p = centre[start:]
+    if p.shape[0] < 3:
+        return None
+    d = config.turn_leg_mm
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(p, axis=0).T))])
+    a = np.searchsorted(arc, arc - d, side="right") - 1
+    b = np.searchsorted(arc, arc + d, side="left")
+    ok = (arc >= d) & (b < p.shape[0])
+    a, b = np.clip(a, 0, None), np.clip(b, 0, p.shape[0] - 1)
+    u = p - p[a]
+    v = p[b] - p
+    nu, nv = np.hypot(*u.T), np.hypot(*v.T)
+    ok &= (nu >= 0.7 * d) & (nv >= 0.7 * d)
+    cos = np.sum(u * v, axis=1) / np.where(ok, nu * nv, 1.0)
+    lo = np.cos(np.deg2rad(config.orthogonal_max_deg))
+    hi = np.cos(np.deg2rad(config.orthogonal_min_deg))
+    hits = b[ok & (cos >= lo) & (cos <= hi)]
+    return None if hits.size == 0 else start + int(hits.min())
+
+
 def segment_tactemes(
     cls: int, track: SegmentTrack, config: TactemeConfig
 ) -> list[tuple[Tacteme, int]]:
@@ -542,7 +575,15 @@ def segment_tactemes(
         j_move = _first(_sustained(moved > config.move_mm, hold), 0)
         emit(Tacteme.PC_MOVES, j_move)
         if j_move is not None:
-            emit(Tacteme.PC_ORTHOGONAL_TURN, _orthogonal_turn(centre, int(ref[j_move]), config))
+            found = [
+                j
+                for j in (
+                    _orthogonal_turn(centre, int(ref[j_move]), config),
+                    _corner_turn(centre, int(ref[j_move]), config),
+                )
+                if j is not None
+            ]
+            emit(Tacteme.PC_ORTHOGONAL_TURN, min(found) if found else None)
     elif cls == ContactClass.LINE:
         t_ref = np.deg2rad(angle[ref])
         along = np.abs(shift[:, 0] * np.cos(t_ref) + shift[:, 1] * np.sin(t_ref))
