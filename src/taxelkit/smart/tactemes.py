@@ -60,6 +60,19 @@ from numpy.typing import NDArray
 from taxelkit.errors import InputError, check_positive
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.tacteme_table import Tacteme
+from taxelkit.smart.track_geometry import (
+    anchors,
+    axis_angle_deg,
+    axis_difference_deg,
+    axis_vectors,
+    corner_turn,
+    first,
+    orthogonal_turn,
+    pivot_ratios,
+    rolling_mean,
+    sustained,
+    turn,
+)
 
 __all__ = [
     "PAPER_LEVEL3",
@@ -355,174 +368,22 @@ class SegmentTrack:
         return max(floor, math.ceil(seconds / dt - 1e-9)) if dt > 0 else floor
 
 
-def _rolling_mean(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
-    """Mean of the last ``w`` rows (fewer at the start), along axis 0."""
-    c = np.cumsum(x, axis=0)
-    out = c.copy()
-    out[w:] -= c[:-w]
-    n = np.minimum(np.arange(1, x.shape[0] + 1), w).reshape((-1,) + (1,) * (x.ndim - 1))
-    result: NDArray[np.float64] = out / n
-    return result
-
-
-def _axis_vectors(theta_deg: NDArray[np.float64]) -> NDArray[np.float64]:
-    t = np.deg2rad(2.0 * theta_deg)
-    return np.stack([np.cos(t), np.sin(t)], axis=-1)
-
-
-def _axis_angle_deg(v: NDArray[np.float64]) -> NDArray[np.float64]:
-    out: NDArray[np.float64] = 0.5 * np.rad2deg(np.arctan2(v[..., 1], v[..., 0]))
-    return out
-
-
-def _axis_difference_deg(a: NDArray[np.float64], b: float) -> NDArray[np.float64]:
-    """Smallest difference between line orientations, in [0, 90] deg."""
-    d = np.abs((a - b + 90.0) % 180.0 - 90.0)
-    out: NDArray[np.float64] = d
-    return out
-
-
-def _anchors(
-    area: NDArray[np.float64], elongation: NDArray[np.float64], k: int, tolerance: float
-) -> NDArray[np.intp]:
-    """Index of the motion anchor of every frame (re-anchored on cumulative change of shape).
-
-    The reference of anchor ``a`` is its first full smoothing window, frame
-    ``a + k - 1``; a frame whose area or elongation differs from the
-    reference's by more than ``tolerance`` (relative) becomes the next
-    anchor: a face landing keeps its area for a moment while its outline
-    still changes. One vectorised search per anchor: a segment has few.
-    """
-    n = area.size
-    out = np.zeros(n, dtype=np.intp)
-    a = 0
-    while a < n:
-        r = min(a + k - 1, n - 1)
-        dev = (np.abs(area[r + 1 :] / area[r] - 1.0) > tolerance) | (
-            np.abs(elongation[r + 1 :] / elongation[r] - 1.0) > tolerance
-        )
-        hits = np.flatnonzero(dev)
-        nxt = n if hits.size == 0 else r + 1 + int(hits[0])
-        out[a:nxt] = a
-        a = nxt
-    return out
-
-
-def _first(mask: NDArray[np.bool_], start: int) -> int | None:
-    hits = np.flatnonzero(mask[start:])
-    return None if hits.size == 0 else int(hits[0]) + start
-
-
-def _sustained(mask: NDArray[np.bool_], k: int) -> NDArray[np.bool_]:
-    """True where ``mask`` has held for the last ``k`` frames (motion is debounced too)."""
-    c = np.cumsum(mask.astype(np.int64))
-    run = c.copy()
-    run[k:] -= c[:-k]
-    out: NDArray[np.bool_] = run >= k
-    return out
-
-
-def _turn(angle: NDArray[np.float64], ref: NDArray[np.intp]) -> NDArray[np.float64]:
-    """Orientation change from each frame's reference, in [0, 90] deg."""
-    d = np.abs((angle - angle[ref] + 90.0) % 180.0 - 90.0)
-    out: NDArray[np.float64] = d
-    return out
-
-
 def _pivot_ratios(track: SegmentTrack, start: int, stop: int) -> NDArray[np.float64]:
-    """Distance from each line's centre to the common point of the lines so far, in half-lengths.
-
-    For ``j`` in ``start..stop - 1``: the least-squares common point of the
-    lines ``start..j`` (running sums of ``n n^T`` and ``n (n . c)``, ``n`` the
-    lines' normals), its distance from the centre of line ``j``, divided by
-    the mean half-length of lines ``start..j``. NaN while the lines are too
-    close to parallel for a common point (condition number above 1e6).
-    """
-    t = np.deg2rad(track.orientation_deg[start:stop])
-    nx, ny = -np.sin(t), np.cos(t)  # line normals
-    c = track.centre_mm[start:stop]
-    d = nx * c[:, 0] + ny * c[:, 1]
-    sxx, sxy, syy = np.cumsum(nx * nx), np.cumsum(nx * ny), np.cumsum(ny * ny)
-    bx, by = np.cumsum(nx * d), np.cumsum(ny * d)
-    det = sxx * syy - sxy * sxy
-    trace = sxx + syy
-    well = det > 1e-6 * trace * trace  # eigenvalue ratio above ~1e-6
-    safe = np.where(well, det, 1.0)
-    px = (syy * bx - sxy * by) / safe
-    py = (sxx * by - sxy * bx) / safe
-    half = np.cumsum(track.half_length_mm[start:stop]) / np.arange(1, stop - start + 1)
-    dist = np.hypot(px - c[:, 0], py - c[:, 1])
-    out: NDArray[np.float64] = np.where(
-        well & (half > 0), dist / np.where(half > 0, half, 1.0), np.nan
-    )
-    return out
+    """:func:`~taxelkit.smart.track_geometry.pivot_ratios` of the lines ``start..stop - 1``."""
+    return pivot_ratios(
+        track.orientation_deg[start:stop], track.centre_mm[start:stop],
+        track.half_length_mm[start:stop],
+    )  # fmt: skip
 
 
 def _orthogonal_turn(centre: NDArray[np.float64], start: int, config: TactemeConfig) -> int | None:
-    """First frame at which a point's path has turned by 60-120 deg.
-
-    The smoothed path from ``start`` is cut into legs of ``turn_leg_mm``
-    (a breakpoint each time the point is that far from the last one); a turn
-    is the angle between the legs before and after the leg that holds the
-    corner (or between consecutive legs), so a corner falling inside a leg
-    still shows its full angle. The legs are much longer than the taxel-sized
-    jumps of a point contact's centre.
-    """
-    pts = centre.tolist()
-    leg = config.turn_leg_mm
-    lo, hi = (
-        np.cos(np.deg2rad(config.orthogonal_max_deg)),
-        np.cos(np.deg2rad(config.orthogonal_min_deg)),
-    )
-    bx, by = pts[start]
-    legs: list[tuple[float, float]] = []
-    for j in range(start + 1, len(pts)):  # a scan along the path; legs are few
-        x, y = pts[j]
-        dx, dy = x - bx, y - by
-        d = math.hypot(dx, dy)
-        if d < leg:
-            continue
-        legs.append((dx / d, dy / d))
-        bx, by = x, y
-        for back in (2, 3):  # compare with the leg before last and the one before that
-            if len(legs) >= back:
-                ux, uy = legs[-back]
-                c = ux * legs[-1][0] + uy * legs[-1][1]
-                if lo <= c <= hi:
-                    return j
-    return None
+    window = (config.orthogonal_min_deg, config.orthogonal_max_deg)
+    return orthogonal_turn(centre, start, config.turn_leg_mm, window)
 
 
 def _corner_turn(centre: NDArray[np.float64], start: int, config: TactemeConfig) -> int | None:
-    """First frame at which a corner of 60-120 deg is seen on a point's path (vectorised).
-
-    For every frame ``i`` of the smoothed path from ``start``, the chord from
-    the point ``turn_leg_mm`` of path length before ``i`` to ``i`` and the
-    chord from ``i`` to the point ``turn_leg_mm`` after it; a corner is where
-    both chords are nearly straight (each at least 70 % of the path length
-    they span: a resting, jittering point has short chords) and the angle
-    between them lies in the window. It is seen when the outgoing chord is
-    complete. This finds corners that fall between the legs of
-    :func:`_orthogonal_turn` when the runs are only a little longer than a leg.
-    """
-    p = centre[start:]
-    if p.shape[0] < 3:
-        return None
-    d = config.turn_leg_mm
-    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(p, axis=0).T))])
-    a = np.searchsorted(arc, arc - d, side="right") - 1
-    b = np.searchsorted(arc, arc + d, side="left")
-    ok = (arc >= d) & (b < p.shape[0])
-    a, b = np.clip(a, 0, None), np.clip(b, 0, p.shape[0] - 1)
-    u = p - p[a]
-    v = p[b] - p
-    nu, nv = np.hypot(*u.T), np.hypot(*v.T)
-    ok &= (nu >= 0.7 * d) & (nv >= 0.7 * d)
-    cos = np.sum(u * v, axis=1) / np.where(ok, nu * nv, 1.0)
-    lo = np.cos(np.deg2rad(config.orthogonal_max_deg))
-    hi = np.cos(np.deg2rad(config.orthogonal_min_deg))
-    hits = b[ok & (cos >= lo) & (cos <= hi)]
-    return None if hits.size == 0 else start + int(hits.min())
+    window = (config.orthogonal_min_deg, config.orthogonal_max_deg)
+    return corner_turn(centre, start, config.turn_leg_mm, window)
 
 
 def segment_tactemes(
@@ -549,22 +410,22 @@ def segment_tactemes(
     if n < k or cls not in (ContactClass.POINT, ContactClass.LINE, ContactClass.AREA):
         return []
     w = track.frames_for(config.smooth_s, k)  # the smoothing window, in time
-    centre = _rolling_mean(track.centre_mm, w)
-    axis = _rolling_mean(_axis_vectors(track.orientation_deg), w)
-    angle = _axis_angle_deg(axis)
-    area = _rolling_mean(track.area_mm2, w)
-    elong = _rolling_mean(track.elongation, w)
+    centre = rolling_mean(track.centre_mm, w)
+    axis = rolling_mean(axis_vectors(track.orientation_deg), w)
+    angle = axis_angle_deg(axis)
+    area = rolling_mean(track.area_mm2, w)
+    elong = rolling_mean(track.elongation, w)
     if cls == ContactClass.POINT:
         anchor = np.zeros(n, dtype=np.intp)
     else:  # on the smoothed area: taxel flicker averages out
         # a line's elongation jumps with the grid (its width is a taxel or two): area only
         shape = elong if cls == ContactClass.AREA else np.ones_like(elong)
-        anchor = _anchors(area, shape, w, config.area_step)
+        anchor = anchors(area, shape, w, config.area_step)
     ref = np.minimum(anchor + w - 1, n - 1)  # first full window after the anchor
     valid = np.arange(n) >= anchor + w - 1
     shift = centre - centre[ref]
     moved = np.where(valid, np.hypot(*shift.T), 0.0)
-    turned = np.where(valid, _turn(angle, ref), 0.0)
+    turned = np.where(valid, turn(angle, ref), 0.0)
     out: list[tuple[Tacteme, int]] = []
 
     def emit(t: Tacteme, j: int | None) -> None:
@@ -572,7 +433,7 @@ def segment_tactemes(
             out.append((t, int(track.frames[j])))
 
     if cls == ContactClass.POINT:
-        j_move = _first(_sustained(moved > config.move_mm, hold), 0)
+        j_move = first(sustained(moved > config.move_mm, hold), 0)
         emit(Tacteme.PC_MOVES, j_move)
         if j_move is not None:
             found = [
@@ -588,24 +449,24 @@ def segment_tactemes(
         t_ref = np.deg2rad(angle[ref])
         along = np.abs(shift[:, 0] * np.cos(t_ref) + shift[:, 1] * np.sin(t_ref))
         # both ends must move along: a line that grows or shrinks moves its centre too
-        half = _rolling_mean(track.half_length_mm, w)
+        half = rolling_mean(track.half_length_mm, w)
         ends = along - np.abs(half - half[ref])
         across = np.where(
             valid, np.abs(-shift[:, 0] * np.sin(t_ref) + shift[:, 1] * np.cos(t_ref)), 0.0
         )
-        j_lcm = _first(_sustained(across > config.move_mm, hold), 0)
+        j_lcm = first(sustained(across > config.move_mm, hold), 0)
         slid = valid & (ends > config.move_mm) & (across < 0.5 * config.move_mm)
-        j_slide = _first(_sustained(slid, hold), 0)
+        j_slide = first(sustained(slid, hold), 0)
         if j_slide is not None and (j_lcm is None or j_slide < j_lcm):
             emit(Tacteme.LC_SLIDES, j_slide)
         emit(Tacteme.LCM, j_lcm)
         # a line's orientation does not suffer from the width and length changes that
         # re-anchor its centre: its turn counts from the segment's first reference
-        first = min(w - 1, n - 1)
-        turned_all = np.where(np.arange(n) >= first, _turn(angle, np.full(n, first)), 0.0)
+        start_ref = min(w - 1, n - 1)
+        turned_all = np.where(np.arange(n) >= start_ref, turn(angle, np.full(n, start_ref)), 0.0)
         parallel = (across >= config.parallel_move_mm) & (turned_all <= config.parallel_tol_deg)
-        j_par = _first(_sustained(parallel, hold), 0)
-        j_turn = _first(_sustained(turned_all > config.turn_deg, hold), 0)
+        j_par = first(sustained(parallel, hold), 0)
+        j_turn = first(sustained(turned_all > config.turn_deg, hold), 0)
         if j_par is not None and (j_turn is None or j_par < j_turn):
             emit(Tacteme.LCMP, j_par)
         if j_turn is not None:
@@ -616,7 +477,7 @@ def segment_tactemes(
             start, stop = int(anchor[j_turn]), n
             ratio = _pivot_ratios(track, start, stop)
             pivot_hold = track.frames_for(config.pivot_hold_s, k, minimum=hold)
-            ready = _turn(angle, ref[start] + np.zeros(n, np.intp))[start:] > config.pivot_turn_deg
+            ready = turn(angle, ref[start] + np.zeros(n, np.intp))[start:] > config.pivot_turn_deg
             lo, hi = (
                 config.pivot_end_ratio / config.pivot_band,
                 config.pivot_end_ratio * config.pivot_band,
@@ -626,7 +487,7 @@ def segment_tactemes(
                 (Tacteme.LCMT_ABOUT_END, (ratio >= config.pivot_min_ratio) & (ratio <= lo)),
                 (Tacteme.LCMT_ARC, ratio >= hi),
             ):
-                j = _first(_sustained(ready & verdict, pivot_hold), 0)
+                j = first(sustained(ready & verdict, pivot_hold), 0)
                 if j is not None:
                     pivots.append((start + j, tac))
             if pivots:
@@ -634,12 +495,12 @@ def segment_tactemes(
                 emit(tac, j_piv)
     else:
         same = np.abs(area / area[ref] - 1.0) <= config.area_tolerance
-        emit(Tacteme.AC_MOVES, _first(_sustained((moved > config.move_mm) & same, hold), 0))
+        emit(Tacteme.AC_MOVES, first(sustained((moved > config.move_mm) & same, hold), 0))
         oriented = (elong >= config.area_min_elongation) & (
             elong[ref] >= config.area_min_elongation
         )
         rotated = (turned > config.area_rotate_deg) & same & oriented
-        emit(Tacteme.AC_ROTATES, _first(_sustained(rotated, hold), 0))
+        emit(Tacteme.AC_ROTATES, first(sustained(rotated, hold), 0))
     out.sort(key=lambda item: item[1])
     return out
 
@@ -683,7 +544,7 @@ def transition_tactemes(
     if c1 == ContactClass.AREA and c2 == ContactClass.LINE:
         out.append(Tacteme.AC_TO_LC)
         if len(history) >= 3 and history[-3][0] == ContactClass.LINE:
-            d = float(_axis_difference_deg(np.array([o2]), history[-3][1])[0])
+            d = float(axis_difference_deg(np.array([o2]), history[-3][1])[0])
             tol = config.edge_angle_tol_deg
             if d <= tol or d >= 90.0 - tol:
                 out.append(Tacteme.LC_AC_LC_SQUARE)

@@ -1,0 +1,202 @@
+"""Geometry of a contact's track for Level 3: smoothing, anchors, turns, pivots, corners.
+
+Pure functions on the arrays of :class:`~taxelkit.smart.tactemes.SegmentTrack`;
+the tacteme rules in :mod:`taxelkit.smart.tactemes` say what their results mean.
+Orientations are axial (a line at 10 deg is the line at 190 deg): they are
+averaged as doubled-angle vectors.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "anchors",
+    "axis_angle_deg",
+    "axis_difference_deg",
+    "axis_vectors",
+    "corner_turn",
+    "first",
+    "orthogonal_turn",
+    "pivot_ratios",
+    "rolling_mean",
+    "sustained",
+    "turn",
+]
+
+
+def rolling_mean(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
+    """Mean of the last ``w`` rows (fewer at the start), along axis 0."""
+    c = np.cumsum(x, axis=0)
+    out = c.copy()
+    out[w:] -= c[:-w]
+    n = np.minimum(np.arange(1, x.shape[0] + 1), w).reshape((-1,) + (1,) * (x.ndim - 1))
+    result: NDArray[np.float64] = out / n
+    return result
+
+
+def axis_vectors(theta_deg: NDArray[np.float64]) -> NDArray[np.float64]:
+    t = np.deg2rad(2.0 * theta_deg)
+    return np.stack([np.cos(t), np.sin(t)], axis=-1)
+
+
+def axis_angle_deg(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    out: NDArray[np.float64] = 0.5 * np.rad2deg(np.arctan2(v[..., 1], v[..., 0]))
+    return out
+
+
+def axis_difference_deg(a: NDArray[np.float64], b: float) -> NDArray[np.float64]:
+    """Smallest difference between line orientations, in [0, 90] deg."""
+    d = np.abs((a - b + 90.0) % 180.0 - 90.0)
+    out: NDArray[np.float64] = d
+    return out
+
+
+def anchors(
+    area: NDArray[np.float64], elongation: NDArray[np.float64], k: int, tolerance: float
+) -> NDArray[np.intp]:
+    """Index of the motion anchor of every frame (re-anchored on cumulative change of shape).
+
+    The reference of anchor ``a`` is its first full smoothing window, frame
+    ``a + k - 1``; a frame whose area or elongation differs from the
+    reference's by more than ``tolerance`` (relative) becomes the next
+    anchor: a face landing keeps its area for a moment while its outline
+    still changes. One vectorised search per anchor: a segment has few.
+    """
+    n = area.size
+    out = np.zeros(n, dtype=np.intp)
+    a = 0
+    while a < n:
+        r = min(a + k - 1, n - 1)
+        dev = (np.abs(area[r + 1 :] / area[r] - 1.0) > tolerance) | (
+            np.abs(elongation[r + 1 :] / elongation[r] - 1.0) > tolerance
+        )
+        hits = np.flatnonzero(dev)
+        nxt = n if hits.size == 0 else r + 1 + int(hits[0])
+        out[a:nxt] = a
+        a = nxt
+    return out
+
+
+def first(mask: NDArray[np.bool_], start: int) -> int | None:
+    hits = np.flatnonzero(mask[start:])
+    return None if hits.size == 0 else int(hits[0]) + start
+
+
+def sustained(mask: NDArray[np.bool_], k: int) -> NDArray[np.bool_]:
+    """True where ``mask`` has held for the last ``k`` frames (motion is debounced too)."""
+    c = np.cumsum(mask.astype(np.int64))
+    run = c.copy()
+    run[k:] -= c[:-k]
+    out: NDArray[np.bool_] = run >= k
+    return out
+
+
+def turn(angle: NDArray[np.float64], ref: NDArray[np.intp]) -> NDArray[np.float64]:
+    """Orientation change from each frame's reference, in [0, 90] deg."""
+    d = np.abs((angle - angle[ref] + 90.0) % 180.0 - 90.0)
+    out: NDArray[np.float64] = d
+    return out
+
+
+def pivot_ratios(
+    orientation_deg: NDArray[np.float64],
+    centre_mm: NDArray[np.float64],
+    half_length_mm: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """Distance from each line's centre to the common point of the lines so far, in half-lengths.
+
+    For each ``j``: the least-squares common point of the lines ``0..j``
+    (running sums of ``n n^T`` and ``n (n . c)``, ``n`` the lines' normals),
+    its distance from the centre of line ``j``, divided by the mean
+    half-length of lines ``0..j``. NaN while the lines are too
+    close to parallel for a common point (condition number above 1e6).
+    """
+    t = np.deg2rad(orientation_deg)
+    nx, ny = -np.sin(t), np.cos(t)  # line normals
+    c = centre_mm
+    d = nx * c[:, 0] + ny * c[:, 1]
+    sxx, sxy, syy = np.cumsum(nx * nx), np.cumsum(nx * ny), np.cumsum(ny * ny)
+    bx, by = np.cumsum(nx * d), np.cumsum(ny * d)
+    det = sxx * syy - sxy * sxy
+    trace = sxx + syy
+    well = det > 1e-6 * trace * trace  # eigenvalue ratio above ~1e-6
+    safe = np.where(well, det, 1.0)
+    px = (syy * bx - sxy * by) / safe
+    py = (sxx * by - sxy * bx) / safe
+    half = np.cumsum(half_length_mm) / np.arange(1, t.size + 1)
+    dist = np.hypot(px - c[:, 0], py - c[:, 1])
+    out: NDArray[np.float64] = np.where(
+        well & (half > 0), dist / np.where(half > 0, half, 1.0), np.nan
+    )
+    return out
+
+
+def orthogonal_turn(
+    centre: NDArray[np.float64], start: int, leg_mm: float, window_deg: tuple[float, float]
+) -> int | None:
+    """First frame at which a point's path has turned by 60-120 deg.
+
+    The smoothed path from ``start`` is cut into legs of ``leg_mm``
+    (a breakpoint each time the point is that far from the last one); a turn
+    is the angle between the legs before and after the leg that holds the
+    corner (or between consecutive legs), so a corner falling inside a leg
+    still shows its full angle. The legs are much longer than the taxel-sized
+    jumps of a point contact's centre.
+    """
+    pts = centre.tolist()
+    leg = leg_mm
+    lo, hi = np.cos(np.deg2rad(window_deg[1])), np.cos(np.deg2rad(window_deg[0]))
+    bx, by = pts[start]
+    legs: list[tuple[float, float]] = []
+    for j in range(start + 1, len(pts)):  # a scan along the path; legs are few
+        x, y = pts[j]
+        dx, dy = x - bx, y - by
+        d = math.hypot(dx, dy)
+        if d < leg:
+            continue
+        legs.append((dx / d, dy / d))
+        bx, by = x, y
+        for back in (2, 3):  # compare with the leg before last and the one before that
+            if len(legs) >= back:
+                ux, uy = legs[-back]
+                c = ux * legs[-1][0] + uy * legs[-1][1]
+                if lo <= c <= hi:
+                    return j
+    return None
+
+
+def corner_turn(
+    centre: NDArray[np.float64], start: int, leg_mm: float, window_deg: tuple[float, float]
+) -> int | None:
+    """First frame at which a corner of 60-120 deg is seen on a point's path (vectorised).
+
+    For every frame ``i`` of the smoothed path from ``start``, the chord from
+    the point ``leg_mm`` of path length before ``i`` to ``i`` and the
+    chord from ``i`` to the point ``turn_leg_mm`` after it; a corner is where
+    both chords are nearly straight (each at least 70 % of the path length
+    they span: a resting, jittering point has short chords) and the angle
+    between them lies in the window. It is seen when the outgoing chord is
+    complete. This finds corners that fall between the legs of
+    :func:`orthogonal_turn` when the runs are only a little longer than a leg.
+    """
+    p = centre[start:]
+    if p.shape[0] < 3:
+        return None
+    d = leg_mm
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(p, axis=0).T))])
+    a = np.searchsorted(arc, arc - d, side="right") - 1
+    b = np.searchsorted(arc, arc + d, side="left")
+    ok = (arc >= d) & (b < p.shape[0])
+    a, b = np.clip(a, 0, None), np.clip(b, 0, p.shape[0] - 1)
+    u = p - p[a]
+    v = p[b] - p
+    nu, nv = np.hypot(*u.T), np.hypot(*v.T)
+    ok &= (nu >= 0.7 * d) & (nv >= 0.7 * d)
+    cos = np.sum(u * v, axis=1) / np.where(ok, nu * nv, 1.0)
+    lo, hi = np.cos(np.deg2rad(window_deg[1])), np.cos(np.deg2rad(window_deg[0]))
+    hits = b[ok & (cos >= lo) & (cos <= hi)]
+    return None if hits.size == 0 else start + int(hits.min())
