@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -80,32 +81,23 @@ def scenario_from_engine(
     >>> sc.object_name, sc.phase[0], sc.phase[-1]
     ('cube', 'lifted', 'lifted')
     """
+    options: dict[str, Any] = {
+        "rng": rng,
+        "rate_hz": rate_hz,
+        "sensor": sensor,
+        "size_jitter": size_jitter,
+        "depth_mm": depth_mm,
+        "depth_jitter": depth_jitter,
+        "lift_gap_s": lift_gap_s,
+    }
     if engine == "kinematic":
         from taxelkit.motion.engines.kinematic import kinematic_scenario
 
-        return kinematic_scenario(
-            name,
-            rng=rng,
-            rate_hz=rate_hz,
-            sensor=sensor,
-            size_jitter=size_jitter,
-            depth_mm=depth_mm,
-            depth_jitter=depth_jitter,
-            lift_gap_s=lift_gap_s,
-        )
+        return kinematic_scenario(name, **options)
     if engine == "mujoco":
         from taxelkit.motion.engines.mujoco_scenes import mujoco_scene
 
-        return mujoco_scene(
-            name,
-            rng=rng,
-            rate_hz=rate_hz,
-            sensor=sensor,
-            size_jitter=size_jitter,
-            depth_mm=depth_mm,
-            depth_jitter=depth_jitter,
-            lift_gap_s=lift_gap_s,
-        ).scenario
+        return mujoco_scene(name, **options).scenario
     raise InputError(f"unknown engine {engine!r}; known: {', '.join(ENGINE_NAMES)}")
 
 
