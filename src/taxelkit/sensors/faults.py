@@ -80,6 +80,40 @@ class Fault(Protocol):
         ...
 
 
+Frames = NDArray[Any]
+Times = NDArray[np.float64]
+Gen = np.random.Generator
+
+
+class _FrameFault:
+    """The shared ``apply`` of the fault models; each defines ``_change``."""
+
+    def apply(
+        self, frames: Frames, t_s: Times, *, threshold: float, rng: np.random.Generator
+    ) -> Frames:
+        """Return the frames ``(T, rows, cols)`` as the imperfect sensor reports them.
+
+        Parameters
+        ----------
+        frames : (T, rows, cols) bool or float
+            The true frames (not changed).
+        t_s : (T,) float, s
+        threshold : float
+            Contact threshold of analog frames, in their units.
+        rng : numpy.random.Generator
+            The source of every random choice.
+
+        Returns
+        -------
+        (T, rows, cols)
+            A new array of the same dtype.
+        """
+        return self._change(frames, t_s, threshold, rng)
+
+    def _change(self, frames: Frames, t_s: Times, threshold: float, rng: Gen) -> Frames:
+        raise NotImplementedError
+
+
 def _pick_taxels(shape: tuple[int, ...], count: int, rng: np.random.Generator) -> NDArray[np.intp]:
     rows, cols = shape[-2], shape[-1]
     if count > rows * cols:
@@ -93,7 +127,7 @@ def _check_analog(name: str, frames: NDArray[Any]) -> None:
 
 
 @dataclass(frozen=True)
-class DeadTaxels:
+class DeadTaxels(_FrameFault):
     """``count`` random taxels that never report contact.
 
     Parameters
@@ -108,14 +142,7 @@ class DeadTaxels:
         if int(self.count) < 0:
             raise InputError(f"count must be >= 0, got {self.count!r}")
 
-    def apply(
-        self,
-        frames: NDArray[Any],
-        t_s: NDArray[np.float64],
-        *,
-        threshold: float,
-        rng: np.random.Generator,
-    ) -> NDArray[Any]:
+    def _change(self, frames: Frames, t_s: Times, threshold: float, rng: Gen) -> Frames:
         """Set the dead taxels to 0 (False) in every frame."""
         out = frames.copy()
         flat = out.reshape(out.shape[0], -1)
@@ -124,7 +151,7 @@ class DeadTaxels:
 
 
 @dataclass(frozen=True)
-class StuckTaxels:
+class StuckTaxels(_FrameFault):
     """``count`` random taxels that always report contact.
 
     Parameters
@@ -144,14 +171,7 @@ class StuckTaxels:
         if not self.level > 1.0:
             raise InputError(f"level must be > 1 (above the threshold), got {self.level!r}")
 
-    def apply(
-        self,
-        frames: NDArray[Any],
-        t_s: NDArray[np.float64],
-        *,
-        threshold: float,
-        rng: np.random.Generator,
-    ) -> NDArray[Any]:
+    def _change(self, frames: Frames, t_s: Times, threshold: float, rng: Gen) -> Frames:
         """Set the stuck taxels to ``level x threshold`` (True) in every frame."""
         out = frames.copy()
         flat = out.reshape(out.shape[0], -1)
@@ -161,7 +181,7 @@ class StuckTaxels:
 
 
 @dataclass(frozen=True)
-class Flicker:
+class Flicker(_FrameFault):
     """Random flips across the threshold, independent per taxel and frame.
 
     Parameters
@@ -176,14 +196,7 @@ class Flicker:
     def __post_init__(self) -> None:
         check_in_range("rate", self.rate, 0.0, 1.0)
 
-    def apply(
-        self,
-        frames: NDArray[Any],
-        t_s: NDArray[np.float64],
-        *,
-        threshold: float,
-        rng: np.random.Generator,
-    ) -> NDArray[Any]:
+    def _change(self, frames: Frames, t_s: Times, threshold: float, rng: Gen) -> Frames:
         """Flip taxels: bool by negation, analog to 0 or ``FLICKER_ON_LEVEL x threshold``."""
         flip = rng.random(frames.shape) < self.rate
         if frames.dtype == bool:
@@ -196,7 +209,7 @@ class Flicker:
 
 
 @dataclass(frozen=True)
-class ThresholdSpread:
+class ThresholdSpread(_FrameFault):
     """Per-taxel sensitivity spread (analog frames only).
 
     Parameters
@@ -212,14 +225,7 @@ class ThresholdSpread:
     def __post_init__(self) -> None:
         check_in_range("sigma", self.sigma, 0.0, 0.3)
 
-    def apply(
-        self,
-        frames: NDArray[Any],
-        t_s: NDArray[np.float64],
-        *,
-        threshold: float,
-        rng: np.random.Generator,
-    ) -> NDArray[Any]:
+    def _change(self, frames: Frames, t_s: Times, threshold: float, rng: Gen) -> Frames:
         """Scale each taxel by its own gain."""
         _check_analog("ThresholdSpread", frames)
         z = np.clip(rng.standard_normal(frames.shape[1:]), -3.0, 3.0)
@@ -229,7 +235,7 @@ class ThresholdSpread:
 
 
 @dataclass(frozen=True)
-class Crosstalk:
+class Crosstalk(_FrameFault):
     """Row/column leakage of a resistive array (ghosting).
 
     Parameters
@@ -251,14 +257,7 @@ class Crosstalk:
             raise InputError(f"rows and cols must be >= 0, got {self.rows!r}, {self.cols!r}")
         check_in_range("coupling", self.coupling, 1e-6, 1.0)
 
-    def apply(
-        self,
-        frames: NDArray[Any],
-        t_s: NDArray[np.float64],
-        *,
-        threshold: float,
-        rng: np.random.Generator,
-    ) -> NDArray[Any]:
+    def _change(self, frames: Frames, t_s: Times, threshold: float, rng: Gen) -> Frames:
         """Add the coupled neighbour's reading to the chosen rows and columns."""
         out = frames.copy()
         for axis, count in ((1, int(self.rows)), (2, int(self.cols))):
@@ -278,7 +277,7 @@ class Crosstalk:
 
 
 @dataclass(frozen=True)
-class OffsetDrift:
+class OffsetDrift(_FrameFault):
     """Per-taxel offsets and a common drift of analog outputs.
 
     Parameters
@@ -297,14 +296,7 @@ class OffsetDrift:
         if not np.isfinite(self.drift_per_s):
             raise InputError(f"drift_per_s must be finite, got {self.drift_per_s!r}")
 
-    def apply(
-        self,
-        frames: NDArray[Any],
-        t_s: NDArray[np.float64],
-        *,
-        threshold: float,
-        rng: np.random.Generator,
-    ) -> NDArray[Any]:
+    def _change(self, frames: Frames, t_s: Times, threshold: float, rng: Gen) -> Frames:
         """Add the offsets and the drift (relative to the first timestamp)."""
         _check_analog("OffsetDrift", frames)
         off = rng.standard_normal(frames.shape[1:]) * self.offset * threshold
@@ -314,7 +306,7 @@ class OffsetDrift:
 
 
 @dataclass(frozen=True)
-class ContactLoss:
+class ContactLoss(_FrameFault):
     """A short loss of the whole image, once, while something touches the array.
 
     Parameters
@@ -328,14 +320,7 @@ class ContactLoss:
     def __post_init__(self) -> None:
         check_positive("duration_s", self.duration_s)
 
-    def apply(
-        self,
-        frames: NDArray[Any],
-        t_s: NDArray[np.float64],
-        *,
-        threshold: float,
-        rng: np.random.Generator,
-    ) -> NDArray[Any]:
+    def _change(self, frames: Frames, t_s: Times, threshold: float, rng: Gen) -> Frames:
         """Blank the frames of one window that starts at a random frame in contact."""
         out = frames.copy()
         on = frames if frames.dtype == bool else frames > threshold
