@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from taxelkit.cli_live import recognize_live
+from taxelkit.cli.live import recognize_live
 from taxelkit.io.frame_protocol import encode_frame
 from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.motion.scenarios import SCENARIO_NAMES, make_scenario

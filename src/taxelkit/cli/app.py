@@ -19,11 +19,11 @@ import click
 import numpy as np
 
 from taxelkit._version import __version__
-from taxelkit.cli_common import (
+from taxelkit.cli.common import (
     check_figure_suffix,
     save_figure,
 )
-from taxelkit.cli_options import MAX_MB, PITCH_MM, THRESHOLD
+from taxelkit.cli.options import MAX_MB, PITCH_MM, THRESHOLD
 from taxelkit.errors import InputError, TaxelkitError
 from taxelkit.frames import TactileFrames
 from taxelkit.io._raw import describe_exception, one_line
@@ -160,11 +160,11 @@ def sensors() -> None:
         )
 
 
-from taxelkit.cli_convert import convert  # noqa: E402  (sub-commands)
-from taxelkit.cli_paper000 import memorise, reproduce, trace  # noqa: E402
-from taxelkit.cli_simulate import demo, simulate  # noqa: E402
-from taxelkit.cli_smart import recognize, roll  # noqa: E402
-from taxelkit.cli_sources import sources  # noqa: E402
+from taxelkit.cli.convert import convert  # noqa: E402  (sub-commands)
+from taxelkit.cli.paper000 import memorise, reproduce, trace  # noqa: E402
+from taxelkit.cli.simulate import demo, simulate  # noqa: E402
+from taxelkit.cli.smart import recognize, roll  # noqa: E402
+from taxelkit.cli.sources import sources  # noqa: E402
 
 simulate.add_command(roll)
 for _command in (simulate, demo, reproduce, trace, memorise, recognize, convert, sources):

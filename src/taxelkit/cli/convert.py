@@ -12,7 +12,7 @@ from pathlib import Path
 
 import click
 
-from taxelkit.cli_options import PITCH_MM
+from taxelkit.cli.options import PITCH_MM
 from taxelkit.errors import InputError
 
 __all__ = ["convert"]

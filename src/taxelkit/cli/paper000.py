@@ -12,14 +12,14 @@ import click
 import numpy as np
 from tqdm import tqdm
 
-from taxelkit.cli_common import (
+from taxelkit.cli.common import (
     check_figure_suffix,
     check_outputs,
     save_figure,
     specimen_from_options,
     write_text,
 )
-from taxelkit.cli_options import ANGLE_DEG, COORDINATE_MM, LENGTH_MM, SEED, STEP_HEIGHT_UM
+from taxelkit.cli.options import ANGLE_DEG, COORDINATE_MM, LENGTH_MM, SEED, STEP_HEIGHT_UM
 from taxelkit.errors import InputError
 
 __all__ = ["memorise", "reproduce", "trace"]

@@ -11,8 +11,8 @@ import click
 import numpy as np
 from tqdm import tqdm
 
-from taxelkit.cli_common import save_figure, specimen_from_options
-from taxelkit.cli_options import (
+from taxelkit.cli.common import save_figure, specimen_from_options
+from taxelkit.cli.options import (
     ANGLE_DEG,
     COORDINATE_MM,
     EULER_DEG,

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from taxelkit.cli_options import DURATION_S, PITCH_MM, RATE_HZ, SEED, THRESHOLD, TIMEOUT_S
+from taxelkit.cli.options import DURATION_S, PITCH_MM, RATE_HZ, SEED, THRESHOLD, TIMEOUT_S
 from taxelkit.errors import InputError
 
 __all__ = ["recognize", "roll"]
@@ -89,7 +89,7 @@ def recognize(
     if live is not None:
         if file is not None:
             raise InputError("give either FILE or --live SOURCE, not both")
-        from taxelkit.cli_live import recognize_live
+        from taxelkit.cli.live import recognize_live
 
         code: int = recognize_live(
             live,
