@@ -91,7 +91,7 @@ def cli(ctx: click.Context, verbose: bool, max_mb: float | None) -> None:
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 @click.option("--topic", default=None, help=_TOPIC_HELP)
 def info(file: Path, pitch_mm: float | None, as_json: bool, topic: str | None) -> None:
-    """Summarise a recording (.npz, .h5, .csv, .mcap, rosbag2): frames, shape, rate, values."""
+    """Summarise a recording FILE (.npz, .h5, .csv, .mcap, rosbag2): frames, shape, rate, values."""
     from taxelkit.io.recordings import read_recording
 
     rec = read_recording(file, pitch_mm=pitch_mm, topic=topic)
@@ -113,8 +113,19 @@ def info(file: Path, pitch_mm: float | None, as_json: bool, topic: str | None) -
 
 @cli.command()
 @click.argument("file", type=click.Path(path_type=Path))
-@click.option("--out", type=click.Path(path_type=Path), required=True, help="Image file (.png).")
-@click.option("--max-frames", type=click.IntRange(1, 200), default=12, show_default=True)
+@click.option(
+    "--out",
+    type=click.Path(path_type=Path),
+    required=True,
+    help="Image file (.png, .pdf, .svg, .jpg).",
+)
+@click.option(
+    "--max-frames",
+    type=click.IntRange(1, 200),
+    default=12,
+    show_default=True,
+    help="Most frames in the strip, evenly spaced over --start..--stop.",
+)
 @click.option("--start", type=click.IntRange(0), default=0, help="First frame to consider.")
 @click.option("--stop", type=click.IntRange(1), default=None, help="One past the last frame.")
 @click.option("--threshold", type=THRESHOLD, default=None, help="Draw contact images frames > T.")
@@ -130,7 +141,7 @@ def show(
     force: bool,
     topic: str | None,
 ) -> None:
-    """Draw frames of a recording as an image strip."""
+    """Draw frames of a recording FILE as an image strip."""
     from taxelkit.io.recordings import read_recording
     from taxelkit.plotting.strip import frame_indices_for_strip, plot_frame_strip
 
