@@ -24,6 +24,7 @@ from taxelkit.cli.common import (
     save_figure,
 )
 from taxelkit.cli.options import MAX_MB, PITCH_MM, THRESHOLD
+from taxelkit.cli.view import ViewTarget, view_options, with_view
 from taxelkit.errors import InputError, TaxelkitError
 from taxelkit.frames import TactileFrames
 from taxelkit.io._raw import describe_exception, one_line
@@ -116,8 +117,8 @@ def info(file: Path, pitch_mm: float | None, as_json: bool, topic: str | None) -
 @click.option(
     "--out",
     type=click.Path(path_type=Path),
-    required=True,
-    help="Image file (.png, .pdf, .svg, .jpg).",
+    default=None,
+    help="Image file (.png, .pdf, .svg, .jpg); needed unless the frames go to rerun.",
 )
 @click.option(
     "--max-frames",
@@ -131,27 +132,53 @@ def info(file: Path, pitch_mm: float | None, as_json: bool, topic: str | None) -
 @click.option("--threshold", type=THRESHOLD, default=None, help="Draw contact images frames > T.")
 @click.option("--force", is_flag=True, help="Overwrite an existing output.")
 @click.option("--topic", default=None, help=_TOPIC_HELP)
+@view_options
 def show(
     file: Path,
-    out: Path,
+    out: Path | None,
     max_frames: int,
     start: int,
     stop: int | None,
     threshold: float | None,
     force: bool,
     topic: str | None,
+    view: ViewTarget,
 ) -> None:
-    """Draw frames of a recording FILE as an image strip."""
+    """Draw frames of a recording FILE as an image strip, or send them to rerun.
+
+    With --view, --view-url or --save-view every frame from --start to --stop
+    is logged to rerun (sensor/frames, on the frame and time timelines).
+    """
     from taxelkit.io.recordings import read_recording
     from taxelkit.plotting.strip import frame_indices_for_strip, plot_frame_strip
 
-    check_figure_suffix(out)
+    if out is None and not view.wanted:
+        raise InputError("give --out IMAGE, or --view / --view-url / --save-view FILE.rrd")
+    if out is not None:
+        check_figure_suffix(out)
     rec = read_recording(file, topic=topic)
     stop = rec.n_frames if stop is None else min(stop, rec.n_frames)
     if start >= stop:
         raise InputError(f"--start ({start}) must be below the number of frames ({stop})")
     if threshold is not None:
         rec = TactileFrames(rec.contact(threshold), rec.t_s, rec.pitch_mm, sensor=rec.sensor)
+    if view.wanted:
+        from taxelkit.viewer.rerun_view import view_frames
+
+        def log(where: ViewTarget) -> int:
+            return view_frames(
+                rec,
+                start=start,
+                stop=stop,
+                save_path=where.save_path,
+                spawn=where.spawn,
+                connect_url=where.url,
+            )
+
+        n = with_view(view, log, force=force)
+        click.echo(f"logged {n} frames to {view.save_path or view.url or 'the rerun viewer'}")
+    if out is None:
+        return
     idx = start + frame_indices_for_strip(stop - start, max_frames)
     fig = plot_frame_strip(rec, indices=idx, title=f"{file.name} ({rec.sensor})")
     save_figure(fig, out, force=force)

@@ -16,6 +16,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from taxelkit.cli.view import ViewTarget, with_view
 from taxelkit.errors import InputError, check_positive
 from taxelkit.io.frame_protocol import DecodedFrame, PayloadType
 from taxelkit.io.live_sources import LiveTimeoutError
@@ -107,6 +108,8 @@ def recognize_live(
     echo: Callable[[str], None],
     save_view: Path | None = None,
     force: bool = False,
+    spawn_view: bool = False,
+    view_url: str | None = None,
 ) -> int:
     """Run the streaming smart sensor on a live source, printing one line per event.
 
@@ -135,6 +138,10 @@ def recognize_live(
         file (:mod:`taxelkit.viewer`, the viewer extra), written atomically.
     force : bool, optional
         Replace an existing ``save_view`` file.
+    spawn_view : bool, optional
+        Also show the run in a rerun viewer on this machine, as it happens.
+    view_url : str, optional
+        Also stream the run to the rerun viewer at this address.
 
     Returns
     -------
@@ -164,26 +171,23 @@ def recognize_live(
     idle = None if timeout_s is None else check_positive("timeout_s", timeout_s)
     if threshold is not None and not math.isfinite(threshold):
         raise InputError(f"threshold must be a finite number, got {threshold!r}")
-    if save_view is None:
+    target = ViewTarget(spawn_view, view_url, save_view)
+    if not target.wanted:
         return _run_live(opener, _LiveRun(pitch, threshold), max_frames, idle, echo)
-    from taxelkit.io.atomic import atomic_write
     from taxelkit.viewer.rerun_view import RerunView
 
-    codes: list[int] = []
-
-    def session(tmp: Path) -> None:
-        view = RerunView(save_path=tmp)
+    def session(where: ViewTarget) -> int:
+        view = RerunView(save_path=where.save_path, spawn=where.spawn, connect_url=where.url)
         run = _LiveRun(pitch, threshold, view)
         try:
-            codes.append(_run_live(opener, run, max_frames, idle, echo))
+            return _run_live(opener, run, max_frames, idle, echo)
         finally:
             if run.sensor is not None and run.sensor.frame_index:
                 last = run.sensor.frame_index - 1
                 view.log_result(last, float(run.wire_t_s[last]), run.sensor.result())
             view.close()
 
-    atomic_write(save_view, session, force=force)
-    return codes[0]
+    return with_view(target, session, force=force)
 
 
 def _run_live(

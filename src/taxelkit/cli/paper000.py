@@ -29,6 +29,7 @@ from taxelkit.cli.options import (
     SHAPE,
     STEP_HEIGHT_UM,
 )
+from taxelkit.cli.view import ViewTarget, view_options, with_view
 from taxelkit.errors import InputError
 from taxelkit.experiments.registry import EXPERIMENTS
 
@@ -240,7 +241,8 @@ def _load_memory(path: Path | None, rule: str) -> Any:
     help="Also draw the trace and the recall curve to this figure (.png, .pdf, .svg, .jpg).",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
-@click.option("--force", is_flag=True, help="Overwrite an existing --plot file.")
+@click.option("--force", is_flag=True, help="Overwrite an existing --plot or --save-view file.")
+@view_options
 def trace(
     shape: str | None,
     specimen: Path | None,
@@ -255,10 +257,14 @@ def trace(
     plot: Path | None,
     as_json: bool,
     force: bool,
+    view: ViewTarget,
 ) -> None:
     """Trace a relief specimen's edge and recognise its shape (paper 000).
 
-    Recognition uses only the trajectory the tracer produced, never the specimen.
+    Recognition uses only the trajectory the tracer produced, never the
+    specimen. With --view, --view-url or --save-view the probe path, the
+    estimated edges and the recall curve are logged to rerun, section by
+    section (docs/viewer.md).
     """
     from taxelkit.memory.contour_recall import recall_curve
     from taxelkit.motion.probe import SimulatedProbe
@@ -267,6 +273,8 @@ def trace(
     if plot is not None:
         check_figure_suffix(plot)
         check_outputs([plot], force)
+    if view.save_path is not None:
+        check_outputs([view.save_path], force)
     relief, centre = specimen_from_options(
         shape, specimen, rotate_deg, offset_mm, diameter_mm, step_height_um
     )
@@ -288,6 +296,15 @@ def trace(
         "recall_curve": curve.to_json(),
         "rule": rule,
     }
+    if view.wanted:
+        from taxelkit.viewer.trace_view import view_trace
+
+        def log(where: ViewTarget) -> int:
+            return view_trace(
+                tr, curve, save_path=where.save_path, spawn=where.spawn, connect_url=where.url
+            )
+
+        with_view(view, log, force=force)
     if plot is not None:
         from taxelkit.plotting.paper000 import plot_trace_recall
 

@@ -16,6 +16,7 @@ from taxelkit.cli.options import (
     THRESHOLD,
     TIMEOUT_S,
 )
+from taxelkit.cli.view import ViewTarget, view_options, with_view
 from taxelkit.errors import InputError
 
 __all__ = ["recognize", "roll"]
@@ -61,14 +62,8 @@ __all__ = ["recognize", "roll"]
     help="Paper 001's pipeline as printed: no image cleaning, no Level 2 limits, Level 3 in "
     "frames (k = 3). Default: the robust pipeline.",
 )
-@click.option(
-    "--save-view",
-    type=click.Path(path_type=Path),
-    default=None,
-    help="Also log frames, contact classes, tactemes, candidates and verdicts to this "
-    'rerun .rrd file (needs the viewer extra: pip install "taxelkit[viewer]").',
-)
 @click.option("--force", is_flag=True, help="Overwrite an existing --save-view file.")
+@view_options
 def recognize(
     file: Path | None,
     threshold: float | None,
@@ -79,21 +74,17 @@ def recognize(
     timeout_s: float,
     topic: str | None,
     faithful: bool,
-    save_view: Path | None,
     force: bool,
+    view: ViewTarget,
 ) -> int:
     """Identify the object rolling on the sensor from a recording FILE (paper 001).
 
     Works on any valid recording (bool contact images or float deflections, any
     array size and pitch). The recogniser sees only the frames, their
-    timestamps and the pitch.
+    timestamps and the pitch. With --view, --view-url or --save-view, the
+    frames, contact classes, tactemes, candidates and verdicts are logged to
+    rerun as they happen (docs/viewer.md).
     """
-    if save_view is not None:
-        from taxelkit.viewer.rerun_view import check_viewer_available
-
-        check_viewer_available()
-        if save_view.suffix.lower() != ".rrd":
-            raise InputError(f"--save-view must end in .rrd, got {save_view.name!r}")
     if live is not None:
         if file is not None:
             raise InputError("give either FILE or --live SOURCE, not both")
@@ -106,8 +97,10 @@ def recognize(
             max_frames=max_frames,
             timeout_s=timeout_s,
             echo=click.echo,
-            save_view=save_view,
+            save_view=view.save_path,
             force=force,
+            spawn_view=view.spawn,
+            view_url=view.url,
         )
         return code
     if file is None:
@@ -124,14 +117,15 @@ def recognize(
         )
     else:
         result = recognise(rec, threshold=threshold)
-    if save_view is not None:
-        from taxelkit.io.atomic import atomic_write
+    if view.wanted:
         from taxelkit.viewer.rerun_view import view_recognition
 
-        def write_view(tmp: Path) -> None:
-            view_recognition(rec, result, save_path=tmp)
+        def log(where: ViewTarget) -> int:
+            return view_recognition(
+                rec, result, save_path=where.save_path, spawn=where.spawn, connect_url=where.url
+            )
 
-        atomic_write(save_view, write_view, force=force)
+        with_view(view, log, force=force)
     if as_json:
         click.echo(json.dumps(result.to_json()))
         return 0
