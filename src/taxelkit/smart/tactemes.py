@@ -390,7 +390,7 @@ def _pivot_ratios(track: SegmentTrack, start: int, stop: int) -> NDArray[np.floa
     half = track.half_length_mm[start:stop]
     if track.extent_mm is not None:
         ext = track.extent_mm[start:stop]
-        measured = np.isfinite(ext).all(axis=1)
+        measured: NDArray[np.bool_] = np.isfinite(ext[:, 0]) & np.isfinite(ext[:, 1])
         t = np.deg2rad(theta)
         offset = 0.5 * (ext[:, 0] + ext[:, 1])
         middle = centre + offset[:, None] * np.stack([np.cos(t), np.sin(t)], axis=-1)
