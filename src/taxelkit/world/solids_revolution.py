@@ -129,6 +129,20 @@ class RevolutionProfile:
     rims: tuple[tuple[float, float], ...]
 
 
+def _lowest_rim_points_mm(profile: RevolutionProfile, rotations: ArrayLike) -> NDArray[np.float64]:
+    """Lowest point of every rim circle, ``(P, R, 3)`` mm.
+
+    Along each rim's steepest descent, as :func:`revolution_lowest_point_mm` explains.
+    """
+    rot = as_rotation_batch(rotations)
+    a = rot[:, :, 2]
+    tilt = np.hypot(a[:, 0], a[:, 1])
+    down = -(np.array([0.0, 0.0, 1.0]) - a[:, 2:3] * a)
+    safe = np.where(tilt > 1e-12, tilt, 1.0)[:, None]
+    down = np.where(tilt[:, None] > 1e-12, down / safe, 0.0)
+    return np.stack([zr * a + rr * down for zr, rr in profile.rims], axis=1)
+
+
 def revolution_lowest_point_mm(
     profile: RevolutionProfile, rotations: ArrayLike
 ) -> NDArray[np.float64]:
@@ -143,13 +157,7 @@ def revolution_lowest_point_mm(
     -------
     (P, 3) float64, mm
     """
-    rot = as_rotation_batch(rotations)
-    a = rot[:, :, 2]
-    tilt = np.hypot(a[:, 0], a[:, 1])
-    down = -(np.array([0.0, 0.0, 1.0]) - a[:, 2:3] * a)
-    safe = np.where(tilt > 1e-12, tilt, 1.0)[:, None]
-    down = np.where(tilt[:, None] > 1e-12, down / safe, 0.0)
-    pts = np.stack([zr * a + rr * down for zr, rr in profile.rims], axis=1)  # (P, R, 3)
+    pts = _lowest_rim_points_mm(profile, rotations)
     z = pts[..., 2]
     tied = z <= z.min(axis=1, keepdims=True) + 1e-6
     low: NDArray[np.float64] = (pts * tied[..., None]).sum(axis=1) / tied.sum(axis=1)[:, None]
@@ -169,13 +177,7 @@ def revolution_lowest_segment_mm(
     -------
     (P, 2, 3) float64, mm
     """
-    rot = as_rotation_batch(rotations)
-    a = rot[:, :, 2]
-    tilt = np.hypot(a[:, 0], a[:, 1])
-    down = -(np.array([0.0, 0.0, 1.0]) - a[:, 2:3] * a)
-    safe = np.where(tilt > 1e-12, tilt, 1.0)[:, None]
-    down = np.where(tilt[:, None] > 1e-12, down / safe, 0.0)
-    pts = np.stack([zr * a + rr * down for zr, rr in profile.rims], axis=1)  # (P, R, 3)
+    pts = _lowest_rim_points_mm(profile, rotations)
     z = pts[..., 2]
     lowest = np.argmin(z, axis=1)
     tied = z <= z.min(axis=1, keepdims=True) + 1e-6
