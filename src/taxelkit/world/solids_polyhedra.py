@@ -254,13 +254,6 @@ def polytope_bottom_mm(
     return evaluate_bottom(grid, [PoseGroup(None, funcs, combine, n_work=2)])
 
 
-def _polytope_trimesh(vertices_mm: NDArray[np.float64]) -> trimesh.Trimesh:
-    import trimesh
-
-    hull: trimesh.Trimesh = trimesh.Trimesh(vertices=vertices_mm).convex_hull
-    return hull
-
-
 class PolytopeSolidMethods(SolidMethods):
     """The :class:`~taxelkit.world.base.Solid` methods of a convex polyhedron.
 
@@ -289,6 +282,14 @@ class PolytopeSolidMethods(SolidMethods):
 
     def _bottom(self, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[Any]:
         return polytope_bottom_mm(*self.planes, rotations, x_mm, y_mm)
+
+    def to_trimesh(self) -> trimesh.Trimesh:
+        """The body as a triangle mesh (the convex hull of its vertices), mm, for plots and
+        baselines; the reference point is the origin."""
+        import trimesh
+
+        hull: trimesh.Trimesh = trimesh.Trimesh(vertices=self.vertices_mm).convex_hull
+        return hull
 
 
 @dataclass(frozen=True)
@@ -322,10 +323,6 @@ class Cube(PolytopeSolidMethods):
         """Outward unit normals ``(6, 3)`` and offsets ``(6,)`` mm of the faces."""
         n = np.concatenate([np.eye(3), -np.eye(3)])
         return n, np.full(6, 0.5 * self.edge_mm)
-
-    def to_trimesh(self) -> trimesh.Trimesh:
-        """The cube as a triangle mesh (12 triangles), for plots and baselines."""
-        return _polytope_trimesh(self.vertices_mm)
 
 
 @dataclass(frozen=True)
@@ -370,7 +367,3 @@ class Tetrahedron(PolytopeSolidMethods):
         """Outward unit normals ``(4, 3)`` and offsets ``(4,)`` mm of the faces."""
         faces = np.array([[0, 1, 2], [0, 1, 3], [1, 2, 3], [2, 0, 3]])
         return planes_from_vertices(self.vertices_mm, faces)
-
-    def to_trimesh(self) -> trimesh.Trimesh:
-        """The tetrahedron as a triangle mesh (4 triangles)."""
-        return _polytope_trimesh(self.vertices_mm)
