@@ -292,6 +292,8 @@ def trace(
         "closed": tr.closed,
         "stop_reason": tr.stop_reason,
         "recognised": curve.recognised[-1],
+        "verdict": curve.verdicts[-1],
+        "margin": float(curve.margin[-1]) if np.isfinite(curve.margin[-1]) else None,
         "correlations": final,
         "recall_curve": curve.to_json(),
         "rule": rule,
@@ -314,7 +316,7 @@ def trace(
     else:
         click.echo(
             f"traced {tr.n_sections} sections ({'closed' if tr.closed else tr.stop_reason}); "
-            f"recognised: {doc['recognised']}"
+            f"recognised: {doc['verdict']}"
         )
         for n, c in sorted(final.items(), key=lambda kv: -kv[1]):
             click.echo(f"  {n:16s} c = {c:+.3f}")

@@ -18,7 +18,9 @@ from taxelkit.errors import InputError
 
 __all__ = [
     "BLOCKS",
+    "fig9_markdown",
     "paper001_markdown",
+    "recall_vs_s_markdown",
     "render_block",
     "robustness_markdown",
     "update_blocks",
@@ -97,6 +99,59 @@ def robustness_markdown(doc: dict[str, Any]) -> str:
     return "\n".join(text)
 
 
+def _from_s(found: dict[str, float | None]) -> str:
+    return ", ".join(f"{n} {'never' if s is None else f'{s:.2f}'}" for n, s in found.items())
+
+
+def _ties_text(s: list[float], ties: list[int]) -> str:
+    tied = [f"{v:.2f} ({t})" for v, t in zip(s, ties, strict=True) if t]
+    return "none" if not tied else ", ".join(tied)
+
+
+def fig9_markdown(doc: dict[str, Any]) -> str:
+    """The ``fig9`` rows of the paper-000 table: from which ``s``, ties and margins."""
+    paper = doc["paper_recognised_from_s"]
+    lines = ["| `fig9` (one trace per shape) | taxelkit | paper |", "| --- | --- | --- |"]
+    for part in (doc, doc["faithful"]):
+        final_margin = {n: m[-1] for n, m in part["winning_margin"].items()}
+        undecided = {n: v for n, v in part["final_verdicts"].items() if v != n}
+        lines += [
+            f"| {part['rule']}: alone top-ranked from s = | {_from_s(part['recognised_from_s'])} "
+            f"| triangle {paper['triangle']}; star vs circle until {paper['star']} |",
+            f"| {part['rule']}: ties at the top, s (shapes tied) | "
+            f"{_ties_text(part['s'], part['ties_per_s'])} | n/a |",
+            f"| {part['rule']}: full contour | margins "
+            + ", ".join(f"{n} {m:.3f}" for n, m in final_margin.items())
+            + ("; " + "; ".join(f"{n}: {v}" for n, v in undecided.items()) if undecided else "")
+            + " | n/a |",
+        ]
+    return "\n".join(lines)
+
+
+def recall_vs_s_markdown(doc: dict[str, Any]) -> str:
+    """The ``recall-vs-s`` rows: percent right per shape and s, ties per s, both rules."""
+    s = doc["s"]
+    head = "| rule | shape | " + " | ".join(f"s = {v:g}" for v in s) + " |"
+    lines = [
+        f"{doc['n_trials_per_shape']} random poses per shape (rotation, translation, start "
+        "point); percent recognised (a tie is never right), in brackets the traces ending in a "
+        "tie at the top:",
+        "",
+        head,
+        "| --- | --- |" + " --- |" * len(s),
+    ]
+    for key in ("improved", "faithful"):
+        part = doc[key]
+        for name, fractions in part["fraction_correct"].items():
+            ties = part["ties"][name]
+            cells = [
+                f"{100 * f:.0f}" + (f" ({t})" if t else "")
+                for f, t in zip(fractions, ties, strict=True)
+            ]
+            lines.append(f"| {part['rule']} | {name} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
 def paper001_markdown(docs: dict[str, dict[str, Any]]) -> str:
     """Paper 001's results table from ``contact-classes``, ``cylinder``, ``smart-sensor``
     and ``tacteme-table``."""
@@ -142,6 +197,8 @@ def paper001_markdown(docs: dict[str, dict[str, Any]]) -> str:
 
 #: Blocks of the README rendered from results: name -> (experiments it needs, renderer).
 BLOCKS: dict[str, tuple[tuple[str, ...], Callable[[dict[str, dict[str, Any]]], str]]] = {
+    "fig9": (("fig9",), lambda docs: fig9_markdown(docs["fig9"])),
+    "recall-vs-s": (("recall-vs-s",), lambda docs: recall_vs_s_markdown(docs["recall-vs-s"])),
     "robustness": (("robustness",), lambda docs: robustness_markdown(docs["robustness"])),
     "paper001": (
         ("contact-classes", "cylinder", "smart-sensor", "tacteme-table"),

@@ -34,6 +34,7 @@ from taxelkit.memory.associatron import AssociativeMemory, memorise
 from taxelkit.memory.chain_code import DEFAULT_CHAIN_CODE, ChainCodeConfig, chain_code_from_moves
 from taxelkit.memory.direction_histogram import histogram_from_moves, relative_frequency
 from taxelkit.memory.partial_code import partial_chain_code_from_moves
+from taxelkit.memory.recall import verdict_text
 
 __all__ = [
     "DEFAULT_S_GRID",
@@ -59,14 +60,31 @@ class RecallCurve:
         Stored contours, memory order.
     correlations : (S, K) float
         ``c`` of Eq. 14, best over the m rotations, for each stored contour.
-    recognised : tuple of str
-        The top-ranked contour at each ``s``.
+    recognised : tuple of (str or None)
+        The single top-ranked contour at each ``s``; None where two or more
+        are tied (:data:`~taxelkit.memory.recall.TIE_TOLERANCE`).
+    margin : (S,) float
+        Best ``c`` minus the second best at each ``s`` (0 on a tie).
+    tied : tuple of tuple of str
+        The names tied at the top at each ``s`` (one name when decided).
     """
 
     s: NDArray[np.float64]
     names: tuple[str, ...]
     correlations: NDArray[np.float64]
-    recognised: tuple[str, ...]
+    recognised: tuple[str | None, ...]
+    margin: NDArray[np.float64]
+    tied: tuple[tuple[str, ...], ...]
+
+    @property
+    def verdicts(self) -> tuple[str, ...]:
+        """The recognised name or ``"undecided between A and B"`` at each ``s``."""
+        return tuple(verdict_text(t) for t in self.tied)
+
+    @property
+    def n_ties(self) -> int:
+        """Number of ``s`` at which the top is a tie."""
+        return sum(r is None for r in self.recognised)
 
     def recognised_from_s(self, name: str) -> float | None:
         """Smallest ``s`` from which ``name`` stays top-ranked to the end; None if never."""
@@ -78,14 +96,23 @@ class RecallCurve:
         return float(self.s[first])
 
     def to_json(self) -> list[dict[str, Any]]:
-        """``[{"s": s, "correlations": {name: c}}, ...]``."""
+        """``[{"s", "correlations": {name: c}, "margin", "verdict"}, ...]``."""
         return [
             {
                 "s": float(s),
                 "correlations": {n: float(c) for n, c in zip(self.names, row, strict=True)},
+                "margin": _finite_or_none(round(float(margin), 6)),
+                "verdict": verdict,
             }
-            for s, row in zip(self.s, self.correlations, strict=True)
+            for s, row, margin, verdict in zip(
+                self.s, self.correlations, self.margin, self.verdicts, strict=True
+            )
         ]
+
+
+def _finite_or_none(value: float) -> float | None:
+    """JSON has no infinity: the margin with one stored contour becomes None."""
+    return value if np.isfinite(value) else None
 
 
 def moves_turned(moves_mm: NDArray[np.float64], angle_rad: float) -> NDArray[np.float64]:
@@ -199,4 +226,6 @@ def recall_curve(
         else:
             codes.append(chain_code_from_moves(part, config=memory.config))
     result = memory.recall(np.stack(codes))
-    return RecallCurve(grid, memory.names, result.correlations, tuple(result.recognised))
+    return RecallCurve(
+        grid, memory.names, result.correlations, result.recognised, result.margin, result.tied
+    )
