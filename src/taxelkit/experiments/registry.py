@@ -70,6 +70,12 @@ def _fig9(**kw: Any) -> ExperimentResult:
     return run_fig9(**kw)
 
 
+def _fig9_readings(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.fig9_readings import run_fig9_readings
+
+    return run_fig9_readings(**kw)
+
+
 def _recall_vs_s(**kw: Any) -> ExperimentResult:
     from taxelkit.experiments.recall_vs_s import run_recall_vs_s
 
@@ -113,6 +119,12 @@ EXPERIMENTS: dict[str, Experiment] = {
         Experiment("fig7", "Paper 000 Fig. 7: tracing straight 50 um edges", _fig7, "trace"),
         Experiment("fig8", "Paper 000 Fig. 8: tracing the five 200 um specimens", _fig8, "shape"),
         Experiment("fig9", "Paper 000 Fig. 9: correlation against arc length", _fig9, "shape"),
+        Experiment(
+            "fig9-readings",
+            "Paper 000 Fig. 9: readings of the faithful code and rule",
+            _fig9_readings,
+            "reading",
+        ),
         Experiment(
             "recall-vs-s",
             "Paper 000: recognition rate against s",

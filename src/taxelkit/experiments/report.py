@@ -19,6 +19,7 @@ from taxelkit.errors import InputError
 __all__ = [
     "BLOCKS",
     "fig9_markdown",
+    "fig9_readings_markdown",
     "paper001_markdown",
     "recall_vs_s_markdown",
     "render_block",
@@ -128,6 +129,29 @@ def fig9_markdown(doc: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+def fig9_readings_markdown(doc: dict[str, Any]) -> str:
+    """The readings of Fig. 9: the best five and whether any reproduces the figure."""
+    lines = [
+        ("Some reading reproduces" if doc["reproduced"] else "No reading reproduces")
+        + f" Fig. 9's shape ({len(doc['readings'])} readings tried, "
+        "`docs/results/fig9-readings.json` and `.png`). Best first:",
+        "",
+        "| reading | d_j | criteria met (rising, triangle, star, full) | triangle / star "
+        "from s | star-circle gap before 0.66 | shapes right at s = 1 |",
+        "| --- | --- | --- | --- | --- | --- |",
+    ]
+    for r in doc["readings"][:5]:
+        c = r["criteria"]
+        marks = ", ".join("yes" if c[k] else "no" for k in ("rising", "triangle", "star", "full"))
+        f = r["recognised_from_s"]
+        lines.append(
+            f"| {r['label']} | {', '.join(f'{v:g}' for v in r['d_j'])} | {r['criteria_met']}/4 "
+            f"({marks}) | {f['triangle']} / {f['star']} | {r['star_circle_gap_before_0.66']} | "
+            f"{r['recognised_at_full_contour']}/5 |"
+        )
+    return "\n".join(lines)
+
+
 def recall_vs_s_markdown(doc: dict[str, Any]) -> str:
     """The ``recall-vs-s`` rows: percent right per shape and s, ties per s, both rules."""
     s = doc["s"]
@@ -199,6 +223,10 @@ def paper001_markdown(docs: dict[str, dict[str, Any]]) -> str:
 BLOCKS: dict[str, tuple[tuple[str, ...], Callable[[dict[str, dict[str, Any]]], str]]] = {
     "fig9": (("fig9",), lambda docs: fig9_markdown(docs["fig9"])),
     "recall-vs-s": (("recall-vs-s",), lambda docs: recall_vs_s_markdown(docs["recall-vs-s"])),
+    "fig9-readings": (
+        ("fig9-readings",),
+        lambda docs: fig9_readings_markdown(docs["fig9-readings"]),
+    ),
     "robustness": (("robustness",), lambda docs: robustness_markdown(docs["robustness"])),
     "paper001": (
         ("contact-classes", "cylinder", "smart-sensor", "tacteme-table"),
