@@ -32,6 +32,13 @@ def test_trace_shape_json_recognises_a_rotated_translated_hexagon(
     assert doc["recognised"] == "hexagon"
     assert set(doc["correlations"]) == {"circle", "square", "triangle", "star", "hexagon"}
     assert doc["recall_curve"][-1]["s"] == pytest.approx(1.0)
+    # Open-set fields: calibrated probabilities, unknown, when it was decided, the margin.
+    assert set(doc["probabilities"]) == set(doc["correlations"])
+    assert sum(doc["probabilities"].values()) == pytest.approx(1.0)
+    assert max(doc["probabilities"], key=doc["probabilities"].get) == "hexagon"
+    assert doc["unknown"] is False and doc["open_set_verdict"] == "hexagon"
+    assert 0.0 < doc["decided_at_s"] <= 1.0 and doc["calibrated"] is True
+    assert doc["margin"] > 0 and doc["verdict"] == "hexagon"
     traj = np.asarray(doc["trajectory_mm"])
     assert traj.shape[1] == 2 and traj.shape[0] > 50
 

@@ -176,6 +176,34 @@ def _load_memory(path: Path | None, rule: str) -> Any:
     return read_memory(path).with_rule(rule)
 
 
+def _open_set_fields(
+    tr: Any, mem: Any, *, rule: str, built_in: bool, phases: int
+) -> dict[str, Any]:
+    """``probabilities``, ``unknown``, ``decided_at_s`` and the open-set verdict of a trace.
+
+    The calibration is the one fitted by ``taxelkit reproduce open-set`` for
+    the built-in memory and the default rule; with another rule the
+    probabilities are not calibrated (``calibrated`` false), and with a user
+    memory the compactness test is skipped (its shapes' references are unknown).
+    """
+    import dataclasses
+
+    from taxelkit.experiments.open_set import REFERENCE_CALIBRATION, judge_trace
+
+    cal = REFERENCE_CALIBRATION
+    if not built_in:
+        cal = dataclasses.replace(cal, reference_compactness=())
+    verdict, decided = judge_trace(tr, mem, cal, phases=phases)
+    probs = verdict.probabilities[-1]
+    return {
+        "probabilities": {n: float(p) for n, p in zip(verdict.names, probs, strict=True)},
+        "unknown": bool(verdict.unknown[-1]),
+        "open_set_verdict": verdict.verdicts[-1],
+        "decided_at_s": decided,
+        "calibrated": rule == "matched",
+    }
+
+
 @click.command()
 @click.option(
     "--shape", type=SHAPE, default=None, help="A built-in relief shape (or give --specimen)."
@@ -287,6 +315,7 @@ def trace(
     phases = 1 if rule == "hebbian" else 2
     curve = recall_curve(tr.moves_mm, mem, phases=phases)
     final = {n: float(c) for n, c in zip(curve.names, curve.correlations[-1], strict=True)}
+    open_set = _open_set_fields(tr, mem, rule=rule, built_in=memory is None, phases=phases)
     doc = {
         "trajectory_mm": tr.points_mm.round(4).tolist(),
         "closed": tr.closed,
@@ -297,6 +326,7 @@ def trace(
         "correlations": final,
         "recall_curve": curve.to_json(),
         "rule": rule,
+        **open_set,
     }
     if view.wanted:
         from taxelkit.viewer.trace_view import view_trace

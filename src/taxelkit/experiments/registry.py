@@ -76,6 +76,12 @@ def _fig9_readings(**kw: Any) -> ExperimentResult:
     return run_fig9_readings(**kw)
 
 
+def _open_set(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.open_set import run_open_set
+
+    return run_open_set(**kw)
+
+
 def _recall_vs_s(**kw: Any) -> ExperimentResult:
     from taxelkit.experiments.recall_vs_s import run_recall_vs_s
 
@@ -131,6 +137,14 @@ EXPERIMENTS: dict[str, Experiment] = {
             _recall_vs_s,
             "trial",
             trials=50,
+            workers=True,
+        ),
+        Experiment(
+            "open-set",
+            "Paper 000 beyond five shapes: unknown shapes, calibrated confidence",
+            _open_set,
+            "trace",
+            trials=20,
             workers=True,
         ),
         Experiment(

@@ -14,12 +14,15 @@ import re
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
+
 from taxelkit.errors import InputError
 
 __all__ = [
     "BLOCKS",
     "fig9_markdown",
     "fig9_readings_markdown",
+    "open_set_markdown",
     "paper001_markdown",
     "recall_vs_s_markdown",
     "render_block",
@@ -152,6 +155,40 @@ def fig9_readings_markdown(doc: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+def open_set_markdown(doc: dict[str, Any]) -> str:
+    """The ``open-set`` results: unknown rate, in-set recognition, ECE, against the targets."""
+    ins, out, rel, tgt = doc["in_set"], doc["out_of_set"], doc["reliability"], doc["targets"]
+    missed = {
+        k: ", ".join(f"{v} {n}" for v, n in counts.items() if v != "unknown")
+        for k, counts in out["per_kind"].items()
+        if set(counts) != {"unknown"}
+    }
+    decided = [v for vals in ins["decided_at_s"].values() for v in vals if v is not None]
+    cal = doc["calibration"]
+    rows = [
+        "| measure | taxelkit | target |",
+        "| --- | --- | --- |",
+        f'| out-of-set traces answered "unknown" ({len(out["kinds"])} kinds, {out["n"]} '
+        f"traces) | {100 * out['unknown_rate']:.1f} %"
+        + (
+            " (named instead: " + "; ".join(f"{k}: {v}" for k, v in missed.items()) + ")"
+            if missed
+            else ""
+        )
+        + f" | >= {100 * tgt['unknown_rate']:.0f} % |",
+        f"| in-set traces recognised at full contour ({ins['n']}) | "
+        f"{100 * ins['recognised']:.1f} % ({ins['wrong_names']} wrong names, {ins['unknown']} "
+        f"unknown, {ins['undecided']} undecided) | >= {100 * tgt['recognised']:.0f} %, 0 wrong |",
+        f"| expected calibration error, every s | {rel['ece']:.3f} | <= {tgt['ece']} |",
+        f"| decided from s (in-set, median) | "
+        f"{np.median(decided) if decided else float('nan'):.2f} | n/a |",
+        f"| fitted: temperature, least top score, compactness tolerance | "
+        f"{cal['temperature']:.4f}, {cal['min_top_score']:.3f}, "
+        f"{cal['compactness_tolerance']:.3f} | held-out traces |",
+    ]
+    return "\n".join(rows)
+
+
 def recall_vs_s_markdown(doc: dict[str, Any]) -> str:
     """The ``recall-vs-s`` rows: percent right per shape and s, ties per s, both rules."""
     s = doc["s"]
@@ -223,6 +260,7 @@ def paper001_markdown(docs: dict[str, dict[str, Any]]) -> str:
 BLOCKS: dict[str, tuple[tuple[str, ...], Callable[[dict[str, dict[str, Any]]], str]]] = {
     "fig9": (("fig9",), lambda docs: fig9_markdown(docs["fig9"])),
     "recall-vs-s": (("recall-vs-s",), lambda docs: recall_vs_s_markdown(docs["recall-vs-s"])),
+    "open-set": (("open-set",), lambda docs: open_set_markdown(docs["open-set"])),
     "fig9-readings": (
         ("fig9-readings",),
         lambda docs: fig9_readings_markdown(docs["fig9-readings"]),

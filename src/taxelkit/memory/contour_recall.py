@@ -41,6 +41,7 @@ __all__ = [
     "RecallCurve",
     "memorise_contours",
     "moves_turned",
+    "prefix_codes",
     "recall_curve",
 ]
 
@@ -172,6 +173,60 @@ def memorise_contours(
     return memorise(list(names), np.stack(codes), config=config, rule=rule)
 
 
+def prefix_codes(
+    moves_mm: ArrayLike,
+    memory: AssociativeMemory,
+    *,
+    s: ArrayLike = DEFAULT_S_GRID,
+    unknown_for_partial: bool | None = None,
+    phases: int = 1,
+) -> NDArray[np.int8]:
+    """Chain codes of the growing parts of a trace, one per ``s``.
+
+    The part up to ``s`` is chosen after the fact (``s`` is known only once
+    the trace has ended); each code is computed from the moves of that part
+    alone, except that ``unknown_for_partial`` uses ``s`` as the coverage of
+    the partial code (it then assumes the total length known).
+
+    Parameters
+    ----------
+    moves_mm, memory, s, unknown_for_partial, phases
+        As :func:`recall_curve`.
+
+    Returns
+    -------
+    (S, N) int8
+        Values in {-1, 0, +1}.
+    """
+    moves = np.asarray(moves_mm, dtype=np.float64)
+    if moves.ndim != 2 or moves.shape[1] != 2 or moves.shape[0] == 0:
+        raise InputError(f"moves_mm must have shape (K, 2) with K >= 1, got {moves.shape}")
+    grid = np.asarray(s, dtype=np.float64).ravel()
+    if grid.size == 0 or np.any(grid <= 0) or np.any(grid > 1):
+        raise InputError("s must hold values in (0, 1]")
+    unknown = memory.rule != "hebbian" if unknown_for_partial is None else unknown_for_partial
+    length = np.concatenate([[0.0], np.cumsum(np.hypot(moves[:, 0], moves[:, 1]))])
+    total = length[-1]
+    angles = _phase_angles(memory.config, phases)
+    codes = []
+    for frac in grid:  # one code per s; recall is batched over all of them
+        k = max(1, int(np.searchsorted(length, frac * total - 1e-9, side="left")))
+        best, best_score = 0.0, -1.0
+        for angle in angles:  # the most concentrated phase of the part traced so far
+            f = relative_frequency(
+                histogram_from_moves(moves_turned(moves[:k], float(angle)), m=memory.config.m)
+            )
+            score = float(np.sum(f**2))
+            if score > best_score + 1e-12:
+                best, best_score = float(angle), score
+        part = moves_turned(moves[:k], best)
+        if unknown and frac < 1.0:
+            codes.append(partial_chain_code_from_moves(part, coverage=frac, config=memory.config))
+        else:
+            codes.append(chain_code_from_moves(part, config=memory.config))
+    return np.stack(codes)
+
+
 def recall_curve(
     moves_mm: ArrayLike,
     memory: AssociativeMemory,
@@ -199,33 +254,11 @@ def recall_curve(
     -------
     RecallCurve
     """
-    moves = np.asarray(moves_mm, dtype=np.float64)
-    if moves.ndim != 2 or moves.shape[1] != 2 or moves.shape[0] == 0:
-        raise InputError(f"moves_mm must have shape (K, 2) with K >= 1, got {moves.shape}")
     grid = np.asarray(s, dtype=np.float64).ravel()
-    if grid.size == 0 or np.any(grid <= 0) or np.any(grid > 1):
-        raise InputError("s must hold values in (0, 1]")
-    unknown = memory.rule != "hebbian" if unknown_for_partial is None else unknown_for_partial
-    length = np.concatenate([[0.0], np.cumsum(np.hypot(moves[:, 0], moves[:, 1]))])
-    total = length[-1]
-    angles = _phase_angles(memory.config, phases)
-    codes = []
-    for frac in grid:  # one code per s; recall below is batched over all of them
-        k = max(1, int(np.searchsorted(length, frac * total - 1e-9, side="left")))
-        best, best_score = 0.0, -1.0
-        for angle in angles:  # the most concentrated phase of the part traced so far
-            f = relative_frequency(
-                histogram_from_moves(moves_turned(moves[:k], float(angle)), m=memory.config.m)
-            )
-            score = float(np.sum(f**2))
-            if score > best_score + 1e-12:
-                best, best_score = float(angle), score
-        part = moves_turned(moves[:k], best)
-        if unknown and frac < 1.0:
-            codes.append(partial_chain_code_from_moves(part, coverage=frac, config=memory.config))
-        else:
-            codes.append(chain_code_from_moves(part, config=memory.config))
-    result = memory.recall(np.stack(codes))
+    codes = prefix_codes(
+        moves_mm, memory, s=grid, unknown_for_partial=unknown_for_partial, phases=phases
+    )
+    result = memory.recall(codes)
     return RecallCurve(
         grid, memory.names, result.correlations, result.recognised, result.margin, result.tied
     )

@@ -25,6 +25,7 @@ def _plotters() -> dict[str, Callable[[Any], Figure]]:
         "fig8": plot_fig8,
         "fig9": plot_fig9,
         "fig9-readings": _plot_fig9_readings,
+        "open-set": _plot_open_set,
         "recall-vs-s": plot_recall_vs_s,
         "robustness": plot_robustness,
     }
@@ -62,6 +63,45 @@ def _plot_fig9_readings(result: Any) -> Figure:
     for ax in axes[-1]:
         ax.set_xlabel("normalised arc length s")
     fig.suptitle("Fig. 9 readings: the best four and the faithful default as printed (bottom)")
+    fig.tight_layout()
+    return fig
+
+
+def _plot_open_set(result: Any) -> Figure:
+    """Reliability diagram, out-of-set answers per kind, in-set recognition against s."""
+    import matplotlib.pyplot as plt
+
+    doc = result.to_json()
+    fig, (a, b, c) = plt.subplots(1, 3, figsize=(15, 4.4))
+    bins = [x for x in doc["reliability"]["bins"] if x["n"]]
+    a.plot([0, 1], [0, 1], "k:", lw=0.8)
+    a.bar([x["low"] for x in bins], [x["accuracy"] for x in bins], width=0.1, align="edge",
+          alpha=0.6, edgecolor="C0", label="accuracy")  # fmt: skip
+    a.plot([x["confidence"] for x in bins], [x["accuracy"] for x in bins], "o", color="C3",
+           label="mean confidence")  # fmt: skip
+    for x in bins:
+        a.text(x["low"] + 0.05, 0.02, str(x["n"]), ha="center", fontsize=6)
+    a.set_xlabel("top probability")
+    a.set_ylabel("fraction right")
+    a.set_title(f"reliability, every s (ECE {doc['reliability']['ece']:.3f})", fontsize=9)
+    a.legend(fontsize=7, loc="upper left")
+    kinds = doc["out_of_set"]["kinds"]
+    per = doc["out_of_set"]["per_kind"]
+    n_unknown = [per[k].get("unknown", 0) for k in kinds]
+    n_total = [sum(per[k].values()) for k in kinds]
+    b.barh(kinds, n_total, color="C3", alpha=0.4, label="named or undecided")
+    b.barh(kinds, n_unknown, color="C2", label="unknown")
+    b.set_title(f"out-of-set, full trace: {100 * doc['out_of_set']['unknown_rate']:.1f} % "
+                "unknown", fontsize=9)  # fmt: skip
+    b.legend(fontsize=7)
+    b.tick_params(labelsize=7)
+    c.plot(doc["s"], doc["in_set"]["recognised_per_s"], "-o", ms=3)
+    c.axhline(0.95, color="k", lw=0.6, ls=":")
+    c.set_ylim(-0.03, 1.03)
+    c.set_xlabel("normalised arc length s (known after the fact)")
+    c.set_ylabel("in-set traces named right (decided)")
+    c.set_title(f"in-set: {100 * doc['in_set']['recognised']:.1f} % at s = 1, "
+                f"{doc['in_set']['wrong_names']} wrong names", fontsize=9)  # fmt: skip
     fig.tight_layout()
     return fig
 
