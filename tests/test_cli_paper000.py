@@ -86,6 +86,19 @@ def test_memorise_a_new_shape_then_recall_it(
     assert code == 2 and "--force" in err
 
 
+def test_memorise_reports_shapes_it_cannot_tell_apart(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # An L-shape has the square's direction histogram: the memory cannot tell them apart.
+    ell = relief_from_vertices([(-30, -30), (30, -30), (30, 0), (0, 0), (0, 30), (-30, 30)])
+    spec = tmp_path / "ell.npz"
+    _save_heightmap(ell, spec, 0.25, 40.0)
+    code, _, err = _run(capsys, "memorise", "--specimen", str(spec), "--name", "ell",
+                          "--out", str(tmp_path / "mem.npz"))  # fmt: skip
+    assert code == 0, err
+    assert "cannot tell apart ell and square" in err
+
+
 @pytest.mark.parametrize(
     ("argv", "needle"),
     [

@@ -176,6 +176,12 @@ def _load_memory(path: Path | None, rule: str) -> Any:
     return read_memory(path).with_rule(rule)
 
 
+def _indistinguishable(mem: Any) -> list[tuple[str, ...]]:
+    """Groups of stored shapes that recall of their own codes leaves tied (sorted names)."""
+    result = mem.recall(mem.patterns)
+    return sorted({names for names in result.tied if len(names) > 1})
+
+
 def _open_set_fields(
     tr: Any, mem: Any, *, rule: str, built_in: bool, phases: int
 ) -> dict[str, Any]:
@@ -414,6 +420,13 @@ def memorise(
         ).patterns[0]
         mem = mem.with_pattern(name, code)
         click.echo(f"stored {name!r} from {path} ({tr.n_sections} sections)")
+
+    for names_alike in _indistinguishable(mem):
+        click.echo(
+            f"warning: this memory cannot tell apart {' and '.join(names_alike)} "
+            "(their codes tie at the top when recalled from each other)",
+            err=True,
+        )
 
     def writer(tmp: Path) -> None:
         buf = io.BytesIO()
