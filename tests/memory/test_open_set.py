@@ -109,6 +109,7 @@ def test_unknown_undecided_and_decided() -> None:
         closed=[True, True, True, False],
     )
     assert result.verdicts == ("a", "unknown", "unknown", "undecided")
+    assert result.unknown_reasons == ("", "compactness", "score", "")
     assert result.recognised == ("a", None, None, None)
     np.testing.assert_allclose(result.probabilities.sum(axis=1), 1.0)
     assert result.probabilities[0, 0] > 0.99

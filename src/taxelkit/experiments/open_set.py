@@ -136,6 +136,9 @@ class OpenSetExperimentResult:
         ``1 / n`` when it shares it with ``n - 1`` others, else 0.
     out_of_set : list of (kind, verdicts per s)
     n_calibration, n_trials : int
+    reasons : tuple of (set, name, reason)
+        Why each full trace judged "unknown" was rejected (set ``"in"`` or
+        ``"out"``, reason ``"score"`` or ``"compactness"``).
     """
 
     calibration: OpenSetCalibration
@@ -144,6 +147,7 @@ class OpenSetExperimentResult:
     out_of_set: list[tuple[str, tuple[str, ...]]]
     n_calibration: int
     n_trials: int
+    reasons: tuple[tuple[str, str, str], ...] = ()
 
     def reliability(self) -> tuple[float, list[dict[str, Any]]]:
         """ECE over the evaluation in-set traces at every ``s``, and the diagram's bins."""
@@ -212,6 +216,10 @@ class OpenSetExperimentResult:
                 "per_kind": {
                     k: _counts([v[-1] for m, v in self.out_of_set if m == k]) for k in kinds
                 },
+            },
+            "unknown_reasons": {
+                split: _counts([why for sp, _, why in self.reasons if sp == split])
+                for split in ("in", "out")
             },
             "reliability": {"ece": round(ece, 6), "bins": bins},
             "targets": {"unknown_rate": 0.95, "recognised": 0.95, "wrong_names": 0, "ece": 0.05},
@@ -339,6 +347,7 @@ def run_open_set(
     )
     in_set: list[tuple[str, tuple[str, ...], NDArray[np.float64], NDArray[np.float64]]] = []
     out_of_set: list[tuple[str, tuple[str, ...]]] = []
+    reasons: list[tuple[str, str, str]] = []
     for r, sp in zip(rows, splits, strict=True):
         if sp == "cal":
             continue
@@ -347,6 +356,8 @@ def run_open_set(
         ended = np.asarray(OPEN_SET_S_GRID) >= 1.0
         qc = np.where(ended, r[4], np.nan)
         verdict = open_set_from_recall(recall, calibration, compactness=qc, closed=ended & r[5])
+        if verdict.unknown[-1]:
+            reasons.append(("in" if sp == "eval" else "out", r[0], verdict.unknown_reasons[-1]))
         if sp == "eval":
             p = verdict.probabilities
             at_top = p >= p.max(axis=1, keepdims=True) - 1e-12  # (S, K): ties share the credit
@@ -355,5 +366,5 @@ def run_open_set(
         else:
             out_of_set.append((r[0], verdict.verdicts))
     return OpenSetExperimentResult(
-        calibration, OPEN_SET_S_GRID, in_set, out_of_set, n_calibration, n_trials
+        calibration, OPEN_SET_S_GRID, in_set, out_of_set, n_calibration, n_trials, tuple(reasons)
     )

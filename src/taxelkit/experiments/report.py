@@ -155,6 +155,11 @@ def fig9_readings_markdown(doc: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+def _reasons(doc: dict[str, Any], split: str) -> str:
+    counts = doc.get("unknown_reasons", {}).get(split, {})
+    return f"{counts.get('score', 0)} / {counts.get('compactness', 0)}"
+
+
 def open_set_markdown(doc: dict[str, Any]) -> str:
     """The ``open-set`` results: unknown rate, in-set recognition, ECE, against the targets."""
     ins, out, rel, tgt = doc["in_set"], doc["out_of_set"], doc["reliability"], doc["targets"]
@@ -179,6 +184,8 @@ def open_set_markdown(doc: dict[str, Any]) -> str:
         f"| in-set traces recognised at full contour ({ins['n']}) | "
         f"{100 * ins['recognised']:.1f} % ({ins['wrong_names']} wrong names, {ins['unknown']} "
         f"unknown, {ins['undecided']} undecided) | >= {100 * tgt['recognised']:.0f} %, 0 wrong |",
+        f"| unknown by score / by compactness (out-of-set; in-set) | "
+        f"{_reasons(doc, 'out')}; {_reasons(doc, 'in')} | n/a |",
         f"| expected calibration error, every s | {rel['ece']:.3f} | <= {tgt['ece']} |",
         f"| decided from s (in-set, median) | "
         f"{np.median(decided) if decided else float('nan'):.2f} | n/a |",

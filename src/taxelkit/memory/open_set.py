@@ -132,6 +132,9 @@ class OpenSetResult:
         The decided name, else None.
     verdicts : tuple of str
         ``name``, ``"unknown"`` or ``"undecided"``.
+    unknown_reasons : tuple of str
+        Why each unknown query was rejected: ``"score"`` (best score below
+        ``min_top_score``) or ``"compactness"``; ``""`` if not unknown.
     """
 
     names: tuple[str, ...]
@@ -142,6 +145,7 @@ class OpenSetResult:
     margin: NDArray[np.float64]
     recognised: tuple[str | None, ...]
     verdicts: tuple[str, ...]
+    unknown_reasons: tuple[str, ...]
 
 
 def probabilities_from_scores(scores: ArrayLike, temperature: float) -> NDArray[np.float64]:
@@ -263,14 +267,17 @@ def open_set_from_recall(
     top = scores.max(axis=1, initial=-np.inf)
     done = np.ones(q, bool) if closed is None else np.asarray(closed, dtype=bool).reshape(q)
     unknown = done & (top < calibration.min_top_score)
+    reasons = ["score" if u else "" for u in unknown]
     ref = dict(calibration.reference_compactness)
     if compactness is not None and ref:
         qc = np.asarray(compactness, dtype=np.float64).reshape(q)
         for i in range(q):  # one look-up per query; Q is small (a trace's s grid)
             best = recall.names[int(np.argmax(scores[i]))]
             known_q = done[i] and np.isfinite(qc[i]) and best in ref and qc[i] > 0
-            if known_q and abs(np.log(qc[i] / ref[best])) > calibration.compactness_tolerance:
+            off = known_q and abs(np.log(qc[i] / ref[best])) > calibration.compactness_tolerance
+            if off and not unknown[i]:
                 unknown[i] = True
+                reasons[i] = "compactness"
     top_p = probs.max(axis=1, initial=0.0)
     decided = ~unknown & recall.decided & (top_p >= calibration.decide_probability)
     recognised = tuple(recall.recognised[i] if decided[i] else None for i in range(q))
@@ -287,6 +294,7 @@ def open_set_from_recall(
         margin=recall.margin,
         recognised=recognised,
         verdicts=verdicts,
+        unknown_reasons=tuple(reasons),
     )
 
 
