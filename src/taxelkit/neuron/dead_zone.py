@@ -11,8 +11,10 @@ one window spans) and fires everywhere.
 The adaptive dead zone reads both from the potentials of the scans at one
 point, which contain mostly plate and only a few samples of edge:
 
-* **baseline** ``b`` per scan: the median of ``u`` over every sample and
-  neuron of the stroke (a tilt's constant offset). It is removed only when
+* **baseline** ``b`` per scan: the median of ``u`` over every neuron and
+  every sample with a full synaptic window (a tilt's constant offset; the
+  first ``n`` samples sum fewer differences, so a slope gives them
+  ``b min(t, n) / n``, and that ramp is what is removed). It is removed only when
   ``|b|`` exceeds both :data:`BASELINE_MIN_SIGMAS` noise levels and
   :data:`BASELINE_MIN_FLOOR_FRACTION` of the floor, so that a clean scan keeps
   its potentials bit for bit (its median is a rounding error);
@@ -34,7 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import InputError, check_positive
-from taxelkit.neuron.mechanoreceptor import NeuronParams, membrane_potential
+from taxelkit.neuron.mechanoreceptor import NeuronParams, membrane_potential, window_samples
 from taxelkit.neuron.quantisers import ternary
 
 __all__ = [
@@ -153,11 +155,16 @@ def adaptive_direction_outputs(
     factor = check_positive("noise_factor", noise_factor, allow_zero=True)
     p = NeuronParams() if params is None else params
     us: list[Any] = [membrane_potential(s, dt_s, p, signed=True) for s in scans_mm]
-    medians = [float(np.median(u)) for u in us]
-    centred = [(u - m).ravel() for u, m in zip(us, medians, strict=True)]
+    n = window_samples(p.tau_s, dt_s)
+    # share of a constant slope in each sample's (partial) window: min(t, n) / n
+    ramps = [np.minimum(np.arange(u.shape[0]), n)[:, None, None] / n for u in us]
+    medians = [float(np.median(u[n:] if u.shape[0] > n else u)) for u in us]
+    centred = [(u - m * r).ravel() for u, m, r in zip(us, medians, ramps, strict=True)]
     sigma = robust_noise_level(np.concatenate(centred))
     least = max(BASELINE_MIN_SIGMAS * sigma, BASELINE_MIN_FLOOR_FRACTION * floor)
     baselines = tuple(m if abs(m) > least else 0.0 for m in medians)
     eps = max(floor, factor * sigma)
-    outputs = [ternary(u - b if b else u, eps) for u, b in zip(us, baselines, strict=True)]
+    outputs = [
+        ternary(u - b * r if b else u, eps) for u, b, r in zip(us, baselines, ramps, strict=True)
+    ]
     return outputs, DeadZone(eps, sigma, baselines)
