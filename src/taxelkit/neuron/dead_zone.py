@@ -20,7 +20,9 @@ point, which contain mostly plate and only a few samples of edge:
   its potentials bit for bit (its median is a rounding error);
 * **noise level** ``sigma``: the median absolute deviation from the baseline,
   pooled over the scans, times :data:`MAD_TO_SIGMA` (the standard deviation
-  of a Gaussian; the few edge samples do not move a median);
+  of a Gaussian). The edge samples move the median only a little: when
+  every element of a stroke crosses a step (16 % of the samples) the
+  estimate is 1.24 times the noise, erring towards fewer spurious pulses;
 * **dead zone** ``epsilon = max(epsilon_floor, noise_factor * sigma)``: never
   below the faithful 10 um (so clean specimens give the faithful outputs) and
   :data:`DEFAULT_NOISE_FACTOR` noise levels above the baseline otherwise.

@@ -85,6 +85,7 @@ class TracerConfig:
     min_loop_compactness : float
         Smallest isoperimetric quotient ``4 pi A / L^2`` of a closed loop.
     confirm_edge : bool
+        On a noisy plate (:attr:`~taxelkit.tracing.edge_estimate.EdgeEstimate.noisy`)
         :func:`find_edge` keeps a sighting only when the edge is seen again
         after the first step onto it (a pulse of a rough plate is not);
         otherwise the search goes on. False: the first sighting is kept.
@@ -99,7 +100,7 @@ class TracerConfig:
     detector: EdgeDetectorConfig = field(default_factory=EdgeDetectorConfig)
     min_loop_area_mm2: float | None = None
     min_loop_compactness: float = DEFAULT_MIN_COMPACTNESS
-    confirm_edge: bool = False
+    confirm_edge: bool = True
 
     def __post_init__(self) -> None:
         if self.min_loop_area_mm2 is not None:
@@ -222,16 +223,17 @@ def find_edge(
             # The first sighting may be an edge at the array's rim, fitted from a
             # few crossings: step onto it and look again until it is centred.
             q, confirmed = p, False
+            confirm = cfg.confirm_edge and est.noisy
             for _ in range(FIND_EDGE_REFINEMENTS):
                 centred = float(np.hypot(*est.error_mm)) < FIND_EDGE_TOLERANCE_MM
-                if centred and (confirmed or not cfg.confirm_edge):
+                if centred and (confirmed or not confirm):
                     break
                 q = q + est.error_mm
                 nxt = _sense(probe, q, cfg)
                 if not nxt.found:
                     break
                 est, confirmed = nxt, True
-            if confirmed or not cfg.confirm_edge:
+            if confirmed or not confirm:
                 return np.asarray(q + est.error_mm, dtype=np.float64)
             logger.info("edge sighted at %s not seen again: searching on", p.round(2))
         p = p + stride * d
