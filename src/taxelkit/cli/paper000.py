@@ -38,8 +38,9 @@ __all__ = ["memorise", "reproduce", "trace"]
 
 def _experiment_list() -> str:
     """The epilog of ``reproduce --help``: every experiment, one line each (unwrapped)."""
-    rows = [f"  {e.name:16s}{e.title}" for e in EXPERIMENTS.values()]
-    rows.append(f"  {'all':16s}every experiment above, in this order")
+    width = max(len(n) for n in EXPERIMENTS) + 2
+    rows = [f"  {e.name:{width}s}{e.title}" for e in EXPERIMENTS.values()]
+    rows.append(f"  {'all':{width}s}every experiment above, in this order")
     return "\b\nNAME is one of:\n" + "\n".join(rows)
 
 
