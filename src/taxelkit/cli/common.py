@@ -65,10 +65,20 @@ def specimen_from_options(
 ) -> tuple[Any, tuple[float, float]]:
     """The relief named by ``--shape``/``--specimen`` and the point to search its edge from.
 
+    With ``--specimen`` the shape options given on the command line act on the
+    heightmap (:class:`~taxelkit.world.placed.PlacedRelief`, no resampling):
+    ``--diameter-mm`` scales it about the centroid of its raised relief so
+    that the circle about that centroid holding the relief has this diameter
+    (the circumscribed circle of a named shape), ``--rotate-deg`` turns it
+    about that centroid, ``--offset-mm`` moves it by X,Y, and
+    ``--step-height-um`` scales every height so that the highest is this
+    step. Options left at their defaults leave the heightmap as it is.
+
     Raises
     ------
     InputError
-        Unless exactly one of ``shape`` and ``specimen`` is given.
+        Unless exactly one of ``shape`` and ``specimen`` is given, or if the
+        heightmap has no raised relief to size.
     """
     from taxelkit.world.base import Relief
     from taxelkit.world.relief import load_heightmap, relief_shape
@@ -77,9 +87,9 @@ def specimen_from_options(
     if (shape is None) == (specimen is None):
         raise InputError("give exactly one of --shape NAME or --specimen FILE.npz")
     if specimen is not None:
-        heightmap = load_heightmap(specimen)
-        x0, x1, y0, y1 = heightmap.extent_mm
-        return heightmap, ((x0 + x1) / 2, (y0 + y1) / 2)
+        return _placed_heightmap(
+            load_heightmap(specimen), rotate_deg, offset_mm, diameter_mm, step_height_um
+        )
     relief = relief_shape(
         str(shape),
         diameter_mm=diameter_mm,
@@ -88,6 +98,43 @@ def specimen_from_options(
         offset_mm=offset_mm,
     )
     return relief, offset_mm
+
+
+def _given(name: str) -> bool:
+    """Whether the option ``name`` of the running command was given (not its default)."""
+    import click
+    from click.core import ParameterSource
+
+    ctx = click.get_current_context(silent=True)
+    if ctx is None:
+        return True  # called from Python: every value counts
+    return ctx.get_parameter_source(name) not in (ParameterSource.DEFAULT, None)
+
+
+def _placed_heightmap(
+    heightmap: Any,
+    rotate_deg: float,
+    offset_mm: tuple[float, float],
+    diameter_mm: float,
+    step_height_um: float,
+) -> tuple[Any, tuple[float, float]]:
+    """A heightmap placed by the shape options given, and the centre of its raised relief."""
+    from taxelkit.world.placed import PlacedRelief, raised_extent_mm
+
+    given = {n for n in ("rotate_deg", "offset_mm", "diameter_mm", "step_height_um") if _given(n)}
+    x0, x1, y0, y1 = heightmap.extent_mm
+    if not given:
+        return heightmap, ((x0 + x1) / 2, (y0 + y1) / 2)
+    centre, diameter, peak_mm = raised_extent_mm(heightmap)
+    placed = PlacedRelief(
+        heightmap,
+        centre_mm=centre,
+        rotation_deg=rotate_deg if "rotate_deg" in given else 0.0,
+        offset_mm=offset_mm if "offset_mm" in given else (0.0, 0.0),
+        scale=diameter_mm / diameter if "diameter_mm" in given else 1.0,
+        height_scale=step_height_um / (1000.0 * peak_mm) if "step_height_um" in given else 1.0,
+    )
+    return placed, placed.placed_centre_mm
 
 
 @contextmanager

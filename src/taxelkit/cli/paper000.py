@@ -38,8 +38,9 @@ __all__ = ["memorise", "reproduce", "trace"]
 
 def _experiment_list() -> str:
     """The epilog of ``reproduce --help``: every experiment, one line each (unwrapped)."""
-    rows = [f"  {e.name:16s}{e.title}" for e in EXPERIMENTS.values()]
-    rows.append(f"  {'all':16s}every experiment above, in this order")
+    width = max(len(n) for n in EXPERIMENTS) + 2
+    rows = [f"  {e.name:{width}s}{e.title}" for e in EXPERIMENTS.values()]
+    rows.append(f"  {'all':{width}s}every experiment above, in this order")
     return "\b\nNAME is one of:\n" + "\n".join(rows)
 
 
@@ -225,28 +226,31 @@ def _open_set_fields(
     type=ANGLE_DEG,
     default=0.0,
     show_default=True,
-    help="Rotation of the --shape about its centre, degrees counter-clockwise (x towards y).",
+    help="Rotation of the --shape (or --specimen, about its raised relief's centroid), degrees "
+    "counter-clockwise (x towards y).",
 )
 @click.option(
     "--offset-mm",
     type=COORDINATE_MM,
     default="0,0",
     show_default=True,
-    help="Centre of the --shape on the plate X,Y, mm.",
+    help="Centre of the --shape on the plate X,Y, mm (a --specimen is moved by X,Y).",
 )
 @click.option(
     "--diameter-mm",
     type=LENGTH_MM,
     default=90.0,
     show_default=True,
-    help="Size of the --shape (circumscribed circle), mm.",
+    help="Size of the --shape (circumscribed circle), mm; a --specimen is scaled so that "
+    "the circle about its raised relief's centroid that holds it has this diameter.",
 )
 @click.option(
     "--step-height-um",
     type=STEP_HEIGHT_UM,
     default=200.0,
     show_default=True,
-    help="Height of the --shape's relief step, um.",
+    help="Height of the --shape's relief step, um; a --specimen's heights are scaled so "
+    "that its highest is this.",
 )
 @click.option(
     "--start-mm",

@@ -88,6 +88,12 @@ def _recall_vs_s(**kw: Any) -> ExperimentResult:
     return run_recall_vs_s(**kw)
 
 
+def _trace_robustness(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.trace_robustness import run_trace_robustness
+
+    return run_trace_robustness(**kw)
+
+
 def _cylinder(**kw: Any) -> ExperimentResult:
     from taxelkit.experiments.paper001 import run_cylinder
 
@@ -145,6 +151,14 @@ EXPERIMENTS: dict[str, Experiment] = {
             _open_set,
             "trace",
             trials=20,
+            workers=True,
+        ),
+        Experiment(
+            "trace-robustness",
+            "Paper 000 tracer on rough, tilted, resized and re-entrant specimens",
+            _trace_robustness,
+            "specimen",
+            trials=2,
             workers=True,
         ),
         Experiment(

@@ -27,6 +27,7 @@ __all__ = [
     "recall_vs_s_markdown",
     "render_block",
     "robustness_markdown",
+    "trace_robustness_markdown",
     "update_blocks",
 ]
 
@@ -220,6 +221,39 @@ def recall_vs_s_markdown(doc: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+def trace_robustness_markdown(doc: dict[str, Any]) -> str:
+    """The ``trace-robustness`` experiment as a README table and the acceptance checks."""
+
+    def cell(s: dict[str, Any]) -> str:
+        if s["error_mean_mm"] is None:
+            err = "n/a (no edge found in a search)"
+        else:
+            err = f"{s['error_mean_mm']:.2f} (worst {s['error_mean_worst_mm']:.2f})"
+        known = s["n_recognisable"]
+        named = f", named {s['recognised']}/{known}" if known else ""
+        return f"{err}; closed {s['closed']}/{s['n']}{named}"
+
+    lines = [
+        f"{doc['n_trials_per_shape']} random poses per shape and condition; each entry: mean "
+        "tracing error in mm (the worst trace's mean), loops closed, stored shapes named right "
+        "(default recogniser). `faithful`: the paper's fixed 10 um dead zone; `robust`: the "
+        "default, noise-adaptive.",
+        "",
+        "| condition | faithful | robust |",
+        "| --- | --- | --- |",
+    ]
+    for c in doc["conditions"]:
+        row = doc["summary"][c["name"]]
+        lines.append(f"| {c['name']} | {cell(row['faithful'])} | {cell(row['robust'])} |")
+    holds = doc["acceptance"]["holds"]
+    checks = ", ".join(
+        f"{name}: {'holds' if ok else 'not run' if ok is None else 'fails'}"
+        for name, ok in holds["robust"].items()
+    )
+    lines += ["", f"Acceptance ({doc['acceptance']['target']}), robust tracer: {checks}."]
+    return "\n".join(lines)
+
+
 def paper001_markdown(docs: dict[str, dict[str, Any]]) -> str:
     """Paper 001's results table from ``contact-classes``, ``cylinder``, ``smart-sensor``
     and ``tacteme-table``."""
@@ -273,6 +307,10 @@ BLOCKS: dict[str, tuple[tuple[str, ...], Callable[[dict[str, dict[str, Any]]], s
         lambda docs: fig9_readings_markdown(docs["fig9-readings"]),
     ),
     "robustness": (("robustness",), lambda docs: robustness_markdown(docs["robustness"])),
+    "trace-robustness": (
+        ("trace-robustness",),
+        lambda docs: trace_robustness_markdown(docs["trace-robustness"]),
+    ),
     "paper001": (
         ("contact-classes", "cylinder", "smart-sensor", "tacteme-table"),
         paper001_markdown,

@@ -50,12 +50,21 @@ class ScanConfig:
         Frame interval during the scan, s.
     indent_mm : float
         Indentation below the specimen's base plane, mm.
+    touch_down : bool
+        False (the default): the manipulator holds the height of the base
+        plane ``z = 0``, so a tilted plate lifts off the skin where it falls
+        away by more than ``indent_mm``. True: before each stroke it lowers
+        the array at the commanded point until every active element touches
+        (a guarded move on the elements' contact signals) and presses
+        ``indent_mm`` further, i.e. ``indent_mm`` below the lowest surface
+        point under the element centres; the height is held during the stroke.
     """
 
     length_mm: float = 6.0
     speed_mm_s: float = 10.0
     dt_s: float = 0.02
     indent_mm: float = DEFAULT_INDENT_MM
+    touch_down: bool = False
 
     def __post_init__(self) -> None:
         check_positive("length_mm", self.length_mm)
@@ -202,11 +211,15 @@ class SimulatedProbe:
         pos[:, axis] += offsets
         if self.noise.vibration_mm > 0:
             pos += self._rng.normal(0.0, self.noise.vibration_mm, pos.shape)
+        indent = cfg.indent_mm
+        if cfg.touch_down:
+            under = actual + self._offsets.reshape(-1, 2)
+            indent -= float(np.min(self.relief.height_mm(under[:, 0], under[:, 1])))
         frames: Any = displacement_from_relief(
             self.sensor,
             self.relief,
             pos,
-            indent_mm=cfg.indent_mm,
+            indent_mm=indent,
             oversample=self.oversample,
             active_only=True,
             rng=self._rng,

@@ -15,6 +15,7 @@ def _plotters() -> dict[str, Callable[[Any], Figure]]:
     from taxelkit.plotting.paper000 import plot_fig7, plot_fig8, plot_fig9, plot_recall_vs_s
     from taxelkit.plotting.paper001 import plot_cylinder, plot_smart_sensor, plot_tacteme_table
     from taxelkit.plotting.robustness import plot_robustness
+    from taxelkit.plotting.trace_robustness import plot_trace_robustness
 
     return {
         "contact-classes": _plot_contact_classes,
@@ -28,6 +29,7 @@ def _plotters() -> dict[str, Callable[[Any], Figure]]:
         "open-set": _plot_open_set,
         "recall-vs-s": plot_recall_vs_s,
         "robustness": plot_robustness,
+        "trace-robustness": plot_trace_robustness,
     }
 
 

@@ -25,6 +25,27 @@ Edge direction, improved (``estimator="crossings"``)
     crossings. The line nearest the array centre is the primary edge; the
     tracer uses both to turn corners.
 
+Dead zone (Eq. 9)
+    ``dead_zone="fixed"`` (the paper's reading) uses ``epsilon`` as given.
+    ``dead_zone="adaptive"`` sets it at each point from the noise of that
+    point's two scans (:mod:`taxelkit.neuron.dead_zone`): never below
+    ``epsilon``, ``noise_factor`` robust noise levels above each scan's
+    baseline otherwise. On a clean plate both give the same outputs.
+
+Edge test
+    A point has an edge when at least ``min_crossings`` crossings were
+    located and, for the ``crossings`` estimator, a line fits at least that
+    many of them and the best-supported line at least ``min_edge_crossings``
+    (a straight edge across the 6 x 6 block is crossed by at least a row or
+    a column of elements; a few isolated pulses are not an edge). With
+    ``min_vote_agreement > 0`` a line is kept only when that fraction of its
+    crossings agree on which side is raised: a real step is climbed on one
+    side only, a bump of a rough plate is climbed and left at the same place.
+    These two tests apply only where the measured noise raised the adaptive
+    dead zone above ``epsilon`` (:attr:`EdgeEstimate.noisy`): on a clean plate
+    the adaptive detector gives the fixed one's estimates, sharp corners
+    (seen by few elements) included.
+
 Error vector ``de`` (Section IV, Ishikawa's active sensing)
     The perpendicular from the commanded array centre to the primary line (for
     ``eq8``: to the line with the Eq. 8 direction through the centroid of the
@@ -42,12 +63,16 @@ from numpy.typing import NDArray
 
 from taxelkit.errors import InputError, check_positive
 from taxelkit.motion.probe import Scan
+from taxelkit.neuron.dead_zone import DEFAULT_NOISE_FACTOR, DeadZone, adaptive_direction_outputs
 from taxelkit.neuron.mechanoreceptor import NeuronParams, direction_output, window_samples
-from taxelkit.tracing.line_fit import EdgeLine, fit_edge_lines
+from taxelkit.tracing.line_fit import EdgeLine, fit_edge_lines, vote_agreement
 
 __all__ = [
+    "DEAD_ZONES",
     "DEFAULT_EPSILON",
     "ESTIMATORS",
+    "ROBUST_MIN_EDGE_CROSSINGS",
+    "ROBUST_MIN_VOTE_AGREEMENT",
     "EdgeDetectorConfig",
     "EdgeEstimate",
     "crossing_points",
@@ -61,6 +86,19 @@ __all__ = [
 DEFAULT_EPSILON = 0.01
 #: Names of the edge-direction estimators.
 ESTIMATORS = ("eq8", "crossings")
+#: Crossings the best line needs where the plate is noisy: one row or column
+#: of the 6 x 6 active block of paper 000 (isolated pulses that survive the
+#: dead zone come in ones and twos; along traces of the five specimens, clean
+#: or rough, the best line had 6 or more).
+ROBUST_MIN_EDGE_CROSSINGS = 6
+#: Fraction of a line's crossings that must agree on the raised side where the
+#: plate is noisy (a bump is climbed and left at the same place: about half
+#: agree; along rough traces of the five specimens at least 0.7 did on all but
+#: a few second lines at star corners).
+ROBUST_MIN_VOTE_AGREEMENT = 0.7
+#: Names of the dead-zone modes: the paper's fixed ``epsilon`` and taxelkit's
+#: noise-adaptive one.
+DEAD_ZONES = ("fixed", "adaptive")
 
 
 def _default_neuron() -> NeuronParams:
@@ -85,6 +123,20 @@ class EdgeDetectorConfig:
         centre, mm.
     min_crossings : int
         Fewer crossing points than this means "no edge here".
+    dead_zone : {"fixed", "adaptive"}
+        ``"fixed"`` is the paper's Eq. 9 with ``epsilon``; ``"adaptive"``
+        raises the dead zone above ``epsilon`` to ``noise_factor`` measured
+        noise levels and removes a tilt's baseline (module docs).
+    noise_factor : float
+        Adaptive dead zone in robust noise levels of ``u``.
+    min_vote_agreement : float
+        Fraction in ``[0, 1]`` of a fitted line's crossings that must agree on
+        the raised side where the plate is noisy (``crossings`` estimator); 0
+        accepts every line.
+    min_edge_crossings : int
+        Crossings the best-supported line needs where the plate is noisy
+        (``crossings`` estimator); at most ``min_crossings`` (the default 3)
+        adds no test.
     """
 
     estimator: Literal["eq8", "crossings"] = "crossings"
@@ -92,11 +144,22 @@ class EdgeDetectorConfig:
     neuron: NeuronParams = field(default_factory=_default_neuron)
     fit_radius_mm: float = 4.5
     min_crossings: int = 3
+    dead_zone: Literal["fixed", "adaptive"] = "adaptive"
+    noise_factor: float = DEFAULT_NOISE_FACTOR
+    min_vote_agreement: float = ROBUST_MIN_VOTE_AGREEMENT
+    min_edge_crossings: int = ROBUST_MIN_EDGE_CROSSINGS
 
     def __post_init__(self) -> None:
         if self.estimator not in ESTIMATORS:
             raise InputError(f"estimator must be one of {ESTIMATORS}, got {self.estimator!r}")
+        if self.dead_zone not in DEAD_ZONES:
+            raise InputError(f"dead_zone must be one of {DEAD_ZONES}, got {self.dead_zone!r}")
         check_positive("epsilon", self.epsilon, allow_zero=True)
+        check_positive("noise_factor", self.noise_factor, allow_zero=True)
+        if not 0.0 <= float(self.min_vote_agreement) <= 1.0:
+            raise InputError(
+                f"min_vote_agreement must be in [0, 1], got {self.min_vote_agreement!r}"
+            )
         check_positive("fit_radius_mm", self.fit_radius_mm)
         if int(self.min_crossings) < 2:
             raise InputError(f"min_crossings must be >= 2, got {self.min_crossings!r}")
@@ -124,6 +187,10 @@ class EdgeEstimate:
         True where the element climbed onto the step.
     lines : tuple of EdgeLine
         The fitted lines (``crossings`` estimator), primary first.
+    dead_zone : DeadZone or None
+        What the adaptive dead zone measured (None with ``dead_zone="fixed"``).
+    noisy : bool
+        True where the measured noise raised the dead zone above ``epsilon``.
     """
 
     found: bool
@@ -134,6 +201,8 @@ class EdgeEstimate:
     crossings_mm: NDArray[np.float64]
     rising: NDArray[np.bool_]
     lines: tuple[EdgeLine, ...] = ()
+    dead_zone: DeadZone | None = None
+    noisy: bool = False
 
 
 def crossing_points(
@@ -209,8 +278,20 @@ def estimate_edge(
         raise InputError("scan_x must be along x (axis 0) and scan_y along y (axis 1)")
     if not np.allclose(scan_x.centre_mm, scan_y.centre_mm):
         raise InputError("scan_x and scan_y must share their centre")
-    zx = direction_output(scan_x.frames_mm, scan_x.dt_s, epsilon=cfg.epsilon, params=cfg.neuron)
-    zy = direction_output(scan_y.frames_mm, scan_y.dt_s, epsilon=cfg.epsilon, params=cfg.neuron)
+    zone: DeadZone | None = None
+    if cfg.dead_zone == "adaptive":
+        if scan_x.dt_s != scan_y.dt_s:
+            raise InputError("an adaptive dead zone needs both scans at the same dt_s")
+        (zx, zy), zone = adaptive_direction_outputs(
+            (scan_x.frames_mm, scan_y.frames_mm),
+            scan_x.dt_s,
+            epsilon_floor=cfg.epsilon,
+            noise_factor=cfg.noise_factor,
+            params=cfg.neuron,
+        )
+    else:
+        zx = direction_output(scan_x.frames_mm, scan_x.dt_s, epsilon=cfg.epsilon, params=cfg.neuron)
+        zy = direction_output(scan_y.frames_mm, scan_y.dt_s, epsilon=cfg.epsilon, params=cfg.neuron)
     # Eq. 8: per-cell time sums Z (mm), then sums over cells.
     cell_x = zx.sum(axis=0) * scan_x.speed_mm_s * scan_x.dt_s
     cell_y = zy.sum(axis=0) * scan_y.speed_mm_s * scan_y.dt_s
@@ -224,7 +305,8 @@ def estimate_edge(
     pts, rising = np.concatenate([px, py]), np.concatenate([rx, ry])
     axis = np.concatenate([np.zeros(px.shape[0], int), np.ones(py.shape[0], int)])
     nan2 = np.full(2, np.nan)
-    missing = EdgeEstimate(False, nan2, nan2, np.zeros(2), dv_eq8, pts, rising)
+    noisy = zone is not None and zone.epsilon > cfg.epsilon
+    missing = EdgeEstimate(False, nan2, nan2, np.zeros(2), dv_eq8, pts, rising, (), zone, noisy)
     if pts.shape[0] < cfg.min_crossings or not np.any(s):
         return missing
 
@@ -235,11 +317,18 @@ def estimate_edge(
         normal = _unit(s)
         error = float((mean - centre) @ normal) * normal
         tangent = np.array([normal[1], -normal[0]])
-        return EdgeEstimate(True, normal, tangent, error, dv_eq8, pts, rising)
+        return EdgeEstimate(True, normal, tangent, error, dv_eq8, pts, rising, (), zone, noisy)
     lines = fit_edge_lines(pts, rising, axis, min_inliers=cfg.min_crossings)
-    if not lines:
+    if noisy and cfg.min_vote_agreement > 0.0:
+        lines = tuple(
+            ln for ln in lines if vote_agreement(ln, pts, rising, axis) >= cfg.min_vote_agreement
+        )
+    least = cfg.min_edge_crossings if noisy else cfg.min_crossings
+    if not lines or max(int(ln.inliers.sum()) for ln in lines) < least:
         return missing
     lines = tuple(sorted(lines, key=lambda ln: abs(float(ln.signed_distance_mm(centre)))))
     primary = lines[0]
     error = -float(primary.signed_distance_mm(centre)) * primary.normal
-    return EdgeEstimate(True, primary.normal, primary.tangent, error, dv_eq8, pts, rising, lines)
+    return EdgeEstimate(
+        True, primary.normal, primary.tangent, error, dv_eq8, pts, rising, lines, zone, noisy
+    )

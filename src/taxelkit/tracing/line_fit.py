@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 from taxelkit.errors import InputError
 
-__all__ = ["EdgeLine", "fit_edge_lines", "line_intersection"]
+__all__ = ["EdgeLine", "fit_edge_lines", "line_intersection", "vote_agreement"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -142,3 +142,40 @@ def line_intersection(a: EdgeLine, b: EdgeLine) -> NDArray[np.float64] | None:
     s = float((b.point_mm - a.point_mm) @ b.normal) / float(a.tangent @ b.normal)
     out: NDArray[np.float64] = a.point_mm + s * a.tangent
     return out
+
+
+def vote_agreement(
+    line: EdgeLine,
+    points_mm: NDArray[np.float64],
+    rising: NDArray[np.bool_],
+    scan_axis: NDArray[np.int_],
+) -> float:
+    """Fraction of a line's crossings that agree with its raised side.
+
+    Parameters
+    ----------
+    line : EdgeLine
+        A line fitted to ``points_mm`` (its ``inliers`` index them).
+    points_mm : (K, 2) float, mm
+    rising : (K,) bool
+        True where the element climbed onto the step.
+    scan_axis : (K,) int
+        Axis (0 = x, 1 = y) of the scan that found each point.
+
+    Returns
+    -------
+    float in [0, 1]
+        1 for a step climbed only from its low side; about 1/2 for a bump that
+        is climbed and left at the same place; 0 for a line without inliers.
+    """
+    members = np.asarray(line.inliers, dtype=bool)
+    if members.shape != (np.asarray(points_mm).shape[0],):
+        raise InputError(
+            f"line.inliers must index the {np.asarray(points_mm).shape[0]} points, "
+            f"got shape {members.shape}"
+        )
+    if not np.any(members):
+        return 0.0
+    ax = np.asarray(scan_axis)[members]
+    votes = np.where(np.asarray(rising)[members], 1.0, -1.0) * np.sign(line.normal[ax])
+    return float(np.mean(votes > 0))

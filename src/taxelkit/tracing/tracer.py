@@ -6,7 +6,10 @@ point-to-point section (3 mm, the pitch, Section VI.3) along the edge with the
 raised side on the left, and ``de`` the error vector that brings the edge back
 under the array centre (Ishikawa's active sensing). The loop stops when it
 closes (back within ``close_radius_mm`` of its start after at least
-``min_loop_mm`` of travel) or after ``max_sections`` sections.
+``min_loop_mm`` of travel, around a plausible contour:
+:mod:`taxelkit.tracing.loop_closure`) or after ``max_sections`` sections. A
+return to the start around a loop smaller than the array's footprint (a bump
+of a rough plate) stops the trace as ``"implausible_loop"``, not closed.
 
 The tracer sees only what the probe returns (frames and its own commanded
 positions), never the specimen.
@@ -17,7 +20,6 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -26,6 +28,12 @@ from taxelkit.errors import InputError, check_positive
 from taxelkit.motion.probe import TactileProbe
 from taxelkit.tracing.edge_estimate import EdgeDetectorConfig, EdgeEstimate, estimate_edge
 from taxelkit.tracing.line_fit import line_intersection
+from taxelkit.tracing.loop_closure import (
+    DEFAULT_MIN_COMPACTNESS,
+    footprint_area_mm2,
+    is_plausible_loop,
+)
+from taxelkit.tracing.trace import Trace, TraceLog
 
 __all__ = [
     "PTP_SECTION_MM",
@@ -71,6 +79,16 @@ class TracerConfig:
         Consecutive points with no edge before giving up; at a miss the tracer
         coasts one section along its last direction.
     detector : EdgeDetectorConfig
+    min_loop_area_mm2 : float or None
+        Smallest area a closed loop encloses, mm^2; None: the footprint of the
+        probe's active elements (324 mm^2 for paper 000's 6 x 6 at 3 mm).
+    min_loop_compactness : float
+        Smallest isoperimetric quotient ``4 pi A / L^2`` of a closed loop.
+    confirm_edge : bool
+        On a noisy plate (:attr:`~taxelkit.tracing.edge_estimate.EdgeEstimate.noisy`)
+        :func:`find_edge` keeps a sighting only when the edge is seen again
+        after the first step onto it (a pulse of a rough plate is not);
+        otherwise the search goes on. False: the first sighting is kept.
     """
 
     section_mm: float = PTP_SECTION_MM
@@ -80,8 +98,17 @@ class TracerConfig:
     min_loop_mm: float = 30.0
     max_misses: int = 2
     detector: EdgeDetectorConfig = field(default_factory=EdgeDetectorConfig)
+    min_loop_area_mm2: float | None = None
+    min_loop_compactness: float = DEFAULT_MIN_COMPACTNESS
+    confirm_edge: bool = True
 
     def __post_init__(self) -> None:
+        if self.min_loop_area_mm2 is not None:
+            check_positive("min_loop_area_mm2", self.min_loop_area_mm2, allow_zero=True)
+        if not 0.0 <= float(self.min_loop_compactness) <= 1.0:
+            raise InputError(
+                f"min_loop_compactness must be in [0, 1], got {self.min_loop_compactness!r}"
+            )
         check_positive("section_mm", self.section_mm)
         check_positive("error_gain", self.error_gain, allow_zero=True)
         check_positive("close_radius_mm", self.close_radius_mm)
@@ -90,73 +117,6 @@ class TracerConfig:
             raise InputError(f"max_sections must be >= 1, got {self.max_sections!r}")
         if int(self.max_misses) < 0:
             raise InputError(f"max_misses must be >= 0, got {self.max_misses!r}")
-
-
-@dataclass(frozen=True, eq=False)
-class Trace:
-    """A traced contour with per-section diagnostics.
-
-    Attributes
-    ----------
-    points_mm : (K + 1, 2) float, mm
-        Commanded array centres, from the start to the last point.
-    moves_mm : (K, 2) float, mm
-        ``dr`` of every section (Eq. 7); the input of chain-symbolizing.
-    dv_mm, de_mm : (K, 2) float, mm
-        The two terms of Eq. 7 for every section (``dv`` is zero at a miss).
-    normals : (K, 2) float
-        Edge normal seen at each point (NaN at a miss).
-    n_crossings : (K,) int
-        Crossing points found at each point.
-    closed : bool
-        True when the loop closed.
-    stop_reason : str
-        ``"closed"``, ``"max_sections"`` or ``"lost"``.
-    """
-
-    points_mm: NDArray[np.float64]
-    moves_mm: NDArray[np.float64]
-    dv_mm: NDArray[np.float64]
-    de_mm: NDArray[np.float64]
-    normals: NDArray[np.float64]
-    n_crossings: NDArray[np.int64]
-    closed: bool
-    stop_reason: str
-
-    @property
-    def n_sections(self) -> int:
-        """Number of sections ``K``."""
-        return int(self.moves_mm.shape[0])
-
-    @property
-    def arc_length_mm(self) -> NDArray[np.float64]:
-        """Cumulative path length at every point, ``(K + 1,)`` mm."""
-        steps = np.hypot(self.moves_mm[:, 0], self.moves_mm[:, 1])
-        return np.concatenate([[0.0], np.cumsum(steps)])
-
-    def straightness(self, *, axis_tolerance_deg: float = 3.0) -> float | None:
-        """``|r|``, Pearson correlation of the points' x and y (paper 000, Fig. 7).
-
-        Parameters
-        ----------
-        axis_tolerance_deg : float
-            ``r`` measures straightness only for oblique lines: it tends to 0 as
-            a perfectly straight line turns parallel to an axis. Within this
-            angle of the x or y axis (principal direction of the points) the
-            result is ``None``, as the paper leaves 0 and 90 deg unquoted.
-
-        Returns
-        -------
-        float or None
-        """
-        p = self.points_mm - self.points_mm.mean(axis=0)
-        if p.shape[0] < 3:
-            return None
-        _, vecs = np.linalg.eigh(p.T @ p)
-        angle = float(np.rad2deg(np.arctan2(vecs[1, 1], vecs[0, 1]))) % 90.0
-        if min(angle, 90.0 - angle) < axis_tolerance_deg:
-            return None
-        return float(abs(np.corrcoef(p[:, 0], p[:, 1])[0, 1]))
 
 
 def _ray_distance(
@@ -262,15 +222,20 @@ def find_edge(
         if est.found:
             # The first sighting may be an edge at the array's rim, fitted from a
             # few crossings: step onto it and look again until it is centred.
+            q, confirmed = p, False
+            confirm = cfg.confirm_edge and est.noisy
             for _ in range(FIND_EDGE_REFINEMENTS):
-                if float(np.hypot(*est.error_mm)) < FIND_EDGE_TOLERANCE_MM:
+                centred = float(np.hypot(*est.error_mm)) < FIND_EDGE_TOLERANCE_MM
+                if centred and (confirmed or not confirm):
                     break
-                p = p + est.error_mm
-                nxt = _sense(probe, p, cfg)
+                q = q + est.error_mm
+                nxt = _sense(probe, q, cfg)
                 if not nxt.found:
                     break
-                est = nxt
-            return np.asarray(p + est.error_mm, dtype=np.float64)
+                est, confirmed = nxt, True
+            if confirmed or not confirm:
+                return np.asarray(q + est.error_mm, dtype=np.float64)
+            logger.info("edge sighted at %s not seen again: searching on", p.round(2))
         p = p + stride * d
     raise InputError(
         f"no edge found within {max_distance_mm:g} mm of {tuple(np.round(origin, 3).tolist())}"
@@ -298,6 +263,8 @@ def trace_edge(
     Returns
     -------
     Trace
+        ``closed`` only when the loop came back to its start around a
+        plausible contour (``stop_reason`` ``"closed"``).
 
     References
     ----------
@@ -307,7 +274,12 @@ def trace_edge(
     start = np.asarray(start_mm, dtype=np.float64)
     if start.shape != (2,) or not np.all(np.isfinite(start)):
         raise InputError(f"start_mm must be two finite numbers, got {start_mm!r}")
-    log = _TraceLog(points=[start.copy()])
+    min_area = (
+        footprint_area_mm2(probe.element_offsets_mm)
+        if cfg.min_loop_area_mm2 is None
+        else cfg.min_loop_area_mm2
+    )
+    log = TraceLog(points=[start.copy()])
     p = start.copy()
     last_dir: NDArray[np.float64] | None = None
     travelled, misses = 0.0, 0
@@ -330,7 +302,12 @@ def trace_edge(
         if progress is not None:
             progress(k + 1)
         if travelled >= cfg.min_loop_mm and _back_at_start(log.points, p, cfg):
-            stop = "closed"
+            plausible = is_plausible_loop(
+                np.asarray(log.points),
+                min_area_mm2=min_area,
+                min_compactness=cfg.min_loop_compactness,
+            )
+            stop = "closed" if plausible else "implausible_loop"
             break
     logger.info("trace stopped (%s) after %d sections", stop, len(log.moves))
     return log.to_trace(stop)
@@ -342,47 +319,3 @@ def _back_at_start(
     """Whether ``p`` is within the closing radius of the trace's first points."""
     head = np.asarray(points[: CLOSURE_HEAD_POINTS + 1])
     return bool(np.min(np.hypot(*(head - p).T)) <= cfg.close_radius_mm)
-
-
-@dataclass
-class _TraceLog:
-    """What :func:`trace_edge` records section by section (kept apart from the controller)."""
-
-    points: list[NDArray[np.float64]]
-    moves: list[NDArray[np.float64]] = field(default_factory=list)
-    dvs: list[NDArray[np.float64]] = field(default_factory=list)
-    des: list[NDArray[np.float64]] = field(default_factory=list)
-    normals: list[Any] = field(default_factory=list)
-    crossings: list[int] = field(default_factory=list)
-
-    def record(
-        self,
-        p: NDArray[np.float64],
-        dv: NDArray[np.float64],
-        de: NDArray[np.float64],
-        est: EdgeEstimate,
-    ) -> None:
-        """Append one section: the new position, its two move parts and the estimate."""
-        self.points.append(p.copy())
-        self.moves.append(dv + de)
-        self.dvs.append(dv)
-        self.des.append(de)
-        self.normals.append(est.normal)
-        self.crossings.append(int(est.crossings_mm.shape[0]))
-
-    def to_trace(self, stop: str) -> Trace:
-        """The recorded sections as a :class:`Trace` that stopped for ``stop``."""
-
-        def stack(v: list[Any]) -> NDArray[np.float64]:
-            return np.asarray(v, dtype=np.float64).reshape(-1, 2)
-
-        return Trace(
-            points_mm=stack(self.points),
-            moves_mm=stack(self.moves),
-            dv_mm=stack(self.dvs),
-            de_mm=stack(self.des),
-            normals=stack(self.normals),
-            n_crossings=np.asarray(self.crossings, dtype=np.int64),
-            closed=stop == "closed",
-            stop_reason=stop,
-        )
