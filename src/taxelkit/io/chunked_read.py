@@ -1,0 +1,455 @@
+"""Read a recording a chunk of frames at a time: memory bounded by the chunk, not the file.
+
+:func:`~taxelkit.io.recordings.read_recording` loads a whole recording, under
+the read limit of :mod:`taxelkit.io.limits`. :func:`open_chunks` opens one
+and yields it as consecutive :class:`~taxelkit.frames.TactileFrames` of at
+most ``chunk_frames`` frames each, validated as a whole recording is (each
+chunk by the same rules, and timestamps increasing across chunks):
+
+* ``.h5``/``.hdf5``: ``frames`` (or the packed ``frames_packed``, see
+  ``docs/recording-format.md``) and ``t_s`` are sliced from the datasets;
+* ``.npz``: an uncompressed member (``numpy.savez``) is memory-mapped, a
+  compressed one (``numpy.savez_compressed``) is decompressed as a stream;
+* ``.csv``, ``.mcap`` and bags are read whole and then cut (under the limit).
+
+The read limit then applies to one chunk, not to the file: large recordings
+need no ``--max-mb``. Links, external storage and virtual datasets are refused
+as by the whole-file readers.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import os
+import sys
+import zipfile
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import IO, Any
+
+import h5py
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.errors import (
+    CorruptRecordingError,
+    EmptyRecordingError,
+    InputError,
+    InvalidRecordingError,
+    TaxelkitError,
+    check_positive,
+)
+from taxelkit.frames import DEFAULT_FRAME_INTERVAL_S, TactileFrames
+from taxelkit.io._raw import RawRecording, describe_exception, fail
+from taxelkit.io.limits import (
+    MAX_NPY_HEADER_BYTES,
+    ReadBudget,
+    _members,
+    _read_header,
+    check_h5_attribute,
+    check_h5_dataset,
+    h5_node,
+)
+from taxelkit.io.recordings import (
+    PACKED_COLS_ATTR,
+    PACKED_FRAMES,
+    _build,
+    _probe_input,
+    _sniff,
+    read_recording,
+)
+
+__all__ = [
+    "DEFAULT_CHUNK_FRAMES",
+    "PACKED_COLS_ATTR",
+    "PACKED_FRAMES",
+    "ChunkedRecording",
+    "open_chunks",
+]
+
+#: Frames per chunk by default: 65,536 frames of 16 x 16 are 16 MiB as bool.
+DEFAULT_CHUNK_FRAMES = 65536
+_UNLIMITED = sys.maxsize
+
+
+class _FortranOrder(Exception):
+    """A column-major ``.npy`` member: read whole instead of in chunks."""
+
+
+_SCALARS = ("pitch_mm", "units", "sensor")
+
+
+@dataclass(frozen=True)
+class _Layout:
+    """Where a recording's arrays are and what they declare."""
+
+    n_frames: int
+    shape: tuple[int, int]
+    packed: bool
+
+
+class ChunkedRecording:
+    """An open recording read chunk by chunk (use :func:`open_chunks`).
+
+    Attributes
+    ----------
+    path : pathlib.Path
+    n_frames : int
+        Frames in the recording.
+    shape : (rows, cols)
+        Frame shape.
+    """
+
+    def __init__(self, path: Path, pitch_mm: float | None) -> None:
+        self.path = path
+        self._override = pitch_mm
+        self._stack = contextlib.ExitStack()
+        self._scalars: dict[str, object | None] = {}
+        self._whole: TactileFrames | None = None
+        self._frames: Any = None  # h5py dataset, numpy memmap, or a zip member stream
+        self._t_s: Any = None
+        self._npz_stream: tuple[IO[bytes], np.dtype[Any], IO[bytes] | None] | None = None
+        self.layout = _Layout(0, (0, 0), False)
+
+    @property
+    def n_frames(self) -> int:
+        """Frames in the recording."""
+        return self.layout.n_frames
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """Frame shape ``(rows, cols)``."""
+        return self.layout.shape
+
+    def __enter__(self) -> ChunkedRecording:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def close(self) -> None:
+        """Close the file."""
+        self._stack.close()
+
+    def chunks(self, chunk_frames: int = DEFAULT_CHUNK_FRAMES) -> Iterator[TactileFrames]:
+        """Yield the recording as consecutive validated pieces of at most ``chunk_frames``.
+
+        Parameters
+        ----------
+        chunk_frames : int
+            Frames per piece, >= 1.
+
+        Yields
+        ------
+        TactileFrames
+            Pieces in order; their timestamps are those of the whole recording.
+
+        Raises
+        ------
+        RecordingError
+            If a piece breaks the rules of a recording (named by its frames).
+        """
+        if isinstance(chunk_frames, bool) or not isinstance(chunk_frames, int) or chunk_frames < 1:
+            raise InputError(f"chunk_frames must be an integer >= 1, got {chunk_frames!r}")
+        if self._whole is not None:
+            whole = self._whole
+            for a in range(0, whole.n_frames, chunk_frames):
+                yield TactileFrames(
+                    whole.frames[a : a + chunk_frames],
+                    whole.t_s[a : a + chunk_frames],
+                    pitch_mm=whole.pitch_mm,
+                    units=whole.units,
+                    sensor=whole.sensor,
+                )
+            return
+        budget = ReadBudget(self.path)
+        t_last = -math.inf
+        for a in range(0, self.n_frames, chunk_frames):
+            b = min(a + chunk_frames, self.n_frames)
+            frames, t_s = self._read(a, b, budget)
+            if t_s is not None and t_s.size and not t_s[0] > t_last:
+                raise fail(
+                    InvalidRecordingError,
+                    self.path,
+                    f"t_s must be strictly increasing, got t_s[{a - 1}]={t_last!r} "
+                    f">= t_s[{a}]={float(t_s[0])!r}",
+                )
+            if t_s is None:
+                t_s = np.arange(a, b, dtype=np.float64) * DEFAULT_FRAME_INTERVAL_S
+            scalars = self._scalars
+            raw = RawRecording(
+                frames=frames,
+                t_s=t_s,
+                pitch_mm=scalars.get("pitch_mm"),
+                units=scalars.get("units"),
+                sensor=scalars.get("sensor"),
+            )
+            chunk = _build(raw, self.path, self._override)
+            t_last = float(chunk.t_s[-1])
+            yield chunk
+
+    def _read(self, a: int, b: int, budget: ReadBudget) -> tuple[NDArray[Any], NDArray[Any] | None]:
+        try:
+            if self._npz_stream is not None:
+                return self._read_stream(a, b, budget)
+            budget.check_block(f"frames {a}..{b - 1}", (b - a) * math.prod(self.shape) * 8)
+            frames = np.asarray(self._frames[a:b])
+            if self.layout.packed:
+                frames = np.unpackbits(frames, axis=2, count=self.shape[1], bitorder="little")
+                frames = frames.view(bool)
+            t_s = None if self._t_s is None else np.asarray(self._t_s[a:b])
+        except TaxelkitError:
+            raise
+        except Exception as exc:
+            raise fail(
+                CorruptRecordingError,
+                self.path,
+                f"frames {a}..{b - 1} are unreadable ({describe_exception(exc)})",
+            ) from exc
+        return frames, t_s
+
+    def _read_stream(
+        self, a: int, b: int, budget: ReadBudget
+    ) -> tuple[NDArray[Any], NDArray[Any] | None]:
+        assert self._npz_stream is not None
+        fh, dtype, t_fh = self._npz_stream
+        n = (b - a) * math.prod(self.shape)
+        budget.check_block(f"frames {a}..{b - 1}", n * dtype.itemsize)
+        frames = np.frombuffer(_read_exactly(fh, n * dtype.itemsize), dtype=dtype)
+        t_s = None
+        if t_fh is not None:
+            t_dtype = self._t_s
+            t_s = np.frombuffer(_read_exactly(t_fh, (b - a) * t_dtype.itemsize), dtype=t_dtype)
+        return frames.reshape((b - a, *self.shape)), t_s
+
+
+def _read_exactly(fh: IO[bytes], nbytes: int) -> bytes:
+    data = fh.read(nbytes)
+    if len(data) != nbytes:
+        raise EOFError(f"expected {nbytes} bytes, the member ends after {len(data)}")
+    return data
+
+
+def open_chunks(path: str | os.PathLike[str], *, pitch_mm: float | None = None) -> ChunkedRecording:
+    """Open a recording to read it chunk by chunk.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A recording file (any format :func:`~taxelkit.io.recordings.read_recording` reads).
+    pitch_mm : float, optional
+        Taxel pitch, mm, replacing the stored one.
+
+    Returns
+    -------
+    ChunkedRecording
+        Use it as a context manager; iterate :meth:`ChunkedRecording.chunks`.
+
+    Raises
+    ------
+    RecordingError
+        As :func:`~taxelkit.io.recordings.read_recording`, for what can be
+        checked before the frames are read (the frames are checked chunk by chunk).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from taxelkit.io.recordings import write_recording
+    >>> out = write_recording(
+    ...     TactileFrames(np.zeros((5, 4, 4), bool)), Path(tempfile.mkdtemp()) / "r.h5")
+    >>> with open_chunks(out) as rec:
+    ...     [c.n_frames for c in rec.chunks(2)]
+    [2, 2, 1]
+    """
+    p = Path(path)
+    override = None if pitch_mm is None else check_positive("pitch_mm", pitch_mm)
+    suffix = p.suffix.lower()
+    rec = ChunkedRecording(p, override)
+    if suffix not in (".h5", ".hdf5", ".npz"):
+        rec._whole = read_recording(p, pitch_mm=override)
+        rec.layout = _Layout(rec._whole.n_frames, rec._whole.shape[1:], False)
+        return rec
+    size, head = _probe_input(p)
+    if size == 0:
+        raise fail(EmptyRecordingError, p, "is empty (0 bytes)")
+    try:
+        if suffix == ".npz":
+            _open_npz(rec, head)
+        else:
+            _open_h5(rec)
+    except _FortranOrder:
+        rec.close()
+        rec = ChunkedRecording(p, override)
+        rec._whole = read_recording(p, pitch_mm=override)
+        rec.layout = _Layout(rec._whole.n_frames, rec._whole.shape[1:], False)
+        return rec
+    except BaseException:
+        rec.close()
+        raise
+    if rec.n_frames == 0:
+        rec.close()
+        raise fail(EmptyRecordingError, p, "holds zero frames")
+    return rec
+
+
+def _open_h5(rec: ChunkedRecording) -> None:
+    path = rec.path
+    try:
+        root = rec._stack.enter_context(h5py.File(path, "r"))
+        budget = ReadBudget(path)
+        for name in _SCALARS:
+            if name in root.attrs:
+                check_h5_attribute(path, root.attrs, name, budget)
+                rec._scalars[name] = root.attrs[name]
+            elif (node := h5_node(path, root, name)) is not None:
+                check_h5_dataset(path, name, node, budget)
+                rec._scalars[name] = node[()]
+        structure = ReadBudget(path, limit=_UNLIMITED)  # sizes are checked per chunk
+        frames = h5_node(path, root, "frames")
+        packed = frames is None and (frames := h5_node(path, root, PACKED_FRAMES)) is not None
+        if frames is None:
+            found = ", ".join(root.keys()) or "nothing"
+            raise fail(CorruptRecordingError, path, f"no 'frames' array (the file holds: {found})")
+        name = PACKED_FRAMES if packed else "frames"
+        if not isinstance(frames, h5py.Dataset):
+            raise fail(
+                CorruptRecordingError, path, f"{name!r} is an HDF5 group, expected a dataset"
+            )
+        check_h5_dataset(path, name, frames, structure)
+        t_s = h5_node(path, root, "t_s")
+        if t_s is not None:
+            if not isinstance(t_s, h5py.Dataset):
+                raise fail(CorruptRecordingError, path, "'t_s' is an HDF5 group, not a dataset")
+            check_h5_dataset(path, "t_s", t_s, structure)
+        shape = tuple(frames.shape)
+        if len(shape) != 3:
+            raise fail(InvalidRecordingError, path, f"frames must be (T, rows, cols), got {shape}")
+        cols = shape[2]
+        if packed:
+            cols = int(frames.attrs.get(PACKED_COLS_ATTR, 8 * shape[2]))
+            if frames.dtype != np.uint8 or not 8 * shape[2] - 8 < cols <= 8 * shape[2]:
+                raise fail(
+                    InvalidRecordingError,
+                    path,
+                    f"{PACKED_FRAMES} must be uint8 with {PACKED_COLS_ATTR} in "
+                    f"({8 * shape[2] - 8}, {8 * shape[2]}], got {frames.dtype} and {cols}",
+                )
+            rec._scalars.setdefault("units", "contact")
+        if t_s is not None and tuple(t_s.shape) != (shape[0],):
+            raise fail(
+                InvalidRecordingError,
+                path,
+                f"t_s must have {shape[0]} entries (one per frame), got shape {t_s.shape}",
+            )
+    except TaxelkitError:
+        raise
+    except Exception as exc:
+        raise fail(
+            CorruptRecordingError, path, f"not a readable HDF5 file ({describe_exception(exc)})"
+        ) from exc
+    rec._frames, rec._t_s = frames, t_s
+    rec.layout = _Layout(int(shape[0]), (int(shape[1]), int(cols)), packed)
+
+
+def _open_npz(rec: ChunkedRecording, head: bytes) -> None:
+    path = rec.path
+    if _sniff(head) != "npz":
+        raise fail(CorruptRecordingError, path, "not an .npz file (no zip archive signature)")
+    try:
+        archive = rec._stack.enter_context(zipfile.ZipFile(path))
+        members = _members(path, archive)
+        budget = ReadBudget(path)
+        for name in _SCALARS:
+            if name in members:
+                with archive.open(members[name]) as fh:
+                    shape, dtype = _read_header(path, name, fh)
+                budget.take(name, shape, dtype)
+                with archive.open(members[name]) as fh:
+                    rec._scalars[name] = np.lib.format.read_array(
+                        fh, allow_pickle=False, max_header_size=MAX_NPY_HEADER_BYTES
+                    )
+        if "frames" not in members:
+            found = ", ".join(members) or "nothing"
+            raise fail(CorruptRecordingError, path, f"no 'frames' array (the file holds: {found})")
+        frames, shape, dtype = _npz_array(rec, archive, members["frames"], "frames")
+        if len(shape) != 3:
+            raise fail(InvalidRecordingError, path, f"frames must be (T, rows, cols), got {shape}")
+        t_s = None
+        t_dtype: np.dtype[Any] | None = None
+        if "t_s" in members:
+            t_s, t_shape, t_dtype = _npz_array(rec, archive, members["t_s"], "t_s")
+            if t_shape != (shape[0],):
+                raise fail(
+                    InvalidRecordingError,
+                    path,
+                    f"t_s must have {shape[0]} entries (one per frame), got shape {t_shape}",
+                )
+    except (TaxelkitError, _FortranOrder):
+        raise
+    except Exception as exc:
+        raise fail(
+            CorruptRecordingError, path, f"unreadable .npz recording ({describe_exception(exc)})"
+        ) from exc
+    rec.layout = _Layout(int(shape[0]), (int(shape[1]), int(shape[2])), False)
+    if isinstance(frames, np.ndarray) and (t_s is None or isinstance(t_s, np.ndarray)):
+        rec._frames, rec._t_s = frames, t_s
+        return
+    # a compressed member: stream both arrays (the memory maps, if any, are re-opened as streams)
+    fh = frames if not isinstance(frames, np.ndarray) else _stream(rec, archive, members["frames"])
+    t_fh = None
+    if t_s is not None:
+        t_fh = t_s if not isinstance(t_s, np.ndarray) else _stream(rec, archive, members["t_s"])
+    rec._npz_stream = (fh, dtype, t_fh)
+    rec._t_s = t_dtype
+
+
+def _stream(rec: ChunkedRecording, archive: zipfile.ZipFile, info: zipfile.ZipInfo) -> IO[bytes]:
+    fh = rec._stack.enter_context(archive.open(info))
+    _read_header(rec.path, info.filename, fh)
+    return fh
+
+
+def _npz_array(
+    rec: ChunkedRecording, archive: zipfile.ZipFile, info: zipfile.ZipInfo, name: str
+) -> tuple[Any, tuple[int, ...], np.dtype[Any]]:
+    """A memory map of a stored member, else an open stream past its header."""
+    fh = rec._stack.enter_context(archive.open(info))
+    shape, dtype = _read_header(rec.path, name, fh)
+    header = fh.tell()
+    fh.seek(0)
+    version = np.lib.format.read_magic(fh)
+    read = (
+        np.lib.format.read_array_header_1_0
+        if version == (1, 0)
+        else (np.lib.format.read_array_header_2_0)
+    )
+    fortran = bool(read(fh, MAX_NPY_HEADER_BYTES)[1])
+    if fortran and len(shape) > 1:
+        raise _FortranOrder
+    if dtype.kind in "US":
+        raise fail(CorruptRecordingError, rec.path, f"array {name!r} holds text, not numbers")
+    declared = math.prod(shape) * dtype.itemsize
+    if declared > info.file_size - header:
+        raise fail(
+            CorruptRecordingError,
+            rec.path,
+            f"array {name!r} declares shape {shape} of {dtype} ({declared} bytes) but "
+            f"stores {max(info.file_size - header, 0)} bytes",
+        )
+    if info.compress_type != zipfile.ZIP_STORED or dtype.byteorder == ">":
+        return fh, shape, dtype
+    # a stored member: its bytes lie in the file after the zip local header
+    raw = rec._stack.enter_context(open(rec.path, "rb"))  # noqa: SIM115 - closed by the stack
+    raw.seek(info.header_offset)
+    local = raw.read(30)
+    name_len, extra_len = (
+        int.from_bytes(local[26:28], "little"),
+        int.from_bytes(local[28:30], "little"),
+    )
+    offset = info.header_offset + 30 + name_len + extra_len + header
+    if math.prod(shape) == 0:
+        return np.zeros(shape, dtype), shape, dtype
+    mapped = np.memmap(rec.path, dtype=dtype, mode="r", offset=offset, shape=shape)
+    return mapped, shape, dtype
