@@ -24,7 +24,7 @@ import math
 import os
 import sys
 import zipfile
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
@@ -88,6 +88,8 @@ class _Layout:
     n_frames: int
     shape: tuple[int, int]
     packed: bool
+    #: bytes one frame takes once read (integers become float64)
+    frame_bytes: int = 1
 
 
 class ChunkedRecording:
@@ -133,13 +135,14 @@ class ChunkedRecording:
         """Close the file."""
         self._stack.close()
 
-    def chunks(self, chunk_frames: int = DEFAULT_CHUNK_FRAMES) -> Iterator[TactileFrames]:
+    def chunks(self, chunk_frames: int | None = None) -> Iterator[TactileFrames]:
         """Yield the recording as consecutive validated pieces of at most ``chunk_frames``.
 
         Parameters
         ----------
-        chunk_frames : int
-            Frames per piece, >= 1.
+        chunk_frames : int, optional
+            Frames per piece, >= 1. Default :data:`DEFAULT_CHUNK_FRAMES`, fewer
+            if a piece would take more than a quarter of the read limit.
 
         Yields
         ------
@@ -151,6 +154,9 @@ class ChunkedRecording:
         RecordingError
             If a piece breaks the rules of a recording (named by its frames).
         """
+        if chunk_frames is None:
+            quarter = ReadBudget(self.path).limit // 4
+            chunk_frames = max(1, min(DEFAULT_CHUNK_FRAMES, quarter // self.layout.frame_bytes))
         if isinstance(chunk_frames, bool) or not isinstance(chunk_frames, int) or chunk_frames < 1:
             raise InputError(f"chunk_frames must be an integer >= 1, got {chunk_frames!r}")
         if self._whole is not None:
@@ -164,10 +170,16 @@ class ChunkedRecording:
                     sensor=whole.sensor,
                 )
             return
+        yield from self._pieces(0, self.n_frames, chunk_frames)
+
+    def _pieces(
+        self, first: int, stop: int, chunk_frames: int = DEFAULT_CHUNK_FRAMES
+    ) -> Iterator[TactileFrames]:
+        """Frames ``first .. stop - 1`` of a sliceable recording, in validated pieces."""
         budget = ReadBudget(self.path)
         t_last = -math.inf
-        for a in range(0, self.n_frames, chunk_frames):
-            b = min(a + chunk_frames, self.n_frames)
+        for a in range(first, stop, chunk_frames):
+            b = min(a + chunk_frames, stop)
             frames, t_s = self._read(a, b, budget)
             if t_s is not None and t_s.size and not t_s[0] > t_last:
                 raise fail(
@@ -190,11 +202,48 @@ class ChunkedRecording:
             t_last = float(chunk.t_s[-1])
             yield chunk
 
+    def frames_at(self, indices: Sequence[int]) -> TactileFrames:
+        """Only the frames at ``indices`` (increasing, in ``[0, n_frames)``), as a recording.
+
+        HDF5 datasets and memory-mapped members are read at those frames only;
+        compressed ``.npz`` members are read through once.
+        """
+        wanted = np.asarray(indices, dtype=np.int64)
+        if wanted.ndim != 1 or wanted.size == 0 or np.any(np.diff(wanted) <= 0):
+            raise InputError("indices must be a non-empty increasing sequence of frames")
+        if wanted[0] < 0 or wanted[-1] >= self.n_frames:
+            raise InputError(f"indices must lie in [0, {self.n_frames - 1}], got {wanted.tolist()}")
+        frames: list[NDArray[Any]] = []
+        times: list[NDArray[Any]] = []
+        template: TactileFrames | None = None
+        if self._whole is not None or self._npz_stream is not None:
+            start = 0
+            for chunk in self.chunks():
+                inside = wanted[(wanted >= start) & (wanted < start + chunk.n_frames)] - start
+                frames.append(chunk.frames[inside])
+                times.append(chunk.t_s[inside])
+                template = chunk
+                start += chunk.n_frames
+        else:
+            for i in wanted.tolist():
+                for chunk in self._pieces(i, i + 1):
+                    frames.append(chunk.frames)
+                    times.append(chunk.t_s)
+                    template = chunk
+        assert template is not None
+        return TactileFrames(
+            np.concatenate(frames),
+            np.concatenate(times),
+            pitch_mm=template.pitch_mm,
+            units=template.units,
+            sensor=template.sensor,
+        )
+
     def _read(self, a: int, b: int, budget: ReadBudget) -> tuple[NDArray[Any], NDArray[Any] | None]:
         try:
             if self._npz_stream is not None:
                 return self._read_stream(a, b, budget)
-            budget.check_block(f"frames {a}..{b - 1}", (b - a) * math.prod(self.shape) * 8)
+            budget.check_block(f"frames {a}..{b - 1}", (b - a) * self.layout.frame_bytes)
             frames = np.asarray(self._frames[a:b])
             if self.layout.packed:
                 frames = np.unpackbits(frames, axis=2, count=self.shape[1], bitorder="little")
@@ -216,13 +265,18 @@ class ChunkedRecording:
         assert self._npz_stream is not None
         fh, dtype, t_fh = self._npz_stream
         n = (b - a) * math.prod(self.shape)
-        budget.check_block(f"frames {a}..{b - 1}", n * dtype.itemsize)
+        budget.check_block(f"frames {a}..{b - 1}", (b - a) * self.layout.frame_bytes)
         frames = np.frombuffer(_read_exactly(fh, n * dtype.itemsize), dtype=dtype)
         t_s = None
         if t_fh is not None:
             t_dtype = self._t_s
             t_s = np.frombuffer(_read_exactly(t_fh, (b - a) * t_dtype.itemsize), dtype=t_dtype)
         return frames.reshape((b - a, *self.shape)), t_s
+
+
+def _item_bytes(dtype: np.dtype[Any]) -> int:
+    """Bytes per taxel once read: integers become float64."""
+    return 8 if dtype.kind in "iu" else int(dtype.itemsize)
 
 
 def _read_exactly(fh: IO[bytes], nbytes: int) -> bytes:
@@ -350,7 +404,8 @@ def _open_h5(rec: ChunkedRecording) -> None:
             CorruptRecordingError, path, f"not a readable HDF5 file ({describe_exception(exc)})"
         ) from exc
     rec._frames, rec._t_s = frames, t_s
-    rec.layout = _Layout(int(shape[0]), (int(shape[1]), int(cols)), packed)
+    item = 1 if packed else _item_bytes(frames.dtype)
+    rec.layout = _Layout(int(shape[0]), (int(shape[1]), int(cols)), packed, shape[1] * cols * item)
 
 
 def _open_npz(rec: ChunkedRecording, head: bytes) -> None:
@@ -392,7 +447,12 @@ def _open_npz(rec: ChunkedRecording, head: bytes) -> None:
         raise fail(
             CorruptRecordingError, path, f"unreadable .npz recording ({describe_exception(exc)})"
         ) from exc
-    rec.layout = _Layout(int(shape[0]), (int(shape[1]), int(shape[2])), False)
+    rec.layout = _Layout(
+        int(shape[0]),
+        (int(shape[1]), int(shape[2])),
+        False,
+        shape[1] * shape[2] * _item_bytes(dtype),
+    )
     if isinstance(frames, np.ndarray) and (t_s is None or isinstance(t_s, np.ndarray)):
         rec._frames, rec._t_s = frames, t_s
         return
