@@ -4,11 +4,15 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 
 from taxelkit.cli_options import DURATION_S, PITCH_MM, RATE_HZ, SEED, THRESHOLD, TIMEOUT_S
 from taxelkit.errors import InputError
+
+if TYPE_CHECKING:
+    from taxelkit.smart.recognise_chunks import ChunkRecognition
 
 __all__ = ["recognize", "roll"]
 
@@ -60,7 +64,20 @@ __all__ = ["recognize", "roll"]
     help="Also log frames, contact classes, tactemes, candidates and verdicts to this "
     'rerun .rrd file (needs the viewer extra: pip install "taxelkit[viewer]").',
 )
-@click.option("--force", is_flag=True, help="Overwrite an existing --save-view file.")
+@click.option(
+    "--record",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="With --live: also append the received frames to this .h5 recording, flushed "
+    "every 4096 frames (a crash loses at most those).",
+)
+@click.option(
+    "--per-frame",
+    is_flag=True,
+    help="With --json: also list the class of every frame ('classes'); by default classes "
+    "come as run-length 'class_segments'.",
+)
+@click.option("--force", is_flag=True, help="Overwrite existing --save-view and --record files.")
 def recognize(
     file: Path | None,
     threshold: float | None,
@@ -72,13 +89,16 @@ def recognize(
     topic: str | None,
     faithful: bool,
     save_view: Path | None,
+    record: Path | None,
+    per_frame: bool,
     force: bool,
 ) -> int:
     """Identify the object rolling on the sensor from a recording (paper 001).
 
     Works on any valid recording (bool contact images or float deflections, any
     array size and pitch). The recogniser sees only the frames, their
-    timestamps and the pitch.
+    timestamps and the pitch. .h5 and .npz files are read a chunk at a time,
+    so their size is not limited by memory or by --max-mb.
     """
     if save_view is not None:
         from taxelkit.viewer.rerun_view import check_viewer_available
@@ -99,33 +119,25 @@ def recognize(
             timeout_s=timeout_s,
             echo=click.echo,
             save_view=save_view,
+            record=record,
             force=force,
         )
         return code
     if file is None:
         raise InputError("give a recording FILE or --live SOURCE")
-    from taxelkit.io.recordings import read_recording
-    from taxelkit.smart.recogniser import recognise
-
-    rec = read_recording(file, pitch_mm=pitch_mm, topic=topic)
+    if record is not None:
+        raise InputError("--record applies to --live streams; a FILE is already recorded")
+    options: dict[str, Any] = {"threshold": threshold}
     if faithful:
         from taxelkit.smart.tactemes import PAPER_LEVEL3
 
-        result = recognise(
-            rec, threshold=threshold, cleaning=None, limits=None, config=PAPER_LEVEL3
-        )
+        options.update(cleaning=None, limits=None, config=PAPER_LEVEL3)
+    if save_view is None and topic is None and file.suffix.lower() in (".h5", ".hdf5", ".npz"):
+        result = _recognise_in_chunks(file, pitch_mm, per_frame, options)
     else:
-        result = recognise(rec, threshold=threshold)
-    if save_view is not None:
-        from taxelkit.io.atomic import atomic_write
-        from taxelkit.viewer.rerun_view import view_recognition
-
-        def write_view(tmp: Path) -> None:
-            view_recognition(rec, result, save_path=tmp)
-
-        atomic_write(save_view, write_view, force=force)
+        result = _recognise_whole(file, pitch_mm, topic, save_view, force, options)
     if as_json:
-        click.echo(json.dumps(result.to_json()))
+        click.echo(json.dumps(result.to_json(per_frame=per_frame)))
         return 0
     for e in result.events:
         value = ", ".join(e.value) if isinstance(e.value, tuple) else e.value
@@ -134,6 +146,60 @@ def recognize(
     click.echo(f"identified: {verdict}")
     click.echo(f"why: {result.verdict.sentence()}")
     return 0
+
+
+def _recognise_in_chunks(
+    file: Path, pitch_mm: float | None, per_frame: bool, options: dict[str, Any]
+) -> ChunkRecognition:
+    """Read and recognise a recording a chunk at a time (memory bounded by the chunk)."""
+    from taxelkit.io.chunked_read import open_chunks
+    from taxelkit.smart.recognise_chunks import ChunkRecogniser
+
+    with open_chunks(file, pitch_mm=pitch_mm) as opened:
+        recogniser: ChunkRecogniser | None = None
+        for chunk in opened.chunks():
+            if recogniser is None:
+                shape = (chunk.shape[1], chunk.shape[2])
+                recogniser = ChunkRecogniser(
+                    shape, pitch_mm=chunk.pitch_mm, per_frame=per_frame, **options
+                )
+            recogniser.push(chunk.frames, chunk.t_s)
+    assert recogniser is not None  # open_chunks refuses a recording of zero frames
+    return recogniser.result()
+
+
+def _recognise_whole(
+    file: Path,
+    pitch_mm: float | None,
+    topic: str | None,
+    save_view: Path | None,
+    force: bool,
+    options: dict[str, Any],
+) -> ChunkRecognition:
+    """Read a whole recording (bags, CSV, --save-view) and recognise it in memory."""
+    from taxelkit.io.recordings import read_recording
+    from taxelkit.smart.recognise_chunks import ChunkRecognition, class_segments
+    from taxelkit.smart.recogniser import recognise
+
+    rec = read_recording(file, pitch_mm=pitch_mm, topic=topic)
+    result = recognise(rec, **options)
+    if save_view is not None:
+        from taxelkit.io.atomic import atomic_write
+        from taxelkit.viewer.rerun_view import view_recognition
+
+        def write_view(tmp: Path) -> None:
+            view_recognition(rec, result, save_path=tmp)
+
+        atomic_write(save_view, write_view, force=force)
+    return ChunkRecognition(
+        class_segments(result.classes, rec.t_s),
+        result.tactemes,
+        result.events,
+        result.identified,
+        result.candidates,
+        result.verdict,
+        result.classes,
+    )
 
 
 @click.command("roll")
