@@ -43,7 +43,11 @@ def test_batch_decoding_equals_one_by_one(seed: int) -> None:
         batches.extend(decode_datagrams(batched, datagrams[a : a + 64]))
     assert batched.stats == one.stats
     assert sum(b.n_frames for b in batches) == len(frames)
-    flat = [(int(i), float(t), v) for b in batches for i, t, v in zip(b.index, b.t_s, b.values)]
+    flat = [
+        (int(i), float(t), v)
+        for b in batches
+        for i, t, v in zip(b.index, b.t_s, b.values, strict=True)
+    ]
     for (i, t, v), f in zip(flat, frames, strict=True):
         assert (i, t) == (f.index, f.t_s)
         assert v.dtype == f.values.dtype and np.array_equal(v, f.values)
