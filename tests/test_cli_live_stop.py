@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from taxelkit.cli_live import EXIT_INTERRUPTED, EXIT_TERMINATED, recognize_live
+from taxelkit.cli.live import EXIT_INTERRUPTED, EXIT_TERMINATED, recognize_live
 from taxelkit.io.frame_protocol import encode_frame
 from taxelkit.io.recordings import read_recording
 

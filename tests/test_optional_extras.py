@@ -33,7 +33,7 @@ def test_core_and_cli_import_no_optional_package() -> None:
     code = (
         "import sys\n"
         "import taxelkit.cli, taxelkit.io.recordings, taxelkit.io.bags, taxelkit.io.ros_messages\n"
-        "import taxelkit.io.source_plugins, taxelkit.smart.recogniser, taxelkit.cli_live\n"
+        "import taxelkit.io.source_plugins, taxelkit.smart.recogniser, taxelkit.cli.live\n"
         "from taxelkit.cli import run\n"
         "assert run(['sensors']) == 0 and run(['sources']) == 0\n"
         f"print(sorted(m for m in sys.modules if m.split('.')[0] in {OPTIONAL!r}))\n"

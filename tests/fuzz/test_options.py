@@ -18,7 +18,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from taxelkit.cli import cli
-from taxelkit.cli_options import MAX_SEED, FiniteFloat, Numbers, Seed
+from taxelkit.cli.options import MAX_SEED, FiniteFloat, Numbers, Seed
 from tests.fuzz._harness import assert_refused, files_under, invoke
 
 #: Examples per (command, option) pair; with the pairs below, over 1,000 cases.

@@ -16,7 +16,7 @@ from collections.abc import Callable
 import numpy as np
 import pytest
 
-from taxelkit.cli_live import EXIT_OK, recognize_live
+from taxelkit.cli.live import EXIT_OK, recognize_live
 from taxelkit.errors import InputError, TaxelkitError
 from taxelkit.io.frame_protocol import DecodedFrame, FrameDecoder, PayloadType, encode_frame
 from taxelkit.io.live_device import SimulatedDevice, open_pseudo_terminal

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from taxelkit.cli import run
-from taxelkit.cli_live import recognize_live
+from taxelkit.cli.live import recognize_live
 from taxelkit.io import source_plugins
 from taxelkit.io.frame_protocol import encode_frame
 from taxelkit.io.live_sources import FrameSource, LiveSourceError, SourceSpecError

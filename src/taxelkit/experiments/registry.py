@@ -30,12 +30,26 @@ class Experiment:
     title : str
         One line.
     run : callable
-        ``run(*, seed, progress) -> ExperimentResult``.
+        ``run(*, seed, progress, ...) -> ExperimentResult``.
+    unit : str
+        What one step of ``progress(done, total)`` counts (``"trial"``, ``"shape"``).
+    trials : int or None
+        ``n_trials`` the experiment runs unless told otherwise (the setting of
+        the committed results, ``docs/results/``); None if it takes no
+        ``n_trials`` (a fixed set of cases).
+    workers : bool
+        Whether ``run`` takes ``workers`` (local worker processes).
+    scheduler : bool
+        Whether ``run`` takes ``scheduler`` (a Dask scheduler address).
     """
 
     name: str
     title: str
     run: Callable[..., ExperimentResult]
+    unit: str = "step"
+    trials: int | None = None
+    workers: bool = False
+    scheduler: bool = False
 
 
 def _fig7(**kw: Any) -> ExperimentResult:
@@ -96,18 +110,45 @@ def _robustness(**kw: Any) -> ExperimentResult:
 EXPERIMENTS: dict[str, Experiment] = {
     e.name: e
     for e in (
-        Experiment("fig7", "Paper 000 Fig. 7: tracing straight 50 um edges", _fig7),
-        Experiment("fig8", "Paper 000 Fig. 8: tracing the five 200 um specimens", _fig8),
-        Experiment("fig9", "Paper 000 Fig. 9: correlation against arc length", _fig9),
-        Experiment("recall-vs-s", "Paper 000: recognition rate against s", _recall_vs_s),
-        Experiment("contact-classes", "Paper 001 Level 2: hand-set and trained", _contact_classes),
-        Experiment("cylinder", "Paper 001 Fig. 3: the rolling cylinder", _cylinder),
-        Experiment("smart-sensor", "Paper 001: randomised trials, confusion", _smart_sensor),
-        Experiment("tacteme-table", "Paper 001 Table 1 checked by simulation", _tacteme_table),
+        Experiment("fig7", "Paper 000 Fig. 7: tracing straight 50 um edges", _fig7, "trace"),
+        Experiment("fig8", "Paper 000 Fig. 8: tracing the five 200 um specimens", _fig8, "shape"),
+        Experiment("fig9", "Paper 000 Fig. 9: correlation against arc length", _fig9, "shape"),
+        Experiment(
+            "recall-vs-s",
+            "Paper 000: recognition rate against s",
+            _recall_vs_s,
+            "trial",
+            trials=50,
+            workers=True,
+        ),
+        Experiment(
+            "contact-classes", "Paper 001 Level 2: hand-set and trained", _contact_classes, "stage"
+        ),
+        Experiment("cylinder", "Paper 001 Fig. 3: the rolling cylinder", _cylinder, "roll"),
+        Experiment(
+            "smart-sensor",
+            "Paper 001: randomised trials, confusion",
+            _smart_sensor,
+            "trial",
+            trials=100,
+            workers=True,
+        ),
+        Experiment(
+            "tacteme-table",
+            "Paper 001 Table 1 checked by simulation",
+            _tacteme_table,
+            "trial",
+            trials=50,
+            workers=True,
+        ),
         Experiment(
             "robustness",
             "Smart sensor: engines x rates x sensor imperfections x objects",
             _robustness,
+            "motion",
+            trials=50,
+            workers=True,
+            scheduler=True,
         ),
     )
 }

@@ -1,6 +1,6 @@
 """A simulated tactile device for live streams: a pseudo-terminal or loopback UDP.
 
-Tests and demos drive :func:`taxelkit.cli_live.recognize_live` end to end with
+Tests and demos drive :func:`taxelkit.cli.live.recognize_live` end to end with
 it: a background thread encodes frames with the documented protocol
 (:mod:`taxelkit.io.frame_protocol`), optionally corrupts a seeded fraction of
 packets, and writes them to a file descriptor (the master side of a

@@ -38,8 +38,12 @@ from taxelkit.smart.recogniser import Recognition
 __all__ = [
     "ENTITY_PATHS",
     "RerunView",
+    "ViewerConnectionError",
     "ViewerDependencyError",
     "check_viewer_available",
+    "close_stream",
+    "open_stream",
+    "view_frames",
     "view_recognition",
 ]
 
@@ -55,6 +59,8 @@ ENTITY_PATHS = {
 #: Event kinds logged under ``sensor/verdicts``.
 VERDICT_KINDS = ("identified", "unknown", "lifted")
 _APPLICATION_ID = "taxelkit"
+#: Port of the viewer ``spawn`` starts (rerun's default).
+VIEWER_PORT = 9876
 _INSTALL_HINT = 'pip install "taxelkit[viewer]"'
 _EVENT_PATHS = {
     "contact": ENTITY_PATHS["contact"],
@@ -66,6 +72,10 @@ _EVENT_PATHS = {
 
 class ViewerDependencyError(TaxelkitError, ImportError):
     """rerun-sdk, needed for the viewer, is not installed."""
+
+
+class ViewerConnectionError(TaxelkitError):
+    """The rerun viewer to stream to could not be reached."""
 
 
 def _rerun() -> ModuleType:
@@ -95,6 +105,58 @@ def event_text(event: Event) -> str:
     return f"{event.kind}: {value}"
 
 
+def open_stream(
+    *,
+    save_path: str | os.PathLike[str] | None = None,
+    spawn: bool = False,
+    connect_url: str | None = None,
+    recording_id: str | None = None,
+) -> tuple[ModuleType, Any]:
+    """A rerun recording stream logging to a file, a viewer, or both.
+
+    Parameters
+    ----------
+    save_path : str or os.PathLike, optional
+        Write the recording to this ``.rrd`` file (the path is written as given).
+    spawn : bool, optional
+        Start a rerun viewer on this machine (or use the one already listening
+        on rerun's default port) and stream to it.
+    connect_url : str, optional
+        Stream to the viewer at this address instead of spawning one
+        (``rerun+http://HOST:PORT/proxy``).
+    recording_id : str, optional
+        rerun recording id (default: a random one).
+
+    Returns
+    -------
+    (module, RecordingStream)
+        The ``rerun`` module and the stream.
+
+    Raises
+    ------
+    ViewerDependencyError
+        If rerun-sdk is not installed.
+    ValueError
+        If both ``spawn`` and ``connect_url`` are given.
+    """
+    if spawn and connect_url is not None:
+        raise ValueError("give spawn=True or connect_url, not both")
+    rr = _rerun()
+    stream: Any = rr.RecordingStream(_APPLICATION_ID, recording_id=recording_id)
+    if spawn and save_path is None:
+        stream.spawn()
+    elif connect_url is not None and save_path is None:
+        stream.connect_grpc(connect_url)
+    elif spawn or connect_url is not None:  # a file and a viewer at once
+        if spawn:
+            stream.spawn(port=VIEWER_PORT, connect=False)
+        url = connect_url or f"rerun+http://127.0.0.1:{VIEWER_PORT}/proxy"
+        stream.set_sinks(rr.FileSink(str(Path(str(save_path)))), rr.GrpcSink(url))
+    elif save_path is not None:
+        stream.save(str(Path(save_path)))
+    return rr, stream
+
+
 class RerunView:
     """A rerun recording of the smart sensor, saved to a file and/or shown in a viewer.
 
@@ -103,7 +165,9 @@ class RerunView:
     save_path : str or os.PathLike, optional
         Write the recording to this ``.rrd`` file (the path is written as given).
     spawn : bool, optional
-        Also start the rerun viewer and stream to it.
+        Also start the rerun viewer (or use a running one) and stream to it.
+    connect_url : str, optional
+        Stream to the viewer at this address instead (``rerun+http://HOST:PORT/proxy``).
     recording_id : str, optional
         rerun recording id (default: a random one).
 
@@ -118,15 +182,12 @@ class RerunView:
         *,
         save_path: str | os.PathLike[str] | None = None,
         spawn: bool = False,
+        connect_url: str | None = None,
         recording_id: str | None = None,
     ) -> None:
-        rr = _rerun()
-        self._rr = rr
-        self._stream: Any = rr.RecordingStream(_APPLICATION_ID, recording_id=recording_id)
-        if save_path is not None:
-            self._stream.save(str(Path(save_path)))
-        if spawn:
-            self._stream.spawn()
+        self._rr, self._stream = open_stream(
+            save_path=save_path, spawn=spawn, connect_url=connect_url, recording_id=recording_id
+        )
         self.frames_logged = 0
 
     def _at(self, index: int, t_s: float) -> None:
@@ -176,15 +237,43 @@ class RerunView:
         self._stream.log(ENTITY_PATHS["verdicts"], self._rr.TextLog(f"result: {verdict}"))
 
     def close(self) -> None:
-        """Flush everything to the file or viewer and end the recording."""
-        self._stream.flush()
-        self._stream.disconnect()
+        """Flush everything to the file or viewer and end the recording.
+
+        Raises
+        ------
+        ViewerConnectionError
+            If the viewer could not be reached.
+        """
+        close_stream(self._stream)
+
+
+def close_stream(stream: Any) -> None:
+    """Flush a stream from :func:`open_stream` and disconnect it.
+
+    Raises
+    ------
+    ViewerConnectionError
+        If the viewer could not be reached (rerun gives up after a few seconds).
+    """
+    try:
+        stream.flush()
+    except RuntimeError as e:  # rerun reports an unreachable gRPC viewer so
+        raise ViewerConnectionError(
+            f"could not send the log to the rerun viewer ({' '.join(str(e).split())})"
+        ) from None
+    finally:
+        stream.disconnect()
 
 
 def view_recognition(
-    rec: TactileFrames, result: Recognition, *, save_path: str | os.PathLike[str]
+    rec: TactileFrames,
+    result: Recognition,
+    *,
+    save_path: str | os.PathLike[str] | None = None,
+    spawn: bool = False,
+    connect_url: str | None = None,
 ) -> int:
-    """Log a recording and what the smart sensor made of it to an ``.rrd`` file.
+    """Log a recording and what the smart sensor made of it to an ``.rrd`` file or a viewer.
 
     Parameters
     ----------
@@ -192,8 +281,12 @@ def view_recognition(
         The recording, ``(T, rows, cols)``.
     result : Recognition
         :func:`~taxelkit.smart.recogniser.recognise` of ``rec``.
-    save_path : str or os.PathLike
+    save_path : str or os.PathLike, optional
         The ``.rrd`` file to write.
+    spawn : bool, optional
+        Also show it in a rerun viewer on this machine.
+    connect_url : str, optional
+        Also stream it to the viewer at this address.
 
     Returns
     -------
@@ -205,7 +298,7 @@ def view_recognition(
     ViewerDependencyError
         If rerun-sdk is not installed.
     """
-    view = RerunView(save_path=save_path)
+    view = RerunView(save_path=save_path, spawn=spawn, connect_url=connect_url)
     by_frame: dict[int, list[Event]] = {}
     for event in result.events:
         by_frame.setdefault(int(event.frame), []).append(event)
@@ -219,3 +312,39 @@ def view_recognition(
     view.log_result(last, float(rec.t_s[last]), result)
     view.close()
     return 1 + sum(e.kind in VERDICT_KINDS for e in result.events)
+
+
+def view_frames(
+    rec: TactileFrames,
+    *,
+    start: int = 0,
+    stop: int | None = None,
+    save_path: str | os.PathLike[str] | None = None,
+    spawn: bool = False,
+    connect_url: str | None = None,
+) -> int:
+    """Log the frames ``start:stop`` of a recording under ``sensor/frames``.
+
+    Parameters
+    ----------
+    rec : TactileFrames
+        The recording, ``(T, rows, cols)``.
+    start, stop : int
+        Frames to log (default: all).
+    save_path : str or os.PathLike, optional
+        The ``.rrd`` file to write.
+    spawn : bool, optional
+        Show them in a rerun viewer on this machine.
+    connect_url : str, optional
+        Stream them to the viewer at this address.
+
+    Returns
+    -------
+    int
+        Number of frames logged.
+    """
+    view = RerunView(save_path=save_path, spawn=spawn, connect_url=connect_url)
+    for k in range(start, rec.n_frames if stop is None else stop):
+        view.log_frame(k, float(rec.t_s[k]), rec.frames[k])
+    view.close()
+    return view.frames_logged

@@ -11,8 +11,8 @@ import click
 import numpy as np
 from tqdm import tqdm
 
-from taxelkit.cli_common import save_figure, specimen_from_options
-from taxelkit.cli_options import (
+from taxelkit.cli.common import save_figure, specimen_from_options
+from taxelkit.cli.options import (
     ANGLE_DEG,
     COORDINATE_MM,
     EULER_DEG,
@@ -21,6 +21,9 @@ from taxelkit.cli_options import (
     RATE_HZ,
     SCALE,
     SEED,
+    SENSOR,
+    SHAPE,
+    SOLID,
     STEP_HEIGHT_UM,
 )
 from taxelkit.errors import InputError
@@ -39,15 +42,32 @@ def _write(rec: TactileFrames, out: Path, force: bool) -> None:
 
 
 _common = [
-    click.option("--sensor", "sensor_name", default=None, help="Sensor preset (taxelkit sensors)."),
-    click.option("--frames", "n_frames", type=click.IntRange(1, 1_000_000), default=None),
     click.option(
-        "--rate-hz", type=RATE_HZ, default=None, help="Frame rate; default: the sensor's."
+        "--sensor",
+        "sensor_name",
+        type=SENSOR,
+        default=None,
+        help="Sensor preset ('taxelkit sensors'; default: the command's paper's sensor).",
+    ),
+    click.option(
+        "--frames",
+        "n_frames",
+        type=click.IntRange(1, 1_000_000),
+        default=None,
+        help="Number of frames (default 1; press with --to: 30).",
+    ),
+    click.option(
+        "--rate-hz", type=RATE_HZ, default=None, help="Frame rate, Hz; default: the sensor's."
     ),
     click.option("--contact", is_flag=True, help="Write binary contact images instead of mm."),
     click.option("--no-noise", is_flag=True, help="Noise-free frames."),
     click.option("--seed", type=SEED, default=0, show_default=True, help="Noise seed."),
-    click.option("--out", type=click.Path(path_type=Path), required=True, help=".npz/.h5/.csv"),
+    click.option(
+        "--out",
+        type=click.Path(path_type=Path),
+        required=True,
+        help="Recording to write: .npz, .h5, .csv or .mcap (by the suffix).",
+    ),
     click.option("--force", is_flag=True, help="Overwrite an existing output."),
 ]
 
@@ -87,17 +107,52 @@ def _finish(
 
 @click.group()
 def simulate() -> None:
-    """Produce recordings from the simulated sensor."""
+    """Produce recordings from the simulated sensors.
+
+    Frames are skin displacements in mm (or 0/1 contact images with
+    --contact) on the array's grid: taxel (row i, column j) sits at
+    x = (j - (cols - 1)/2) * pitch, y = (i - (rows - 1)/2) * pitch, mm from
+    the array centre, so columns run along +x and rows along +y.
+    """
 
 
 @simulate.command("press")
-@click.option("--shape", default=None, help="circle, square, triangle, star, hexagon")
-@click.option("--specimen", type=click.Path(path_type=Path), default=None, help="Heightmap .npz.")
-@click.option("--diameter-mm", type=LENGTH_MM, default=90.0, show_default=True)
-@click.option("--step-height-um", type=STEP_HEIGHT_UM, default=200.0, show_default=True)
-@click.option("--rotate-deg", type=ANGLE_DEG, default=0.0, show_default=True)
 @click.option(
-    "--offset-mm", type=COORDINATE_MM, default="0,0", show_default=True, help="Shape offset X,Y."
+    "--shape", type=SHAPE, default=None, help="A built-in relief shape (or give --specimen)."
+)
+@click.option(
+    "--specimen",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Your own relief: a heightmap .npz (docs/recording-format.md), instead of --shape.",
+)
+@click.option(
+    "--diameter-mm",
+    type=LENGTH_MM,
+    default=90.0,
+    show_default=True,
+    help="Size of the --shape (circumscribed circle), mm.",
+)
+@click.option(
+    "--step-height-um",
+    type=STEP_HEIGHT_UM,
+    default=200.0,
+    show_default=True,
+    help="Height of the --shape's relief step, um.",
+)
+@click.option(
+    "--rotate-deg",
+    type=ANGLE_DEG,
+    default=0.0,
+    show_default=True,
+    help="Rotation of the --shape about its centre, degrees counter-clockwise (x towards y).",
+)
+@click.option(
+    "--offset-mm",
+    type=COORDINATE_MM,
+    default="0,0",
+    show_default=True,
+    help="Centre of the --shape on the plate X,Y, mm.",
 )
 @click.option(
     "--at",
@@ -110,8 +165,21 @@ def simulate() -> None:
 @click.option(
     "--to", "to_mm", type=COORDINATE_MM, default=None, help="Slide the sensor to X,Y over --frames."
 )
-@click.option("--indent-mm", type=INDENT_MM, default=0.1, show_default=True)
-@click.option("--yaw-deg", type=ANGLE_DEG, default=0.0, show_default=True)
+@click.option(
+    "--indent-mm",
+    type=INDENT_MM,
+    default=0.1,
+    show_default=True,
+    help="How far the sensor is pressed into the plate, mm.",
+)
+@click.option(
+    "--yaw-deg",
+    type=ANGLE_DEG,
+    default=0.0,
+    show_default=True,
+    help="Rotation of the array about the vertical, degrees counter-clockwise (0: columns "
+    "along x).",
+)
 @click.option("--active-only", is_flag=True, help="Keep only the sensor's active block.")
 @_with_common
 def press(
@@ -162,21 +230,44 @@ def press(
 
 
 @simulate.command("solid")
-@click.option("--object", "object_name", default=None, help="cube, sphere, cone, ...")
-@click.option("--mesh", type=click.Path(path_type=Path), default=None, help="Convex STL/OBJ.")
-@click.option("--scale", type=SCALE, default=1.0, show_default=True)
 @click.option(
-    "--euler-deg", type=EULER_DEG, default="0,0,0", show_default=True, help="Rotation RX,RY,RZ."
+    "--object", "object_name", type=SOLID, default=None, help="A solid of paper 001 (or --mesh)."
 )
 @click.option(
-    "--at", "at_mm", type=COORDINATE_MM, default="0,0", show_default=True, help="Position X,Y (mm)."
+    "--mesh",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Your own convex body: an STL or OBJ mesh in mm, instead of --object.",
+)
+@click.option(
+    "--scale",
+    type=SCALE,
+    default=1.0,
+    show_default=True,
+    help="Size multiplier of the --object (1: the paper-sized default).",
+)
+@click.option(
+    "--euler-deg",
+    type=EULER_DEG,
+    default="0,0,0",
+    show_default=True,
+    help="Body orientation RX,RY,RZ, degrees: extrinsic x-y-z, i.e. turned about the fixed "
+    "x axis, then y, then z (R = Rz Ry Rx); z points out of the sensor.",
+)
+@click.option(
+    "--at",
+    "at_mm",
+    type=COORDINATE_MM,
+    default="0,0",
+    show_default=True,
+    help="Where the body's centroid sits over the array X,Y, mm from the array centre.",
 )
 @click.option(
     "--indent-mm",
     type=INDENT_MM,
     default=0.3,
     show_default=True,
-    help="Final depth of the lowest point; with --frames N > 1 a press from 0.",
+    help="Final depth of the lowest point, mm; with --frames N > 1 a press from 0.",
 )
 @_with_common
 def solid(
@@ -195,7 +286,14 @@ def solid(
     out: Path,
     force: bool,
 ) -> None:
-    """Press a solid onto the sensor in a given pose (paper 001)."""
+    """Press a solid onto the sensor in a given pose (paper 001).
+
+    Conventions: lengths in mm, angles in degrees. The body frame has its
+    origin at the centroid (the cylinder's and cone's axis along +z); --euler-deg
+    turns it about the fixed sensor axes x, then y, then z (extrinsic x-y-z,
+    R = Rz Ry Rx); then the body is lowered until its lowest point is
+    --indent-mm into the skin, with its centroid above --at.
+    """
     from taxelkit.sensors.presets import get_sensor
     from taxelkit.sensors.press import displacement_from_solid
     from taxelkit.world.mesh_solid import load_mesh_solid
@@ -218,8 +316,14 @@ def solid(
 
 
 @click.command()
-@click.option("--out", type=click.Path(path_type=Path), default=Path("demo-out"), show_default=True)
-@click.option("--seed", type=SEED, default=0, show_default=True)
+@click.option(
+    "--out",
+    type=click.Path(path_type=Path),
+    default=Path("demo-out"),
+    show_default=True,
+    help="Output folder for the figures and recordings.",
+)
+@click.option("--seed", type=SEED, default=0, show_default=True, help="Seed of every random draw.")
 @click.option("--force", is_flag=True, help="Overwrite existing outputs.")
 def demo(out: Path, seed: int, force: bool) -> None:
     """Run the main job: both papers' systems on the built-in simulated sensors, with figures."""

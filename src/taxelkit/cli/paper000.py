@@ -10,34 +10,78 @@ from typing import Any
 
 import click
 import numpy as np
-from tqdm import tqdm
 
-from taxelkit.cli_common import (
+from taxelkit.cli.common import (
     check_figure_suffix,
     check_outputs,
+    progress_bar,
     save_figure,
     specimen_from_options,
     write_text,
 )
-from taxelkit.cli_options import ANGLE_DEG, COORDINATE_MM, LENGTH_MM, SEED, STEP_HEIGHT_UM
+from taxelkit.cli.options import (
+    ANGLE_DEG,
+    COORDINATE_MM,
+    EXPERIMENT,
+    LENGTH_MM,
+    RECALL_RULE,
+    SEED,
+    SHAPE,
+    STEP_HEIGHT_UM,
+)
+from taxelkit.cli.view import ViewTarget, view_options, with_view
 from taxelkit.errors import InputError
+from taxelkit.experiments.registry import EXPERIMENTS
 
 __all__ = ["memorise", "reproduce", "trace"]
 
 
-@click.command()
-@click.argument("name")
-@click.option("--out", type=click.Path(path_type=Path), required=True, help="Output folder.")
-@click.option("--seed", type=SEED, default=0, show_default=True)
+def _experiment_list() -> str:
+    """The epilog of ``reproduce --help``: every experiment, one line each (unwrapped)."""
+    rows = [f"  {e.name:16s}{e.title}" for e in EXPERIMENTS.values()]
+    rows.append(f"  {'all':16s}every experiment above, in this order")
+    return "\b\nNAME is one of:\n" + "\n".join(rows)
+
+
+def _trials_help() -> str:
+    takes = [e for e in EXPERIMENTS.values() if e.trials is not None]
+    defaults = ", ".join(f"{e.name} {e.trials}" for e in takes)
+    return (
+        "Randomised trials per shape or object (robustness: per cell). Default: each "
+        f"experiment's own ({defaults}); a value given is used as given."
+    )
+
+
+def _taking(what: str) -> set[str]:
+    """Names of the experiments that take ``trials``, ``workers`` or ``scheduler``."""
+    return {e.name for e in EXPERIMENTS.values() if getattr(e, what) not in (None, False)}
+
+
+def _check_applies(option: str, given: bool, names: list[str], takes: set[str]) -> None:
+    """Refuse an option that no experiment being run would use, instead of ignoring it."""
+    if given and not takes.intersection(names):
+        raise InputError(
+            f"{option} applies only to {', '.join(n for n in EXPERIMENTS if n in takes)}; "
+            f"{', '.join(names)} takes none"
+        )
+
+
+@click.command(epilog=_experiment_list())
+@click.argument("name", type=EXPERIMENT, metavar="NAME")
 @click.option(
-    "--trials",
-    type=click.IntRange(1),
-    default=50,
-    show_default=True,
-    help="Trials per shape (recall-vs-s, tacteme-table; robustness: per cell; smart-sensor:"
-    " at least 100).",
+    "--out",
+    type=click.Path(path_type=Path),
+    required=True,
+    help="Output folder for NAME.json, NAME.png and NAME.timing.json (created if missing).",
 )
-@click.option("--workers", type=click.IntRange(1), default=None, help="Worker processes.")
+@click.option("--seed", type=SEED, default=0, show_default=True, help="Seed of every random draw.")
+@click.option("--trials", type=click.IntRange(1), default=None, help=_trials_help())
+@click.option(
+    "--workers",
+    type=click.IntRange(1),
+    default=None,
+    help="Worker processes for the experiments that run trials (default: up to 4, the CPUs).",
+)
 @click.option(
     "--scheduler",
     default=None,
@@ -55,45 +99,41 @@ def reproduce(
     name: str,
     out: Path,
     seed: int,
-    trials: int,
+    trials: int | None,
     workers: int | None,
     scheduler: str | None,
     readme: Path | None,
     force: bool,
 ) -> None:
-    """Run a registered experiment (or 'all'): writes OUT/NAME.json and OUT/NAME.png.
+    """Run a registered experiment NAME (or 'all'): writes OUT/NAME.json and OUT/NAME.png.
 
     NAME.json holds only results, so the same seed gives byte-identical JSON;
     the wall-clock time goes to OUT/NAME.timing.json, which comparisons ignore.
+    A progress bar on stderr counts each experiment's trials, traces or stages.
     """
-    from taxelkit.experiments.registry import EXPERIMENTS, get_experiment
     from taxelkit.plotting.experiments import plot_experiment
 
-    names = list(EXPERIMENTS) if name == "all" else [get_experiment(name).name]
+    names = list(EXPERIMENTS) if name == "all" else [name]
+    _check_applies("--trials", trials is not None, names, _taking("trials"))
+    _check_applies("--workers", workers is not None, names, _taking("workers"))
+    _check_applies("--scheduler", scheduler is not None, names, _taking("scheduler"))
     exts = (".json", ".png", ".timing.json")
     check_outputs([out / f"{n}{ext}" for n in names for ext in exts], force)
     out.mkdir(parents=True, exist_ok=True)
     t_all = time.perf_counter()
     docs: dict[str, dict[str, Any]] = {}
-    for n in names:
+    for k, n in enumerate(names):
         exp = EXPERIMENTS[n]
         kwargs: dict[str, Any] = {"seed": seed}
-        if n == "recall-vs-s":
-            kwargs.update(n_trials=trials, workers=workers)
-        elif n == "robustness":
-            kwargs.update(n_trials=trials, workers=workers, scheduler=scheduler)
-        elif n in ("smart-sensor", "tacteme-table"):
-            kwargs.update(
-                n_trials=max(trials, 100) if n == "smart-sensor" else trials, workers=workers
-            )
+        if exp.trials is not None:
+            kwargs["n_trials"] = exp.trials if trials is None else trials
+        if exp.workers:
+            kwargs["workers"] = workers
+        if exp.scheduler:
+            kwargs["scheduler"] = scheduler
+        label = n if len(names) == 1 else f"{n} ({k + 1}/{len(names)})"
         t0 = time.perf_counter()
-        with tqdm(desc=n, unit="run", leave=False) as bar:
-
-            def progress(done: int, total: int, bar: Any = bar) -> None:
-                bar.total = total
-                bar.n = done
-                bar.refresh()
-
+        with progress_bar(label, exp.unit) as progress:
             result = exp.run(progress=progress, **kwargs)
         seconds = round(time.perf_counter() - t0, 2)
         doc = result.to_json()
@@ -137,26 +177,55 @@ def _load_memory(path: Path | None, rule: str) -> Any:
 
 
 @click.command()
-@click.option("--shape", default=None, help="circle, square, triangle, star, hexagon")
-@click.option("--specimen", type=click.Path(path_type=Path), default=None, help="Heightmap .npz.")
-@click.option("--rotate-deg", type=ANGLE_DEG, default=0.0, show_default=True)
 @click.option(
-    "--offset-mm", type=COORDINATE_MM, default="0,0", show_default=True, help="Shape offset X,Y."
+    "--shape", type=SHAPE, default=None, help="A built-in relief shape (or give --specimen)."
 )
-@click.option("--diameter-mm", type=LENGTH_MM, default=90.0, show_default=True)
-@click.option("--step-height-um", type=STEP_HEIGHT_UM, default=200.0, show_default=True)
+@click.option(
+    "--specimen",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Your own relief: a heightmap .npz (docs/recording-format.md), instead of --shape.",
+)
+@click.option(
+    "--rotate-deg",
+    type=ANGLE_DEG,
+    default=0.0,
+    show_default=True,
+    help="Rotation of the --shape about its centre, degrees counter-clockwise (x towards y).",
+)
+@click.option(
+    "--offset-mm",
+    type=COORDINATE_MM,
+    default="0,0",
+    show_default=True,
+    help="Centre of the --shape on the plate X,Y, mm.",
+)
+@click.option(
+    "--diameter-mm",
+    type=LENGTH_MM,
+    default=90.0,
+    show_default=True,
+    help="Size of the --shape (circumscribed circle), mm.",
+)
+@click.option(
+    "--step-height-um",
+    type=STEP_HEIGHT_UM,
+    default=200.0,
+    show_default=True,
+    help="Height of the --shape's relief step, um.",
+)
 @click.option(
     "--start-mm",
     type=COORDINATE_MM,
     default=None,
-    help="Where the sensor first meets the edge, X,Y.",
+    help="Where the sensor first meets the edge X,Y, mm (default: searched from the centre).",
 )
 @click.option(
     "--rule",
+    type=RECALL_RULE,
     default="matched",
     show_default=True,
-    help="Recall rule: hebbian (the paper, 12 x 4 code), matched (default), masked_projection, "
-    "projection, zero_mean (improved rules use a 24 x 8 code).",
+    help="Recall rule: hebbian is the paper's (12 x 4 code); the others use a 24 x 8 code.",
 )
 @click.option(
     "--memory",
@@ -164,10 +233,16 @@ def _load_memory(path: Path | None, rule: str) -> Any:
     default=None,
     help="Memory file from 'taxelkit memorise' (default: the five built-in shapes).",
 )
-@click.option("--seed", type=SEED, default=0, show_default=True)
-@click.option("--plot", type=click.Path(path_type=Path), default=None, help="Figure (.png).")
+@click.option("--seed", type=SEED, default=0, show_default=True, help="Seed of the sensor noise.")
+@click.option(
+    "--plot",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Also draw the trace and the recall curve to this figure (.png, .pdf, .svg, .jpg).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
-@click.option("--force", is_flag=True, help="Overwrite an existing --plot file.")
+@click.option("--force", is_flag=True, help="Overwrite an existing --plot or --save-view file.")
+@view_options
 def trace(
     shape: str | None,
     specimen: Path | None,
@@ -182,10 +257,14 @@ def trace(
     plot: Path | None,
     as_json: bool,
     force: bool,
+    view: ViewTarget,
 ) -> None:
     """Trace a relief specimen's edge and recognise its shape (paper 000).
 
-    Recognition uses only the trajectory the tracer produced, never the specimen.
+    Recognition uses only the trajectory the tracer produced, never the
+    specimen. With --view, --view-url or --save-view the probe path, the
+    estimated edges and the recall curve are logged to rerun, section by
+    section (docs/viewer.md).
     """
     from taxelkit.memory.contour_recall import recall_curve
     from taxelkit.motion.probe import SimulatedProbe
@@ -194,6 +273,8 @@ def trace(
     if plot is not None:
         check_figure_suffix(plot)
         check_outputs([plot], force)
+    if view.save_path is not None:
+        check_outputs([view.save_path], force)
     relief, centre = specimen_from_options(
         shape, specimen, rotate_deg, offset_mm, diameter_mm, step_height_um
     )
@@ -215,6 +296,15 @@ def trace(
         "recall_curve": curve.to_json(),
         "rule": rule,
     }
+    if view.wanted:
+        from taxelkit.viewer.trace_view import view_trace
+
+        def log(where: ViewTarget) -> int:
+            return view_trace(
+                tr, curve, save_path=where.save_path, spawn=where.spawn, connect_url=where.url
+            )
+
+        with_view(view, log, force=force)
     if plot is not None:
         from taxelkit.plotting.paper000 import plot_trace_recall
 
@@ -238,17 +328,25 @@ def trace(
     multiple=True,
     help="Heightmap .npz to trace and store (repeatable).",
 )
-@click.option("--name", "names", multiple=True, help="Name for each --specimen, in order.")
+@click.option(
+    "--name", "names", multiple=True, help="Name for each --specimen, in order (repeatable)."
+)
 @click.option(
     "--base",
     type=click.Path(path_type=Path),
     default=None,
     help="Start from this memory file instead of the five built-in shapes.",
 )
-@click.option("--rule", default="matched", show_default=True)
-@click.option("--seed", type=SEED, default=0, show_default=True)
+@click.option(
+    "--rule",
+    type=RECALL_RULE,
+    default="matched",
+    show_default=True,
+    help="Recall rule the memory is stored for (must match 'trace --rule').",
+)
+@click.option("--seed", type=SEED, default=0, show_default=True, help="Seed of the sensor noise.")
 @click.option("--out", type=click.Path(path_type=Path), required=True, help="Memory file (.npz).")
-@click.option("--force", is_flag=True)
+@click.option("--force", is_flag=True, help="Overwrite an existing --out file.")
 def memorise(
     specimens: tuple[Path, ...],
     names: tuple[str, ...],

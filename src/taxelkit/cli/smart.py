@@ -8,7 +8,16 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from taxelkit.cli_options import DURATION_S, PITCH_MM, RATE_HZ, SEED, THRESHOLD, TIMEOUT_S
+from taxelkit.cli.options import (
+    DURATION_S,
+    PITCH_MM,
+    RATE_HZ,
+    ROLL_OBJECT,
+    SEED,
+    THRESHOLD,
+    TIMEOUT_S,
+)
+from taxelkit.cli.view import ViewTarget, view_options, with_view
 from taxelkit.errors import InputError
 
 if TYPE_CHECKING:
@@ -58,13 +67,6 @@ __all__ = ["recognize", "roll"]
     "frames (k = 3). Default: the robust pipeline.",
 )
 @click.option(
-    "--save-view",
-    type=click.Path(path_type=Path),
-    default=None,
-    help="Also log frames, contact classes, tactemes, candidates and verdicts to this "
-    'rerun .rrd file (needs the viewer extra: pip install "taxelkit[viewer]").',
-)
-@click.option(
     "--record",
     type=click.Path(path_type=Path),
     default=None,
@@ -78,6 +80,7 @@ __all__ = ["recognize", "roll"]
     "come as run-length 'class_segments'.",
 )
 @click.option("--force", is_flag=True, help="Overwrite existing --save-view and --record files.")
+@view_options
 def recognize(
     file: Path | None,
     threshold: float | None,
@@ -88,28 +91,24 @@ def recognize(
     timeout_s: float,
     topic: str | None,
     faithful: bool,
-    save_view: Path | None,
     record: Path | None,
     per_frame: bool,
     force: bool,
+    view: ViewTarget,
 ) -> int:
-    """Identify the object rolling on the sensor from a recording (paper 001).
+    """Identify the object rolling on the sensor from a recording FILE (paper 001).
 
     Works on any valid recording (bool contact images or float deflections, any
     array size and pitch). The recogniser sees only the frames, their
     timestamps and the pitch. .h5 and .npz files are read a chunk at a time,
-    so their size is not limited by memory or by --max-mb.
+    so their size is not limited by memory or by --max-mb. With --view,
+    --view-url or --save-view, the frames, contact classes, tactemes,
+    candidates and verdicts are logged to rerun as they happen (docs/viewer.md).
     """
-    if save_view is not None:
-        from taxelkit.viewer.rerun_view import check_viewer_available
-
-        check_viewer_available()
-        if save_view.suffix.lower() != ".rrd":
-            raise InputError(f"--save-view must end in .rrd, got {save_view.name!r}")
     if live is not None:
         if file is not None:
             raise InputError("give either FILE or --live SOURCE, not both")
-        from taxelkit.cli_live import recognize_live
+        from taxelkit.cli.live import recognize_live
 
         code: int = recognize_live(
             live,
@@ -118,9 +117,11 @@ def recognize(
             max_frames=max_frames,
             timeout_s=timeout_s,
             echo=click.echo,
-            save_view=save_view,
+            save_view=view.save_path,
             record=record,
             force=force,
+            spawn_view=view.spawn,
+            view_url=view.url,
         )
         return code
     if file is None:
@@ -132,10 +133,10 @@ def recognize(
         from taxelkit.smart.tactemes import PAPER_LEVEL3
 
         options.update(cleaning=None, limits=None, config=PAPER_LEVEL3)
-    if save_view is None and topic is None and file.suffix.lower() in (".h5", ".hdf5", ".npz"):
+    if not view.wanted and topic is None and file.suffix.lower() in (".h5", ".hdf5", ".npz"):
         result = _recognise_in_chunks(file, pitch_mm, per_frame, options)
     else:
-        result = _recognise_whole(file, pitch_mm, topic, save_view, force, options)
+        result = _recognise_whole(file, pitch_mm, topic, view, force, options)
     if as_json:
         click.echo(json.dumps(result.to_json(per_frame=per_frame)))
         return 0
@@ -172,25 +173,26 @@ def _recognise_whole(
     file: Path,
     pitch_mm: float | None,
     topic: str | None,
-    save_view: Path | None,
+    view: ViewTarget,
     force: bool,
     options: dict[str, Any],
 ) -> ChunkRecognition:
-    """Read a whole recording (bags, CSV, --save-view) and recognise it in memory."""
+    """Read a whole recording (bags, CSV, a rerun view) and recognise it in memory."""
     from taxelkit.io.recordings import read_recording
     from taxelkit.smart.recognise_chunks import ChunkRecognition, class_segments
     from taxelkit.smart.recogniser import recognise
 
     rec = read_recording(file, pitch_mm=pitch_mm, topic=topic)
     result = recognise(rec, **options)
-    if save_view is not None:
-        from taxelkit.io.atomic import atomic_write
+    if view.wanted:
         from taxelkit.viewer.rerun_view import view_recognition
 
-        def write_view(tmp: Path) -> None:
-            view_recognition(rec, result, save_path=tmp)
+        def log(where: ViewTarget) -> int:
+            return view_recognition(
+                rec, result, save_path=where.save_path, spawn=where.spawn, connect_url=where.url
+            )
 
-        atomic_write(save_view, write_view, force=force)
+        with_view(view, log, force=force)
     return ChunkRecognition(
         class_segments(result.classes, rec.t_s),
         result.tactemes,
@@ -206,8 +208,9 @@ def _recognise_whole(
 @click.option(
     "--object",
     "object_name",
+    type=ROLL_OBJECT,
     required=True,
-    help="cube, sphere, cone, truncated-cone, cylinder, tetrahedron, or sliding.",
+    help="A solid of paper 001 to roll, or sliding (a body dragged without rolling).",
 )
 @click.option(
     "--engine",
@@ -230,10 +233,21 @@ def _recognise_whole(
     show_default=True,
     help="Lift the body clear once mid-script for this long (mujoco only).",
 )
-@click.option("--seed", type=SEED, default=0, show_default=True)
+@click.option(
+    "--seed",
+    type=SEED,
+    default=0,
+    show_default=True,
+    help="Seed of the randomised script (sizes, speeds) and the noise.",
+)
 @click.option("--contact", is_flag=True, help="Write binary contact images instead of mm.")
 @click.option("--no-noise", is_flag=True, help="Noise-free frames.")
-@click.option("--out", type=click.Path(path_type=Path), required=True, help=".npz/.h5/.csv")
+@click.option(
+    "--out",
+    type=click.Path(path_type=Path),
+    required=True,
+    help="Recording to write: .npz, .h5, .csv or .mcap (by the suffix).",
+)
 @click.option("--force", is_flag=True, help="Overwrite an existing output.")
 def roll(
     object_name: str,
@@ -251,11 +265,8 @@ def roll(
     from taxelkit.io.recordings import write_recording
     from taxelkit.motion.engines import scenario_from_engine
     from taxelkit.motion.rolling import frames_from_scenario
-    from taxelkit.motion.scenarios import SCENARIO_NAMES
     from taxelkit.sensors.presets import BONNEVILLE_16X16
 
-    if object_name not in SCENARIO_NAMES:
-        raise InputError(f"unknown object {object_name!r}; known: {', '.join(SCENARIO_NAMES)}")
     scenario = scenario_from_engine(
         engine, object_name, rng=seed, rate_hz=rate_hz, lift_gap_s=lift_gap_s
     )

@@ -20,11 +20,12 @@ import click
 import numpy as np
 
 from taxelkit._version import __version__
-from taxelkit.cli_common import (
+from taxelkit.cli.common import (
     check_figure_suffix,
     save_figure,
 )
-from taxelkit.cli_options import MAX_MB, PITCH_MM, THRESHOLD
+from taxelkit.cli.options import MAX_MB, PITCH_MM, THRESHOLD
+from taxelkit.cli.view import ViewTarget, view_options, with_view
 from taxelkit.errors import InputError, TaxelkitError
 from taxelkit.frames import TactileFrames
 from taxelkit.io._raw import describe_exception, one_line
@@ -132,7 +133,7 @@ def cli(ctx: click.Context, verbose: bool, max_mb: float | None) -> None:
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 @click.option("--topic", default=None, help=_TOPIC_HELP)
 def info(file: Path, pitch_mm: float | None, as_json: bool, topic: str | None) -> None:
-    """Summarise a recording (.npz, .h5, .csv, .mcap, rosbag2): frames, shape, rate, values.
+    """Summarise a recording FILE (.npz, .h5, .csv, .mcap, rosbag2): frames, shape, rate, values.
 
     .h5 and .npz files are read a chunk at a time, whatever their size.
     """
@@ -159,48 +160,90 @@ def info(file: Path, pitch_mm: float | None, as_json: bool, topic: str | None) -
 
 @cli.command()
 @click.argument("file", type=click.Path(path_type=Path))
-@click.option("--out", type=click.Path(path_type=Path), required=True, help="Image file (.png).")
-@click.option("--max-frames", type=click.IntRange(1, 200), default=12, show_default=True)
+@click.option(
+    "--out",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Image file (.png, .pdf, .svg, .jpg); needed unless the frames go to rerun.",
+)
+@click.option(
+    "--max-frames",
+    type=click.IntRange(1, 200),
+    default=12,
+    show_default=True,
+    help="Most frames in the strip, evenly spaced over --start..--stop.",
+)
 @click.option("--start", type=click.IntRange(0), default=0, help="First frame to consider.")
 @click.option("--stop", type=click.IntRange(1), default=None, help="One past the last frame.")
 @click.option("--threshold", type=THRESHOLD, default=None, help="Draw contact images frames > T.")
 @click.option("--force", is_flag=True, help="Overwrite an existing output.")
 @click.option("--topic", default=None, help=_TOPIC_HELP)
+@view_options
 def show(
     file: Path,
-    out: Path,
+    out: Path | None,
     max_frames: int,
     start: int,
     stop: int | None,
     threshold: float | None,
     force: bool,
     topic: str | None,
+    view: ViewTarget,
 ) -> None:
-    """Draw frames of a recording as an image strip (.h5 and .npz: only those frames are read)."""
+    """Draw frames of a recording FILE as an image strip, or send them to rerun.
+
+    With --view, --view-url or --save-view every frame from --start to --stop
+    is logged to rerun (sensor/frames, on the frame and time timelines). For
+    the strip alone, .h5 and .npz files are read at the drawn frames only.
+    """
     from taxelkit.io.chunked_read import open_chunks
     from taxelkit.io.recordings import read_recording
     from taxelkit.plotting.strip import frame_indices_for_strip, plot_frame_strip
 
-    check_figure_suffix(out)
-    if topic is None and file.suffix.lower() in _CHUNKED_SUFFIXES:
+    if out is None and not view.wanted:
+        raise InputError("give --out IMAGE, or --view / --view-url / --save-view FILE.rrd")
+    if out is not None:
+        check_figure_suffix(out)
+    if not view.wanted and topic is None and file.suffix.lower() in _CHUNKED_SUFFIXES:
         with open_chunks(file) as opened:
-            n_frames = opened.n_frames
-            stop = n_frames if stop is None else min(stop, n_frames)
+            stop = opened.n_frames if stop is None else min(stop, opened.n_frames)
             if start >= stop:
                 raise InputError(f"--start ({start}) must be below the number of frames ({stop})")
             idx = start + frame_indices_for_strip(stop - start, max_frames)
             rec = opened.frames_at(idx.tolist())
-    else:
-        rec = read_recording(file, topic=topic)
-        stop = rec.n_frames if stop is None else min(stop, rec.n_frames)
-        if start >= stop:
-            raise InputError(f"--start ({start}) must be below the number of frames ({stop})")
-        idx = start + frame_indices_for_strip(stop - start, max_frames)
-        rec = TactileFrames(rec.frames[idx], rec.t_s[idx], rec.pitch_mm, rec.units, rec.sensor)
+        if threshold is not None:
+            rec = TactileFrames(rec.contact(threshold), rec.t_s, rec.pitch_mm, sensor=rec.sensor)
+        labels = [f"#{i}  {t:.3g} s" for i, t in zip(idx.tolist(), rec.t_s.tolist(), strict=True)]
+        fig = plot_frame_strip(rec, labels=labels, title=f"{file.name} ({rec.sensor})")
+        assert out is not None
+        save_figure(fig, out, force=force)
+        click.echo(f"wrote {out}")
+        return
+    rec = read_recording(file, topic=topic)
+    stop = rec.n_frames if stop is None else min(stop, rec.n_frames)
+    if start >= stop:
+        raise InputError(f"--start ({start}) must be below the number of frames ({stop})")
     if threshold is not None:
         rec = TactileFrames(rec.contact(threshold), rec.t_s, rec.pitch_mm, sensor=rec.sensor)
-    labels = [f"#{i}  {t:.3g} s" for i, t in zip(idx.tolist(), rec.t_s.tolist(), strict=True)]
-    fig = plot_frame_strip(rec, labels=labels, title=f"{file.name} ({rec.sensor})")
+    if view.wanted:
+        from taxelkit.viewer.rerun_view import view_frames
+
+        def log(where: ViewTarget) -> int:
+            return view_frames(
+                rec,
+                start=start,
+                stop=stop,
+                save_path=where.save_path,
+                spawn=where.spawn,
+                connect_url=where.url,
+            )
+
+        n = with_view(view, log, force=force)
+        click.echo(f"logged {n} frames to {view.save_path or view.url or 'the rerun viewer'}")
+    if out is None:
+        return
+    idx = start + frame_indices_for_strip(stop - start, max_frames)
+    fig = plot_frame_strip(rec, indices=idx, title=f"{file.name} ({rec.sensor})")
     save_figure(fig, out, force=force)
     click.echo(f"wrote {out}")
 
@@ -218,11 +261,11 @@ def sensors() -> None:
         )
 
 
-from taxelkit.cli_convert import convert  # noqa: E402  (sub-commands)
-from taxelkit.cli_paper000 import memorise, reproduce, trace  # noqa: E402
-from taxelkit.cli_simulate import demo, simulate  # noqa: E402
-from taxelkit.cli_smart import recognize, roll  # noqa: E402
-from taxelkit.cli_sources import sources  # noqa: E402
+from taxelkit.cli.convert import convert  # noqa: E402  (sub-commands)
+from taxelkit.cli.paper000 import memorise, reproduce, trace  # noqa: E402
+from taxelkit.cli.simulate import demo, simulate  # noqa: E402
+from taxelkit.cli.smart import recognize, roll  # noqa: E402
+from taxelkit.cli.sources import sources  # noqa: E402
 
 simulate.add_command(roll)
 for _command in (simulate, demo, reproduce, trace, memorise, recognize, convert, sources):

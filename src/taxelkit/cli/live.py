@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from taxelkit.cli.view import ViewTarget, with_view
 from taxelkit.errors import InputError, check_positive
 from taxelkit.io.datagram_batch import FrameBatch
 from taxelkit.io.frame_protocol import PayloadType
@@ -241,6 +242,8 @@ def recognize_live(
     save_view: Path | None = None,
     record: Path | None = None,
     force: bool = False,
+    spawn_view: bool = False,
+    view_url: str | None = None,
 ) -> int:
     """Run the streaming smart sensor on a live source, printing one line per event.
 
@@ -273,6 +276,10 @@ def recognize_live(
         :data:`RECORD_CHUNK_FRAMES` frames: a crash loses at most that many.
     force : bool, optional
         Replace existing ``save_view`` and ``record`` files.
+    spawn_view : bool, optional
+        Also show the run in a rerun viewer on this machine, as it happens.
+    view_url : str, optional
+        Also stream the run to the rerun viewer at this address.
 
     Returns
     -------
@@ -314,26 +321,23 @@ def recognize_live(
 
             raise OutputExistsError(f"{record}: exists; pass --force to replace it")
         recorder = _Recorder(record, pitch, force)
-    if save_view is None:
+    target = ViewTarget(spawn_view, view_url, save_view)
+    if not target.wanted:
         return _run_live(opener, _LiveRun(pitch, threshold, None, recorder), max_frames, idle, echo)
-    from taxelkit.io.atomic import atomic_write
     from taxelkit.viewer.rerun_view import RerunView
 
-    codes: list[int] = []
-
-    def session(tmp: Path) -> None:
-        view = RerunView(save_path=tmp)
+    def session(where: ViewTarget) -> int:
+        view = RerunView(save_path=where.save_path, spawn=where.spawn, connect_url=where.url)
         run = _LiveRun(pitch, threshold, view, recorder)
         try:
-            codes.append(_run_live(opener, run, max_frames, idle, echo))
+            return _run_live(opener, run, max_frames, idle, echo)
         finally:
             if run.sensor is not None and run.frames:
                 last = run.frames - 1
                 view.log_result(last, run._wire(last)[1], run.sensor.result())
             view.close()
 
-    atomic_write(save_view, session, force=force)
-    return codes[0]
+    return with_view(target, session, force=force)
 
 
 def _run_live(

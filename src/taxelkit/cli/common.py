@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -10,6 +12,7 @@ from taxelkit.errors import InputError
 __all__ = [
     "check_figure_suffix",
     "check_outputs",
+    "progress_bar",
     "save_figure",
     "specimen_from_options",
     "write_text",
@@ -85,3 +88,36 @@ def specimen_from_options(
         offset_mm=offset_mm,
     )
     return relief, offset_mm
+
+
+@contextmanager
+def progress_bar(description: str, unit: str) -> Iterator[Callable[[int, int], None]]:
+    """A ``progress(done, total)`` callback that draws a bar on stderr.
+
+    The bar opens at the first report, so it always shows a known total
+    (``fig8: 3/5 shape``); a run that reports nothing draws nothing. It is
+    removed when the block ends, leaving the command's own summary line.
+
+    Parameters
+    ----------
+    description : str
+        What runs (an experiment's name).
+    unit : str
+        What one step counts (``"trial"``, ``"shape"``).
+    """
+    from tqdm import tqdm
+
+    bars: list[Any] = []
+
+    def progress(done: int, total: int) -> None:
+        if not bars:
+            bars.append(tqdm(total=total, desc=description, unit=unit, leave=False))
+        bar = bars[0]
+        bar.total = total
+        bar.update(done - bar.n)
+
+    try:
+        yield progress
+    finally:
+        for bar in bars:
+            bar.close()

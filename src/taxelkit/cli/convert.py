@@ -12,7 +12,7 @@ from pathlib import Path
 
 import click
 
-from taxelkit.cli_options import PITCH_MM
+from taxelkit.cli.options import PITCH_MM
 from taxelkit.errors import InputError
 
 __all__ = ["convert"]
@@ -61,7 +61,7 @@ def convert(
     pitch_mm: float | None,
     force: bool,
 ) -> None:
-    """Convert a recording between .npz, .h5, .csv, .mcap and rosbag2 folders.
+    """Convert a recording IN to OUT: .npz, .h5, .csv, .mcap or a rosbag2 folder.
 
     OUT without an extension is written as a rosbag2 folder. Bags and MCAP
     files need the ros extra: pip install "taxelkit[ros]".

@@ -13,22 +13,27 @@ precede the error they would announce.
 
 from __future__ import annotations
 
+import importlib
 import math
 import re
+from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 import click
 
 if TYPE_CHECKING:  # click >= 8.5 types ParamType by its value and input types
     _ParamType = click.ParamType[Any, Any]
+    _StrChoice = click.Choice[str]
 else:
     _ParamType = click.ParamType
+    _StrChoice = click.Choice
 
 __all__ = [
     "ANGLE_DEG",
     "COORDINATE_MM",
     "DURATION_S",
     "EULER_DEG",
+    "EXPERIMENT",
     "INDENT_MM",
     "LENGTH_MM",
     "MAX_ANGLE_DEG",
@@ -38,12 +43,18 @@ __all__ = [
     "MAX_THRESHOLD",
     "PITCH_MM",
     "RATE_HZ",
+    "RECALL_RULE",
+    "ROLL_OBJECT",
     "SCALE",
     "SEED",
+    "SENSOR",
+    "SHAPE",
+    "SOLID",
     "STEP_HEIGHT_UM",
     "THRESHOLD",
     "TIMEOUT_S",
     "FiniteFloat",
+    "NameChoice",
     "Numbers",
     "Seed",
 ]
@@ -160,6 +171,43 @@ class Numbers(_ParamType):
         return checked
 
 
+class NameChoice(_StrChoice):
+    """One of the names a library registry holds, read when first needed.
+
+    A ``click.Choice`` (``--help`` lists the names, completion offers them, a
+    name not in the list is refused with the list) whose names come from
+    ``module:attribute`` (a tuple of names or a mapping keyed by them), so the
+    CLI starts without importing the simulator or the memory.
+
+    Parameters
+    ----------
+    source : str
+        ``"package.module:ATTRIBUTE"``.
+    extra : iterable of str
+        Names accepted beside the registry's (``"all"`` for experiments).
+    """
+
+    name = "choice"
+
+    def __init__(self, source: str, *, extra: Iterable[str] = ()) -> None:
+        self.source, self.extra = source, tuple(extra)
+        self.case_sensitive = True
+        self._names: tuple[str, ...] | None = None
+
+    @property
+    def choices(self) -> tuple[str, ...]:
+        """The accepted names, in the registry's order, then ``extra``."""
+        if self._names is None:
+            module, attribute = self.source.split(":")
+            names = getattr(importlib.import_module(module), attribute)
+            self._names = (*(str(n) for n in names), *self.extra)
+        return self._names
+
+    @choices.setter
+    def choices(self, names: tuple[str, ...]) -> None:
+        self._names = tuple(names)
+
+
 #: ``--seed`` everywhere.
 SEED = Seed()
 #: Contact thresholds (``show --threshold``, ``recognize --threshold``).
@@ -188,3 +236,15 @@ TIMEOUT_S = FiniteFloat(0.0, 1e6, low_open=True)
 DURATION_S = FiniteFloat(0.0, 1e6)
 #: The read limit of ``taxelkit --max-mb``, MiB (see :mod:`taxelkit.io.limits`).
 MAX_MB = FiniteFloat(0.0, 1e7, low_open=True)
+#: ``--shape``: the built-in relief shapes of paper 000.
+SHAPE = NameChoice("taxelkit.world.relief:SHAPE_NAMES")
+#: ``simulate solid --object``: the six solids of paper 001.
+SOLID = NameChoice("taxelkit.world.solids:SOLID_NAMES")
+#: ``simulate roll --object``: the six solids and sliding.
+ROLL_OBJECT = NameChoice("taxelkit.motion.scenarios:SCENARIO_NAMES")
+#: ``--rule``: the Associatron recall rules.
+RECALL_RULE = NameChoice("taxelkit.memory.recall_rules:RECALL_RULES")
+#: ``--sensor``: the sensor presets.
+SENSOR = NameChoice("taxelkit.sensors.presets:SENSORS")
+#: ``reproduce NAME``: the registered experiments, or ``all``.
+EXPERIMENT = NameChoice("taxelkit.experiments.registry:EXPERIMENTS", extra=("all",))
