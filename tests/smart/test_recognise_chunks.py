@@ -99,3 +99,20 @@ def test_chunk_cleaner_equals_batch_cleaning(shape: tuple[int, int]) -> None:
         cleaner = ChunkCleaner(shape)
         parts = [cleaner.push(images[a : a + size], t_s[a : a + size]) for a in range(0, n, size)]
         assert np.array_equal(np.concatenate(parts), ref), size
+
+
+@pytest.mark.parametrize("name", ["cube", "sphere", "cone", "truncated-cone", "tetrahedron"])
+def test_streaming_chunks_emit_the_events_of_recognise_as_they_happen(name: str) -> None:
+    rec = _rolled(name, 4)
+    ref = recognise(rec)
+    for size in (1, 3, 50, rec.n_frames):
+        recogniser = ChunkRecogniser(rec.shape[1:], pitch_mm=rec.pitch_mm, streaming=True)
+        events = []
+        for a in range(0, rec.n_frames, size):
+            events.extend(recogniser.push(rec.frames[a : a + size], rec.t_s[a : a + size]))
+            assert recogniser.last_classes.size == min(size, rec.n_frames - a)
+        got = recogniser.result()
+        assert got.events == ref.events and got.verdict == ref.verdict, size
+        assert tuple(events) == ref.events[: len(events)]
+        if size == 1:  # these rolls end lifted: every event came out of push
+            assert tuple(events) == ref.events

@@ -8,9 +8,11 @@ are skipped and counted in the closing summary line.
 
 Every read takes all the frames that have arrived (a UDP source decodes its
 datagrams together) and hands them to the smart sensor as one batch
-(:class:`~taxelkit.smart.stream_batches.BatchSmartSensor`), so the cost per
-frame falls as the rate rises. SIGINT (Ctrl-C) and SIGTERM end the run within
-one read (at most 0.1 s), also while it waits for data: the summary is
+(:class:`~taxelkit.smart.recognise_chunks.ChunkRecogniser` in streaming mode:
+Levels 1-2 vectorised over the batch, events as they happen), so the cost per
+frame falls as the rate rises. Frames whose time does not increase (a sender
+that restarted) are skipped and counted. SIGINT (Ctrl-C) and SIGTERM end the
+run within one read (at most 0.1 s), also while it waits for data: the summary is
 printed, ``--record`` and ``--save-view`` files are closed complete, and the
 exit code is 130 or 143. Memory does not grow with the run: the sender's
 frame indices and times are kept for the last :data:`WIRE_HISTORY_FRAMES`
@@ -31,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from taxelkit.cli.live_record import Recorder
 from taxelkit.cli.view import ViewTarget, with_view
 from taxelkit.errors import InputError, check_positive
 from taxelkit.io.datagram_batch import FrameBatch
@@ -38,7 +41,7 @@ from taxelkit.io.frame_protocol import PayloadType
 from taxelkit.io.live_sources import FrameSource, LiveTimeoutError
 from taxelkit.io.source_plugins import resolve_source
 from taxelkit.smart.elimination import Event
-from taxelkit.smart.stream_batches import BatchSmartSensor
+from taxelkit.smart.recognise_chunks import ChunkRecogniser
 
 __all__ = [
     "EXIT_INTERRUPTED",
@@ -58,9 +61,6 @@ EXIT_TERMINATED = 143
 #: Frames whose sender index and time are kept to print events (1 MiB): an event
 #: about an older frame prints index -1 and time nan.
 WIRE_HISTORY_FRAMES = 2**16
-#: Frames per chunk of a ``--record`` file: a crash loses at most these
-#: (17 s at 240 frames/s).
-RECORD_CHUNK_FRAMES = 4096
 #: Longest wait in one read, s: how soon a signal or a timeout is noticed.
 _POLL_S = 0.1
 _STOPS = {signal.SIGINT: ("interrupted", EXIT_INTERRUPTED)}
@@ -112,56 +112,6 @@ def _stop_on_signals() -> Iterator[_Stop]:
             signal.signal(sig, handler)
 
 
-class _Recorder:
-    """``--record FILE.h5``: the received frames appended as they come."""
-
-    def __init__(self, path: Path, pitch_mm: float, force: bool) -> None:
-        self.path = path
-        self.pitch_mm = pitch_mm
-        self.force = force
-        self.out: Any = None  # a RecordingAppender, once the first frame gives the shape
-        self.skipped = 0  # frames whose time did not increase
-        self._t_last = -math.inf
-
-    def append(self, batch: FrameBatch) -> None:
-        from taxelkit.io.chunked_write import RecordingAppender
-
-        values, t = batch.values, batch.t_s
-        if self.out is None:
-            bool_frames = batch.payload_type == PayloadType.BOOL
-            self.out = RecordingAppender(
-                self.path,
-                shape=batch.shape,
-                pitch_mm=self.pitch_mm,
-                dtype=bool if bool_frames else np.float32,
-                units=None if bool_frames else _UNITS[batch.payload_type],
-                chunk_frames=RECORD_CHUNK_FRAMES,
-                force=self.force,
-            )
-        if values.shape[1:] != self.out.shape:
-            self.skipped += batch.n_frames
-            return
-        before = np.maximum.accumulate(np.concatenate([[self._t_last], t[:-1]]))
-        keep = t > before  # a sender restart sends times again: not recorded
-        self.skipped += int(np.count_nonzero(~keep))
-        if np.any(keep):
-            frames = values[keep]
-            self.out.append(frames if frames.dtype == bool else frames.astype(np.float32), t[keep])
-            self._t_last = float(t[keep][-1])
-
-    def close(self) -> str:
-        """Close the file; a few words for the summary."""
-        if self.out is None:
-            return f"nothing recorded to {self.path}"
-        n = self.out.n_frames
-        self.out.close()
-        skipped = f" ({self.skipped} not recorded)" if self.skipped else ""
-        return f"{n} frames recorded to {self.path}{skipped}"
-
-
-_UNITS = {PayloadType.UINT16: "counts", PayloadType.FLOAT32: "mm"}
-
-
 class _LiveRun:
     """The state of one live recognition: the sensor, once the first frame gives its shape."""
 
@@ -169,11 +119,13 @@ class _LiveRun:
         self, pitch_mm: float, threshold: float | None, view: Any = None, recorder: Any = None
     ) -> None:
         self.view = view  # a taxelkit.viewer.RerunView, or None
-        self.recorder: _Recorder | None = recorder
+        self.recorder: Recorder | None = recorder
         self.pitch_mm = pitch_mm
         self.threshold = threshold
-        self.sensor: BatchSmartSensor | None = None
+        self.sensor: ChunkRecogniser | None = None
         self.frames = 0
+        self.t_last = -math.inf
+        self.out_of_order = 0  # frames whose time did not increase (a sender restart)
         self.wire_index = np.full(WIRE_HISTORY_FRAMES, -1, np.int64)  # a ring, by frame
         self.wire_t_s = np.full(WIRE_HISTORY_FRAMES, np.nan)
         self.wrong_shape = 0
@@ -185,16 +137,16 @@ class _LiveRun:
                 raise InputError(
                     "the device sends raw uint16 counts: give a contact threshold in counts"
                 )
-            if self.threshold is None:
-                self.sensor = BatchSmartSensor(batch.shape, pitch_mm=self.pitch_mm)
-            else:
-                self.sensor = BatchSmartSensor(
-                    batch.shape, pitch_mm=self.pitch_mm, threshold=self.threshold
-                )
+            self.sensor = ChunkRecogniser(
+                batch.shape, pitch_mm=self.pitch_mm, threshold=self.threshold, streaming=True
+            )
         elif batch.shape != self.sensor.shape:
             self.wrong_shape += batch.n_frames
             logger.warning("skipped %d %s frames (the stream is %s)", batch.n_frames,
                            batch.shape, self.sensor.shape)  # fmt: skip
+            return []
+        batch = self._in_time_order(batch)
+        if batch.n_frames == 0:
             return []
         if self.recorder is not None:
             self.recorder.append(batch)
@@ -203,13 +155,26 @@ class _LiveRun:
         self.wire_index[slots] = batch.index
         self.wire_t_s[slots] = batch.t_s
         self.frames += n
-        events, classes = self.sensor.push_many(batch.values, batch.t_s)
+        events = self.sensor.push(batch.values, batch.t_s)
         if self.view is not None:
+            classes = self.sensor.last_classes
             for j, (t, values, c) in enumerate(zip(batch.t_s, batch.values, classes, strict=True)):
                 self.view.log_frame(first + j, float(t), values, int(c))
             for e in events:
                 self.view.log_events([e], self._wire(e.frame)[1])
         return [format_event(e, *self._wire(e.frame)) for e in events]
+
+    def _in_time_order(self, batch: FrameBatch) -> FrameBatch:
+        """The frames whose time is after every earlier one (the rest are counted)."""
+        t = batch.t_s
+        keep = t > np.maximum.accumulate(np.concatenate([[self.t_last], t[:-1]]))
+        if keep.all():
+            self.t_last = float(t[-1])
+            return batch
+        self.out_of_order += int(np.count_nonzero(~keep))
+        if keep.any():
+            self.t_last = float(t[keep][-1])
+        return FrameBatch(batch.index[keep], t[keep], batch.values[keep], batch.payload_type)
 
     def _wire(self, frame: int) -> tuple[int, float]:
         """The sender's index and time of a processed frame (-1, nan if forgotten)."""
@@ -228,6 +193,8 @@ class _LiveRun:
             else:
                 outcome = f"candidates {','.join(result.candidates) or '-'}"
         shape = f", {self.wrong_shape} of another shape" if self.wrong_shape else ""
+        if self.out_of_order:
+            shape += f", {self.out_of_order} out of time order"
         return f"{why}: {self.frames} frames processed{shape}, {source_stats}; {outcome}"
 
 
@@ -320,7 +287,7 @@ def recognize_live(
             from taxelkit.errors import OutputExistsError
 
             raise OutputExistsError(f"{record}: exists; pass --force to replace it")
-        recorder = _Recorder(record, pitch, force)
+        recorder = Recorder(record, pitch, force)
     target = ViewTarget(spawn_view, view_url, save_view)
     if not target.wanted:
         return _run_live(opener, _LiveRun(pitch, threshold, None, recorder), max_frames, idle, echo)
@@ -333,8 +300,14 @@ def recognize_live(
             return _run_live(opener, run, max_frames, idle, echo)
         finally:
             if run.sensor is not None and run.frames:
-                last = run.frames - 1
-                view.log_result(last, run._wire(last)[1], run.sensor.result())
+                from taxelkit.smart.recogniser import Recognition
+
+                last, r = run.frames - 1, run.sensor.result()
+                verdict = Recognition(
+                    np.empty(0, np.int8), r.tactemes, r.events, r.identified, r.candidates,
+                    r.verdict,
+                )  # fmt: skip
+                view.log_result(last, run._wire(last)[1], verdict)
             view.close()
 
     return with_view(target, session, force=force)

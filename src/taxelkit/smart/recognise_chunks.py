@@ -25,7 +25,6 @@ recording.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -33,6 +32,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import InputError, check_positive, check_shape, check_threshold
 from taxelkit.frames import TactileFrames
+from taxelkit.smart.class_segments import (
+    ChunkRecognition,
+    ClassSegments,
+    class_segments,
+    joined_segments,
+)
 from taxelkit.smart.cleaning import CleaningConfig
 from taxelkit.smart.cleaning_chunks import ChunkCleaner
 from taxelkit.smart.contact_classes import (
@@ -43,7 +48,7 @@ from taxelkit.smart.contact_classes import (
     classify_contacts,
 )
 from taxelkit.smart.contact_limits import ContactLimits, LimitState, apply_limits
-from taxelkit.smart.elimination import Event, Verdict
+from taxelkit.smart.elimination import Event
 from taxelkit.smart.moments import binary_images, image_stats
 from taxelkit.smart.recogniser import (
     _DEFAULT_THRESHOLD_MM,
@@ -55,158 +60,25 @@ from taxelkit.smart.recogniser import (
 )
 from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, debounce_counts
 
-__all__ = ["ChunkRecogniser", "ChunkRecognition", "ClassSegments", "recognise_chunks"]
+__all__ = [
+    "ChunkRecogniser",
+    "ChunkRecognition",
+    "ClassSegments",
+    "class_segments",
+    "recognise_chunks",
+]
 
 _NONE = int(ContactClass.NONE)
 _INDET = int(ContactClass.INDETERMINATE)
+#: Streaming: the open segment is looked at again when it has grown by this
+#: many frames, or by 1/:data:`_REVIEW_FRACTION` of its length if that is more
+#: (as ``SmartSensor(evaluate_every=16)``; each look costs time proportional
+#: to the segment's length, so this keeps the cost per frame constant).
+_REVIEW_FRAMES = 16
+_REVIEW_FRACTION = 32
 #: Columns of a contact frame's Level 1 row: centre x, y (mm), orientation
 #: (deg), area (mm^2), elongation, half length (mm), time (s).
 _ROW_FIELDS = 7
-
-
-@dataclass(frozen=True, eq=False)
-class ClassSegments:
-    """Per-frame Level 2 classes as runs of equal class.
-
-    Attributes
-    ----------
-    class_code : (S,) int8
-        :class:`~taxelkit.smart.contact_classes.ContactClass` of each run.
-    first_frame, last_frame : (S,) int64
-        First and last frame of each run (inclusive).
-    first_s, last_s : (S,) float64, s
-        Their timestamps.
-    """
-
-    class_code: NDArray[np.int8]
-    first_frame: NDArray[np.int64]
-    last_frame: NDArray[np.int64]
-    first_s: NDArray[np.float64]
-    last_s: NDArray[np.float64]
-
-    @property
-    def n_frames(self) -> int:
-        """Frames covered (the recording's length)."""
-        return int(self.last_frame[-1]) + 1 if self.last_frame.size else 0
-
-    def per_frame(self) -> NDArray[np.int8]:
-        """The per-frame classes again, ``(T,)`` int8."""
-        out: NDArray[np.int8] = np.repeat(self.class_code, self.last_frame - self.first_frame + 1)
-        return out
-
-    def to_json(self) -> list[dict[str, Any]]:
-        """One ``{class, first_frame, last_frame, first_s, last_s}`` object per run."""
-        return [
-            {
-                "class": ContactClass(c).name.lower(),
-                "first_frame": a,
-                "last_frame": b,
-                "first_s": sa,
-                "last_s": sb,
-            }
-            for c, a, b, sa, sb in zip(
-                self.class_code.tolist(),
-                self.first_frame.tolist(),
-                self.last_frame.tolist(),
-                self.first_s.tolist(),
-                self.last_s.tolist(),
-                strict=True,
-            )
-        ]
-
-
-def class_segments(classes: ArrayLike, t_s: ArrayLike, *, first_frame: int = 0) -> ClassSegments:
-    """Run-length segments of a class sequence.
-
-    Parameters
-    ----------
-    classes : (T,) int
-        Class codes.
-    t_s : (T,) float, s
-        Timestamps.
-    first_frame : int
-        Index of the first frame.
-
-    Returns
-    -------
-    ClassSegments
-
-    Examples
-    --------
-    >>> seg = class_segments([0, 0, 2, 2, 2, 0], np.arange(6) * 0.5)
-    >>> seg.first_frame.tolist(), seg.last_frame.tolist(), seg.last_s.tolist()
-    ([0, 2, 5], [1, 4, 5], [0.5, 2.0, 2.5])
-    """
-    c = np.asarray(classes, dtype=np.int8)
-    t = np.asarray(t_s, dtype=np.float64)
-    if c.ndim != 1 or t.shape != c.shape:
-        raise InputError(f"classes and t_s must be (T,) of one length, got {c.shape}, {t.shape}")
-    starts = np.flatnonzero(np.concatenate([[True], c[1:] != c[:-1]])) if c.size else c[:0]
-    ends = np.concatenate([starts[1:], [c.size]]) - 1 if c.size else starts
-    return ClassSegments(
-        c[starts],
-        (starts + first_frame).astype(np.int64),
-        (ends + first_frame).astype(np.int64),
-        t[starts],
-        t[ends],
-    )
-
-
-def _joined(parts: list[ClassSegments]) -> ClassSegments:
-    """Concatenate consecutive segments, merging a run that crosses a boundary."""
-    if not parts:
-        return class_segments(np.empty(0, np.int8), np.empty(0))
-    code = np.concatenate([p.class_code for p in parts])
-    first = np.concatenate([p.first_frame for p in parts])
-    last = np.concatenate([p.last_frame for p in parts])
-    first_s = np.concatenate([p.first_s for p in parts])
-    last_s = np.concatenate([p.last_s for p in parts])
-    keep = np.concatenate([[True], code[1:] != code[:-1]])  # a new class starts a run
-    ends = np.concatenate([np.flatnonzero(keep)[1:] - 1, [code.size - 1]])
-    return ClassSegments(code[keep], first[keep], last[ends], first_s[keep], last_s[ends])
-
-
-@dataclass(frozen=True, eq=False)
-class ChunkRecognition:
-    """What :class:`ChunkRecogniser` concluded: a :class:`Recognition` with run-length classes.
-
-    Attributes
-    ----------
-    segments : ClassSegments
-        Level 2 classes of all frames as runs.
-    tactemes, events, identified, candidates, verdict
-        As in :class:`~taxelkit.smart.recogniser.Recognition`.
-    classes : (T,) int8 or None
-        Per-frame classes, kept only when asked for (``per_frame=True``).
-    """
-
-    segments: ClassSegments
-    tactemes: tuple[tuple[str, int], ...]
-    events: tuple[Event, ...]
-    identified: str | None
-    candidates: tuple[str, ...]
-    verdict: Verdict
-    classes: NDArray[np.int8] | None = None
-
-    @property
-    def n_frames(self) -> int:
-        """Frames recognised."""
-        return self.segments.n_frames
-
-    def to_json(self, *, per_frame: bool = False) -> dict[str, Any]:
-        """JSON types: ``class_segments`` always, ``classes`` (per frame) on request."""
-        doc: dict[str, Any] = {
-            "identified": self.identified,
-            "candidates": list(self.candidates),
-            "why": self.verdict.to_json(),
-            "tactemes": [{"name": n, "frame": f} for n, f in self.tactemes],
-            "n_frames": self.n_frames,
-            "class_segments": self.segments.to_json(),
-        }
-        if per_frame:
-            codes = self.segments.per_frame() if self.classes is None else self.classes
-            doc["classes"] = [ContactClass(int(c)).name.lower() for c in codes]
-        return doc
 
 
 class ChunkRecogniser:
@@ -222,6 +94,14 @@ class ChunkRecogniser:
         As in :func:`~taxelkit.smart.recogniser.recognise`.
     per_frame : bool
         Also keep the per-frame classes (1 byte per frame).
+    streaming : bool
+        Hand the open segment to Levels 3-4 as it grows, as
+        :class:`~taxelkit.smart.recogniser.SmartSensor` does (when it has
+        grown by 16 frames, or by 1/32 of its length if that is more), so
+        that :meth:`push` returns events as they happen rather than when
+        their segment ends; the class segments are then kept for the last
+        chunk only (memory does not grow with the stream). The events and
+        their frame numbers are the same either way (detection is causal).
 
     Examples
     --------
@@ -245,6 +125,7 @@ class ChunkRecogniser:
         cleaning: CleaningConfig | None = DEFAULT_CLEANING,
         limits: ContactLimits | None = DEFAULT_LIMITS,
         per_frame: bool = False,
+        streaming: bool = False,
     ) -> None:
         rows, cols = check_shape("shape", shape)
         self.shape = (rows, cols)
@@ -257,6 +138,10 @@ class ChunkRecogniser:
         self.config = TactemeConfig() if config is None else config
         self.limits = limits
         self.per_frame = bool(per_frame)
+        self.streaming = bool(streaming)
+        self.last_classes = np.empty(0, np.int8)  # Level 2 classes of the last chunk
+        self._opened = False  # the accepted segment was handed to Levels 3-4 already
+        self._handed = 0  # its length when it was last handed over
         self._cleaner = None if cleaning is None else ChunkCleaner(self.shape, config=cleaning)
         self._limit_state = LimitState()
         self._levels = _Levels34(self.config)
@@ -276,7 +161,7 @@ class ChunkRecogniser:
         self._open_idx: list[NDArray[np.int64]] = []  # the open contact segment's frames
         self._open_rows: list[NDArray[np.float64]] = []
 
-    def push(self, frames: ArrayLike, t_s: ArrayLike) -> None:
+    def push(self, frames: ArrayLike, t_s: ArrayLike) -> list[Event]:
         """Recognise the next chunk of frames.
 
         Parameters
@@ -285,6 +170,12 @@ class ChunkRecogniser:
             Contact images or deflections (in the threshold's units).
         t_s : (n,) float, s
             Their timestamps, strictly increasing across chunks.
+
+        Returns
+        -------
+        list of Event
+            The events found (with ``streaming``, as they happen; otherwise
+            those of the segments that ended).
 
         Raises
         ------
@@ -300,7 +191,8 @@ class ChunkRecogniser:
         if t.shape != (f.shape[0],):
             raise InputError(f"t_s must have shape ({f.shape[0]},), got {t.shape}")
         if f.shape[0] == 0:
-            return
+            return []
+        before = len(self._levels.events)
         if not t[0] > self._t_last:
             raise InputError(
                 f"t_s must increase across chunks, got {float(t[0])!r} after {self._t_last!r}"
@@ -327,6 +219,9 @@ class ChunkRecogniser:
                 state=self._limit_state,
             ).astype(np.int8)
         classes = np.asarray(classes, dtype=np.int8)
+        self.last_classes = classes
+        if self.streaming:
+            self._segments = []
         self._segments.append(class_segments(classes, t, first_frame=self._n_seen))
         if self.per_frame:
             self._classes.append(classes)
@@ -344,6 +239,9 @@ class ChunkRecogniser:
         self._n_seen += f.shape[0]
         if self._dt is not None:
             self._debounce()
+        if self.streaming:
+            self._hand_over_open_segment()
+        return self._levels.events[before:]
 
     # -- the debounce of tactemes.accepted_runs, carried across chunks ---------------------
     def _debounce(self) -> None:
@@ -368,23 +266,54 @@ class ChunkRecogniser:
                 self._current, self._accept = cls, int(idx[s + k_cls - 1])
                 if cls != _NONE:
                     self._open_idx, self._open_rows = [idx[s:e]], [rows[s:e]]
+                elif self.streaming:  # "lifted" at once
+                    self._levels.open_run(cls, self._accept, None)
+                    self._opened = True
             elif e == c.size:  # a candidate that may go on in the next chunk
                 carry = s
         self._wait_idx = idx[carry:].copy()
         self._wait_cls = c[carry:].copy()
         self._wait_rows = rows[carry:].copy()
 
+    def _open_track(self) -> SegmentTrack:
+        """The open contact segment's frames so far (its pieces joined into one)."""
+        idx = np.concatenate(self._open_idx)
+        r = np.concatenate(self._open_rows)
+        self._open_idx, self._open_rows = [idx], [r]
+        return SegmentTrack(
+            idx.astype(np.intp), r[:, 0:2], r[:, 2], r[:, 3], r[:, 4], r[:, 5], r[:, 6]
+        )
+
     def _close(self) -> None:
         """Hand the accepted segment, now complete, to Levels 3-4."""
         if self._accept < 0:
             return
-        track = None
         if self._current != _NONE:
-            idx = np.concatenate(self._open_idx).astype(np.intp)
-            r = np.concatenate(self._open_rows)
-            track = SegmentTrack(idx, r[:, 0:2], r[:, 2], r[:, 3], r[:, 4], r[:, 5], r[:, 6])
-        self._levels.open_run(self._current, self._accept, track)
+            track = self._open_track()
+            if self._opened:
+                self._levels.update(track)
+            else:
+                self._levels.open_run(self._current, self._accept, track)
+        elif not self._opened:
+            self._levels.open_run(self._current, self._accept, None)
         self._open_idx, self._open_rows = [], []
+        self._opened = False
+        self._handed = 0
+
+    def _hand_over_open_segment(self) -> None:
+        """Streaming: the open contact segment grew; Levels 3-4 look at it again."""
+        if self._accept < 0 or self._current == _NONE or not self._open_idx:
+            return
+        n = sum(piece.size for piece in self._open_idx)
+        if self._opened and n - self._handed < max(_REVIEW_FRAMES, n // _REVIEW_FRACTION):
+            return
+        track = self._open_track()
+        if self._opened:
+            self._levels.update(track)
+        else:
+            self._levels.open_run(self._current, self._accept, track)
+            self._opened = True
+        self._handed = n
 
     def result(self) -> ChunkRecognition:
         """The recognition of every frame pushed so far.
@@ -395,7 +324,7 @@ class ChunkRecogniser:
         self._close()
         self._accept = -1
         done = _finish(np.empty(0, np.int8), list(self._levels.events))
-        segments = _joined(self._segments)
+        segments = joined_segments(self._segments)
         classes = np.concatenate(self._classes) if self.per_frame and self._classes else None
         return ChunkRecognition(
             segments,
