@@ -13,7 +13,6 @@ import os
 import socket
 import subprocess
 import sys
-import tempfile
 import threading
 from dataclasses import dataclass
 from pathlib import Path
@@ -51,7 +50,6 @@ class LiveRun:
     """What one measured live run saw."""
 
     sent: int
-    corrupted: int
     processed: int
     summary: str
     send_s: float
@@ -64,19 +62,28 @@ def free_port() -> int:
         return int(s.getsockname()[1])
 
 
-def packets_of(
-    frames: np.ndarray, rate_hz: float, n_packets: int, corrupt: float, seed: int = 0
-) -> tuple[bytes, int]:
-    """``n_packets`` packets cycling through ``frames``, a fraction damaged (bad CRC)."""
+def write_packets(
+    path: Path, frames: np.ndarray, rate_hz: float, n_packets: int, corrupt: float, seed: int = 0
+) -> int:
+    """Write ``n_packets`` packets cycling through ``frames``, a fraction damaged (bad CRC).
+
+    Returns the number damaged.
+    """
     rng = np.random.default_rng(seed)
-    out = bytearray()
-    bad = set(rng.choice(n_packets, size=round(corrupt * n_packets), replace=False).tolist())
-    for i in range(n_packets):
-        raw = bytearray(encode_frame(frames[i % len(frames)], index=i, t_s=i / rate_hz))
-        if i in bad:
-            raw[30] ^= 0xFF  # a payload byte: the CRC no longer matches
-        out += raw
-    return bytes(out), len(bad)
+    bad = np.zeros(n_packets, bool)
+    bad[rng.choice(n_packets, size=round(corrupt * n_packets), replace=False)] = True
+    with path.open("wb") as out:
+        block = bytearray()
+        for i in range(n_packets):
+            raw = bytearray(encode_frame(frames[i % len(frames)], index=i, t_s=i / rate_hz))
+            if bad[i]:
+                raw[30] ^= 0xFF  # a payload byte: the CRC no longer matches
+            block += raw
+            if len(block) > 2**24:
+                out.write(block)
+                block = bytearray()
+        out.write(block)
+    return int(bad.sum())
 
 
 def rss_mb() -> float:
@@ -84,10 +91,10 @@ def rss_mb() -> float:
         return int(fh.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
 
 
-def run_live(packets: bytes, corrupted: int, rate_hz: float, shape: tuple[int, int]) -> LiveRun:
-    """Send the packets at ``rate_hz`` from a subprocess into ``recognize_live``."""
+def run_live(path: Path, rate_hz: float, shape: tuple[int, int]) -> LiveRun:
+    """Send the packets of ``path`` at ``rate_hz`` from a subprocess into ``recognize_live``."""
     size = packet_size(*shape, 0)
-    n = len(packets) // size
+    n = path.stat().st_size // size
     port = free_port()
     lines: list[str] = []
     rss: list[float] = []
@@ -97,23 +104,18 @@ def run_live(packets: bytes, corrupted: int, rate_hz: float, shape: tuple[int, i
         while not done.wait(0.1):
             rss.append(rss_mb())
 
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "packets.bin"
-        path.write_bytes(packets)
-        sampler = threading.Thread(target=sample, daemon=True)
-        sampler.start()
-        sender = subprocess.Popen(
-            [sys.executable, "-c", _SENDER, str(path), str(port), str(rate_hz), str(n), str(size)],
-            stdout=subprocess.PIPE,
-            text=True,
-        )
-        try:
-            recognize_live(
-                f"udp:127.0.0.1:{port}", pitch_mm=1.7625, timeout_s=3.0, echo=lines.append
-            )
-        finally:
-            out, _ = sender.communicate(timeout=60)
-            done.set()
-            sampler.join()
+    sampler = threading.Thread(target=sample, daemon=True)
+    sampler.start()
+    sender = subprocess.Popen(
+        [sys.executable, "-c", _SENDER, str(path), str(port), str(rate_hz), str(n), str(size)],
+        stdout=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        recognize_live(f"udp:127.0.0.1:{port}", pitch_mm=1.7625, timeout_s=3.0, echo=lines.append)
+    finally:
+        out, _ = sender.communicate(timeout=120)
+        done.set()
+        sampler.join()
     processed = int(lines[-1].split(": ")[1].split()[0])
-    return LiveRun(n, corrupted, processed, lines[-1], float(out.strip()), tuple(rss))
+    return LiveRun(n, processed, lines[-1], float(out.strip()), tuple(rss))

@@ -116,3 +116,21 @@ def test_streaming_chunks_emit_the_events_of_recognise_as_they_happen(name: str)
         assert tuple(events) == ref.events[: len(events)]
         if size == 1:  # these rolls end lifted: every event came out of push
             assert tuple(events) == ref.events
+
+
+def test_streaming_forgets_old_contacts_but_not_the_verdict() -> None:
+    rec = _rolled("cube", 1)
+    repeats = 60  # enough contacts to drop old events
+    recogniser = ChunkRecogniser(rec.shape[1:], pitch_mm=rec.pitch_mm, streaming=True)
+    emitted = 0
+    for k in range(repeats):
+        emitted += len(recogniser.push(rec.frames, rec.t_s + k * (rec.t_s[-1] + 1.0)))
+    got = recogniser.result()
+    assert emitted > 1024 > len(got.events)
+    ref = recognise(rec)
+    assert got.identified == ref.identified == "cube"
+    assert got.candidates == ref.candidates
+    shift = (repeats - 1) * rec.n_frames  # the last roll's frames
+    assert [(o, t, f - shift) for o, t, f, _ in got.verdict.eliminated] == [
+        (o, t, f) for o, t, f, _ in ref.verdict.eliminated
+    ]

@@ -76,6 +76,8 @@ _INDET = int(ContactClass.INDETERMINATE)
 #: to the segment's length, so this keeps the cost per frame constant).
 _REVIEW_FRAMES = 16
 _REVIEW_FRACTION = 32
+#: Streaming: events kept before those of old contacts are dropped.
+_EVENTS_KEPT = 1024
 #: Columns of a contact frame's Level 1 row: centre x, y (mm), orientation
 #: (deg), area (mm^2), elongation, half length (mm), time (s).
 _ROW_FIELDS = 7
@@ -100,8 +102,9 @@ class ChunkRecogniser:
         grown by 16 frames, or by 1/32 of its length if that is more), so
         that :meth:`push` returns events as they happen rather than when
         their segment ends; the class segments are then kept for the last
-        chunk only (memory does not grow with the stream). The events and
-        their frame numbers are the same either way (detection is causal).
+        chunk only, and :meth:`result` reports the events of the last
+        contacts only, so memory does not grow with the stream. The events
+        and their frame numbers are the same either way (detection is causal).
 
     Examples
     --------
@@ -241,7 +244,18 @@ class ChunkRecogniser:
             self._debounce()
         if self.streaming:
             self._hand_over_open_segment()
-        return self._levels.events[before:]
+        found = self._levels.events[before:]
+        if self.streaming and len(self._levels.events) > _EVENTS_KEPT:
+            self._forget_old_contacts()
+        return found
+
+    def _forget_old_contacts(self) -> None:
+        """Streaming: drop the events of contacts before the last two (the verdict needs
+        the last contact's, or the ongoing one's, only)."""
+        events = self._levels.events
+        lifts = [i for i, e in enumerate(events) if e.kind == "lifted"]
+        if len(lifts) >= 2:
+            del events[: lifts[-2] + 1]
 
     # -- the debounce of tactemes.accepted_runs, carried across chunks ---------------------
     def _debounce(self) -> None:
