@@ -23,9 +23,7 @@ import contextlib
 import math
 import os
 import sys
-import zipfile
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
 
@@ -43,11 +41,9 @@ from taxelkit.errors import (
 )
 from taxelkit.frames import DEFAULT_FRAME_INTERVAL_S, TactileFrames
 from taxelkit.io._raw import RawRecording, describe_exception, fail
+from taxelkit.io.chunked_npz import SCALARS, FortranOrder, Layout, item_bytes, open_npz
 from taxelkit.io.limits import (
-    MAX_NPY_HEADER_BYTES,
     ReadBudget,
-    _members,
-    _read_header,
     check_h5_attribute,
     check_h5_dataset,
     h5_node,
@@ -57,7 +53,6 @@ from taxelkit.io.recordings import (
     PACKED_FRAMES,
     _build,
     _probe_input,
-    _sniff,
     read_recording,
 )
 
@@ -72,24 +67,6 @@ __all__ = [
 #: Frames per chunk by default: 65,536 frames of 16 x 16 are 16 MiB as bool.
 DEFAULT_CHUNK_FRAMES = 65536
 _UNLIMITED = sys.maxsize
-
-
-class _FortranOrder(Exception):
-    """A column-major ``.npy`` member: read whole instead of in chunks."""
-
-
-_SCALARS = ("pitch_mm", "units", "sensor")
-
-
-@dataclass(frozen=True)
-class _Layout:
-    """Where a recording's arrays are and what they declare."""
-
-    n_frames: int
-    shape: tuple[int, int]
-    packed: bool
-    #: bytes one frame takes once read (integers become float64)
-    frame_bytes: int = 1
 
 
 class ChunkedRecording:
@@ -113,7 +90,7 @@ class ChunkedRecording:
         self._frames: Any = None  # h5py dataset, numpy memmap, or a zip member stream
         self._t_s: Any = None
         self._npz_stream: tuple[IO[bytes], np.dtype[Any], IO[bytes] | None] | None = None
-        self.layout = _Layout(0, (0, 0), False)
+        self.layout = Layout(0, (0, 0), False)
 
     @property
     def n_frames(self) -> int:
@@ -274,11 +251,6 @@ class ChunkedRecording:
         return frames.reshape((b - a, *self.shape)), t_s
 
 
-def _item_bytes(dtype: np.dtype[Any]) -> int:
-    """Bytes per taxel once read: integers become float64."""
-    return 8 if dtype.kind in "iu" else int(dtype.itemsize)
-
-
 def _read_exactly(fh: IO[bytes], nbytes: int) -> bytes:
     data = fh.read(nbytes)
     if len(data) != nbytes:
@@ -323,21 +295,21 @@ def open_chunks(path: str | os.PathLike[str], *, pitch_mm: float | None = None) 
     rec = ChunkedRecording(p, override)
     if suffix not in (".h5", ".hdf5", ".npz"):
         rec._whole = read_recording(p, pitch_mm=override)
-        rec.layout = _Layout(rec._whole.n_frames, rec._whole.shape[1:], False)
+        rec.layout = Layout(rec._whole.n_frames, rec._whole.shape[1:], False)
         return rec
     size, head = _probe_input(p)
     if size == 0:
         raise fail(EmptyRecordingError, p, "is empty (0 bytes)")
     try:
         if suffix == ".npz":
-            _open_npz(rec, head)
+            open_npz(rec, head)
         else:
             _open_h5(rec)
-    except _FortranOrder:
+    except FortranOrder:
         rec.close()
         rec = ChunkedRecording(p, override)
         rec._whole = read_recording(p, pitch_mm=override)
-        rec.layout = _Layout(rec._whole.n_frames, rec._whole.shape[1:], False)
+        rec.layout = Layout(rec._whole.n_frames, rec._whole.shape[1:], False)
         return rec
     except BaseException:
         rec.close()
@@ -353,7 +325,7 @@ def _open_h5(rec: ChunkedRecording) -> None:
     try:
         root = rec._stack.enter_context(h5py.File(path, "r"))
         budget = ReadBudget(path)
-        for name in _SCALARS:
+        for name in SCALARS:
             if name in root.attrs:
                 check_h5_attribute(path, root.attrs, name, budget)
                 rec._scalars[name] = root.attrs[name]
@@ -404,112 +376,5 @@ def _open_h5(rec: ChunkedRecording) -> None:
             CorruptRecordingError, path, f"not a readable HDF5 file ({describe_exception(exc)})"
         ) from exc
     rec._frames, rec._t_s = frames, t_s
-    item = 1 if packed else _item_bytes(frames.dtype)
-    rec.layout = _Layout(int(shape[0]), (int(shape[1]), int(cols)), packed, shape[1] * cols * item)
-
-
-def _open_npz(rec: ChunkedRecording, head: bytes) -> None:
-    path = rec.path
-    if _sniff(head) != "npz":
-        raise fail(CorruptRecordingError, path, "not an .npz file (no zip archive signature)")
-    try:
-        archive = rec._stack.enter_context(zipfile.ZipFile(path))
-        members = _members(path, archive)
-        budget = ReadBudget(path)
-        for name in _SCALARS:
-            if name in members:
-                with archive.open(members[name]) as fh:
-                    shape, dtype = _read_header(path, name, fh)
-                budget.take(name, shape, dtype)
-                with archive.open(members[name]) as fh:
-                    rec._scalars[name] = np.lib.format.read_array(
-                        fh, allow_pickle=False, max_header_size=MAX_NPY_HEADER_BYTES
-                    )
-        if "frames" not in members:
-            found = ", ".join(members) or "nothing"
-            raise fail(CorruptRecordingError, path, f"no 'frames' array (the file holds: {found})")
-        frames, shape, dtype = _npz_array(rec, archive, members["frames"], "frames")
-        if len(shape) != 3:
-            raise fail(InvalidRecordingError, path, f"frames must be (T, rows, cols), got {shape}")
-        t_s = None
-        t_dtype: np.dtype[Any] | None = None
-        if "t_s" in members:
-            t_s, t_shape, t_dtype = _npz_array(rec, archive, members["t_s"], "t_s")
-            if t_shape != (shape[0],):
-                raise fail(
-                    InvalidRecordingError,
-                    path,
-                    f"t_s must have {shape[0]} entries (one per frame), got shape {t_shape}",
-                )
-    except (TaxelkitError, _FortranOrder):
-        raise
-    except Exception as exc:
-        raise fail(
-            CorruptRecordingError, path, f"unreadable .npz recording ({describe_exception(exc)})"
-        ) from exc
-    rec.layout = _Layout(
-        int(shape[0]),
-        (int(shape[1]), int(shape[2])),
-        False,
-        shape[1] * shape[2] * _item_bytes(dtype),
-    )
-    if isinstance(frames, np.ndarray) and (t_s is None or isinstance(t_s, np.ndarray)):
-        rec._frames, rec._t_s = frames, t_s
-        return
-    # a compressed member: stream both arrays (the memory maps, if any, are re-opened as streams)
-    fh = frames if not isinstance(frames, np.ndarray) else _stream(rec, archive, members["frames"])
-    t_fh = None
-    if t_s is not None:
-        t_fh = t_s if not isinstance(t_s, np.ndarray) else _stream(rec, archive, members["t_s"])
-    rec._npz_stream = (fh, dtype, t_fh)
-    rec._t_s = t_dtype
-
-
-def _stream(rec: ChunkedRecording, archive: zipfile.ZipFile, info: zipfile.ZipInfo) -> IO[bytes]:
-    fh = rec._stack.enter_context(archive.open(info))
-    _read_header(rec.path, info.filename, fh)
-    return fh
-
-
-def _npz_array(
-    rec: ChunkedRecording, archive: zipfile.ZipFile, info: zipfile.ZipInfo, name: str
-) -> tuple[Any, tuple[int, ...], np.dtype[Any]]:
-    """A memory map of a stored member, else an open stream past its header."""
-    fh = rec._stack.enter_context(archive.open(info))
-    shape, dtype = _read_header(rec.path, name, fh)
-    header = fh.tell()
-    fh.seek(0)
-    version = np.lib.format.read_magic(fh)
-    read = (
-        np.lib.format.read_array_header_1_0
-        if version == (1, 0)
-        else (np.lib.format.read_array_header_2_0)
-    )
-    fortran = bool(read(fh, MAX_NPY_HEADER_BYTES)[1])
-    if fortran and len(shape) > 1:
-        raise _FortranOrder
-    if dtype.kind in "US":
-        raise fail(CorruptRecordingError, rec.path, f"array {name!r} holds text, not numbers")
-    declared = math.prod(shape) * dtype.itemsize
-    if declared > info.file_size - header:
-        raise fail(
-            CorruptRecordingError,
-            rec.path,
-            f"array {name!r} declares shape {shape} of {dtype} ({declared} bytes) but "
-            f"stores {max(info.file_size - header, 0)} bytes",
-        )
-    if info.compress_type != zipfile.ZIP_STORED or dtype.byteorder == ">":
-        return fh, shape, dtype
-    # a stored member: its bytes lie in the file after the zip local header
-    raw = rec._stack.enter_context(open(rec.path, "rb"))  # noqa: SIM115 - closed by the stack
-    raw.seek(info.header_offset)
-    local = raw.read(30)
-    name_len, extra_len = (
-        int.from_bytes(local[26:28], "little"),
-        int.from_bytes(local[28:30], "little"),
-    )
-    offset = info.header_offset + 30 + name_len + extra_len + header
-    if math.prod(shape) == 0:
-        return np.zeros(shape, dtype), shape, dtype
-    mapped = np.memmap(rec.path, dtype=dtype, mode="r", offset=offset, shape=shape)
-    return mapped, shape, dtype
+    item = 1 if packed else item_bytes(frames.dtype)
+    rec.layout = Layout(int(shape[0]), (int(shape[1]), int(cols)), packed, shape[1] * cols * item)
