@@ -223,8 +223,7 @@ class ChunkedRecording:
             budget.check_block(f"frames {a}..{b - 1}", (b - a) * self.layout.frame_bytes)
             frames = np.asarray(self._frames[a:b])
             if self.layout.packed:
-                frames = np.unpackbits(frames, axis=2, count=self.shape[1], bitorder="little")
-                frames = frames.view(bool)
+                frames = _unpacked(frames, self.shape[1])
             t_s = None if self._t_s is None else np.asarray(self._t_s[a:b])
         except TaxelkitError:
             raise
@@ -249,6 +248,16 @@ class ChunkedRecording:
             t_dtype = self._t_s
             t_s = np.frombuffer(_read_exactly(t_fh, (b - a) * t_dtype.itemsize), dtype=t_dtype)
         return frames.reshape((b - a, *self.shape)), t_s
+
+
+def _unpacked(packed: NDArray[np.uint8], cols: int) -> NDArray[np.bool_]:
+    """Bool frames from rows packed 8 taxels to a byte (whole bytes: the flat array at once)."""
+    t, rows, n_bytes = packed.shape
+    if cols == 8 * n_bytes:
+        flat = np.unpackbits(np.ascontiguousarray(packed).reshape(-1), bitorder="little")
+        return flat.view(bool).reshape(t, rows, cols)
+    out: NDArray[np.bool_] = np.unpackbits(packed, axis=2, count=cols, bitorder="little").view(bool)
+    return out
 
 
 def _read_exactly(fh: IO[bytes], nbytes: int) -> bytes:
