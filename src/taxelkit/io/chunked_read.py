@@ -34,6 +34,7 @@ from numpy.typing import NDArray
 from taxelkit.errors import (
     CorruptRecordingError,
     EmptyRecordingError,
+    FileTooLargeError,
     InputError,
     InvalidRecordingError,
     TaxelkitError,
@@ -67,6 +68,13 @@ __all__ = [
 #: Frames per chunk by default: 65,536 frames of 16 x 16 are 16 MiB as bool.
 DEFAULT_CHUNK_FRAMES = 65536
 _UNLIMITED = sys.maxsize
+#: Largest ratio of the frames' declared bytes to the file's size that is read
+#: without raising the limit: gzip packs zeros about 1000x, real recordings of
+#: contact frames (packed) 3-30x, so a file declaring more is taken for a
+#: decompression bomb or a sparse dataset (the limit still applies to it).
+MAX_EXPANSION = 256
+#: Timestamps checked at a time by :meth:`ChunkedRecording.frames_at` (8 MiB).
+_TIME_CHUNK_FRAMES = 2**20
 
 
 class ChunkedRecording:
@@ -202,19 +210,39 @@ class ChunkedRecording:
                 template = chunk
                 start += chunk.n_frames
         else:
+            self._check_times()
             for i in wanted.tolist():
                 for chunk in self._pieces(i, i + 1):
                     frames.append(chunk.frames)
                     times.append(chunk.t_s)
                     template = chunk
         assert template is not None
-        return TactileFrames(
+        return TactileFrames(  # pieces of a checked recording: valid together
             np.concatenate(frames),
             np.concatenate(times),
             pitch_mm=template.pitch_mm,
             units=template.units,
             sensor=template.sensor,
         )
+
+    def _check_times(self) -> None:
+        """Every timestamp finite and increasing, read a chunk at a time (8 bytes a frame)."""
+        if self._t_s is None:
+            return
+        last = -math.inf
+        for a in range(0, self.n_frames, _TIME_CHUNK_FRAMES):
+            t = np.asarray(self._t_s[a : a + _TIME_CHUNK_FRAMES], dtype=np.float64)
+            if not np.all(np.isfinite(t)):
+                raise fail(InvalidRecordingError, self.path, "t_s must be finite (no NaN or Inf)")
+            steps = np.diff(np.concatenate([[last], t]))
+            if np.any(steps <= 0):
+                k = a + int(np.flatnonzero(steps <= 0)[0]) - 1
+                raise fail(
+                    InvalidRecordingError,
+                    self.path,
+                    f"t_s must be strictly increasing, got t_s[{k}] >= t_s[{k + 1}]",
+                )
+            last = float(t[-1])
 
     def _read(self, a: int, b: int, budget: ReadBudget) -> tuple[NDArray[Any], NDArray[Any] | None]:
         try:
@@ -326,6 +354,19 @@ def open_chunks(path: str | os.PathLike[str], *, pitch_mm: float | None = None) 
     if rec.n_frames == 0:
         rec.close()
         raise fail(EmptyRecordingError, p, "holds zero frames")
+    rows, cols = rec.shape
+    per_frame = rows * -(-cols // 8) if rec.layout.packed else rec.layout.frame_bytes
+    declared = rec.n_frames * per_frame
+    limit = ReadBudget(p).limit
+    if declared > max(limit, MAX_EXPANSION * size):
+        rec.close()
+        raise fail(
+            FileTooLargeError,
+            p,
+            f"declares {declared / 2**20:.4g} MiB of frames in {size / 2**20:.4g} MiB on disk, "
+            f"more than {MAX_EXPANSION}x (a decompression bomb?) and over the read limit of "
+            f"{limit / 2**20:.4g} MiB; raise the limit with --max-mb or TAXELKIT_MAX_MB",
+        )
     return rec
 
 
