@@ -32,6 +32,13 @@ def test_trace_shape_json_recognises_a_rotated_translated_hexagon(
     assert doc["recognised"] == "hexagon"
     assert set(doc["correlations"]) == {"circle", "square", "triangle", "star", "hexagon"}
     assert doc["recall_curve"][-1]["s"] == pytest.approx(1.0)
+    # Open-set fields: calibrated probabilities, unknown, when it was decided, the margin.
+    assert set(doc["probabilities"]) == set(doc["correlations"])
+    assert sum(doc["probabilities"].values()) == pytest.approx(1.0)
+    assert max(doc["probabilities"], key=doc["probabilities"].get) == "hexagon"
+    assert doc["unknown"] is False and doc["open_set_verdict"] == "hexagon"
+    assert 0.0 < doc["decided_at_s"] <= 1.0 and doc["calibrated"] is True
+    assert doc["margin"] > 0 and doc["verdict"] == "hexagon"
     traj = np.asarray(doc["trajectory_mm"])
     assert traj.shape[1] == 2 and traj.shape[0] > 50
 
@@ -77,6 +84,19 @@ def test_memorise_a_new_shape_then_recall_it(
     code, _, err = _run(capsys, "memorise", "--specimen", str(spec), "--name", "bar",
                         "--out", str(mem))  # fmt: skip
     assert code == 2 and "--force" in err
+
+
+def test_memorise_reports_shapes_it_cannot_tell_apart(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # An L-shape has the square's direction histogram: the memory cannot tell them apart.
+    ell = relief_from_vertices([(-30, -30), (30, -30), (30, 0), (0, 0), (0, 30), (-30, 30)])
+    spec = tmp_path / "ell.npz"
+    _save_heightmap(ell, spec, 0.25, 40.0)
+    code, _, err = _run(capsys, "memorise", "--specimen", str(spec), "--name", "ell",
+                          "--out", str(tmp_path / "mem.npz"))  # fmt: skip
+    assert code == 0, err
+    assert "cannot tell apart ell and square" in err
 
 
 @pytest.mark.parametrize(

@@ -233,10 +233,12 @@ def test_batched_all_shift_recall_equals_naive_loops(
         corr, shift = _naive_recall(mem, y)
         np.testing.assert_allclose(result.correlations[q], corr)
         np.testing.assert_array_equal(result.best_shift[q], shift)
-    # Winner: best correlation, then best evidence, then lowest index.
+    # Verdict: best correlation, then best evidence; several equal -> undecided (-1).
     for q in range(len(queries)):
-        keys = list(zip(result.correlations[q], result.evidence[q], -np.arange(5), strict=True))
-        assert result.recognised_index[q] == max(range(5), key=lambda k: keys[k])
+        keys = list(zip(result.correlations[q], result.evidence[q], strict=True))
+        best = [k for k in range(5) if keys[k] == max(keys)]
+        assert result.recognised_index[q] == (best[0] if len(best) == 1 else -1)
+        assert result.tied[q] == tuple(sorted(SHAPES[k] for k in best))
 
 
 # ---------------------------------------------------------------- result, shapes, ties
@@ -274,13 +276,16 @@ def test_best_shift_sign_convention() -> None:
         np.testing.assert_array_equal(result.recalled, x)
 
 
-def test_ties_are_broken_by_evidence_then_lowest_index() -> None:
+def test_a_tie_is_undecided_never_the_first_name() -> None:
     x = np.ones((2, 48), dtype=np.int8)
     x[1, 0] = -1
-    mem = AssociativeMemory(("first", "second"), x, rule="hebbian")
-    # All-unknown query: every recall is 0, every score 0 -> lowest index, margin 0.
+    mem = AssociativeMemory(("second", "first"), x, rule="hebbian")
+    # All-unknown query: every recall is 0, every score 0 -> undecided, margin 0.
     result = mem.recall(np.zeros(48))
-    assert result.recognised == ("first",)
+    assert result.recognised == (None,) and result.recognised_index[0] == -1
+    assert result.tied == (("first", "second"),)
+    assert result.verdicts == ("undecided between first and second",)
+    assert not result.decided[0]
     assert result.margin[0] == 0.0
     np.testing.assert_array_equal(result.best_shift[0], [0, 0])
     # One stored pattern: margin is infinite.
@@ -298,9 +303,42 @@ def test_evidence_breaks_a_tie_in_correlation(rule: str) -> None:
     result = mem.recall([-1, 1, 1, 1])
     np.testing.assert_array_equal(result.correlations[0], [1.0, 1.0])
     np.testing.assert_array_equal(result.evidence[0], [0.5, 1.0])
-    assert result.recognised == ("b",)
+    assert result.recognised == ("b",) and result.tied == (("b",),)
     assert result.best_shift[0, 1] == 3
-    assert result.margin[0] == 0.0
+    assert result.margin[0] == 0.0  # the gap in c; the evidence decided
+
+
+def test_tie_tolerance_widens_ties_and_is_validated() -> None:
+    cfg = ChainCodeConfig(m=4, l=1, thresholds=(0.2,))
+    x = np.array([[1, 1, 1, -1], [1, -1, -1, -1]], dtype=np.int8)
+    mem = AssociativeMemory(("a", "b"), x, cfg, "matched")
+    query = [1, 1, -1, 0]  # c = 0.75 against "a" (shift 1), 0.25 against "b"
+    assert mem.recall(query).recognised == ("a",)
+    assert mem.recall(query).margin[0] == pytest.approx(0.5)
+    assert mem.recall(query, tie_tolerance=0.49).recognised == ("a",)
+    wide = mem.recall(query, tie_tolerance=0.5)
+    assert wide.recognised == (None,) and wide.tied == (("a", "b"),)
+    with pytest.raises(InputError, match="tie_tolerance"):
+        mem.recall(query, tie_tolerance=-1.0)
+
+
+@pytest.mark.parametrize("rule", sorted(RECALL_RULES))
+def test_shuffling_the_stored_shapes_changes_no_verdict(
+    stored_moves: list[NDArray[np.float64]], rule: str
+) -> None:
+    """Acceptance "Ties": the verdicts are a specification, not a list order."""
+    eq13, unknown, _ = _partial_trials(40, seed=13, low=0.05, high=1.0)
+    queries = np.vstack([eq13, unknown, np.zeros((1, 48), dtype=np.int8)])
+    base = memorise(SHAPES, stored_moves, rule=rule).recall(queries)
+    rng = np.random.default_rng(14)
+    for _ in range(3):
+        order = rng.permutation(5)
+        names = [SHAPES[k] for k in order]
+        shuffled = memorise(names, [stored_moves[k] for k in order], rule=rule).recall(queries)
+        assert shuffled.verdicts == base.verdicts
+        assert shuffled.tied == base.tied
+        np.testing.assert_array_equal(shuffled.margin, base.margin)
+        np.testing.assert_array_equal(shuffled.correlations, base.correlations[:, order])
 
 
 # ---------------------------------------------------------------- the five shapes
@@ -344,7 +382,10 @@ def test_full_contours_at_random_rotations(memories: dict[str, AssociativeMemory
         assert np.all(result.margin > 0), rule
     # Faithful rule (golden, measured): the shared -1 elements pull the square,
     # triangle and star to the hexagon; circle and hexagon are right -> 40 %.
+    # Every verdict is decided by c or, where c ties (margin 0), by the evidence:
+    # none by list order (test_shuffling_the_stored_shapes_changes_no_verdict).
     faithful = memories["hebbian"].recall(queries)
+    assert faithful.decided.all()
     by_shape = {
         name: Counter(faithful.recognised[20 * i : 20 * (i + 1)]) for i, name in enumerate(SHAPES)
     }

@@ -176,6 +176,40 @@ def _load_memory(path: Path | None, rule: str) -> Any:
     return read_memory(path).with_rule(rule)
 
 
+def _indistinguishable(mem: Any) -> list[tuple[str, ...]]:
+    """Groups of stored shapes that recall of their own codes leaves tied (sorted names)."""
+    result = mem.recall(mem.patterns)
+    return sorted({names for names in result.tied if len(names) > 1})
+
+
+def _open_set_fields(
+    tr: Any, mem: Any, *, rule: str, built_in: bool, phases: int
+) -> dict[str, Any]:
+    """``probabilities``, ``unknown``, ``decided_at_s`` and the open-set verdict of a trace.
+
+    The calibration is the one fitted by ``taxelkit reproduce open-set`` for
+    the built-in memory and the default rule; with another rule the
+    probabilities are not calibrated (``calibrated`` false), and with a user
+    memory the compactness test is skipped (its shapes' references are unknown).
+    """
+    import dataclasses
+
+    from taxelkit.experiments.open_set import REFERENCE_CALIBRATION, judge_trace
+
+    cal = REFERENCE_CALIBRATION
+    if not built_in:
+        cal = dataclasses.replace(cal, reference_compactness=())
+    verdict, decided = judge_trace(tr, mem, cal, phases=phases)
+    probs = verdict.probabilities[-1]
+    return {
+        "probabilities": {n: float(p) for n, p in zip(verdict.names, probs, strict=True)},
+        "unknown": bool(verdict.unknown[-1]),
+        "open_set_verdict": verdict.verdicts[-1],
+        "decided_at_s": decided,
+        "calibrated": rule == "matched",
+    }
+
+
 @click.command()
 @click.option(
     "--shape", type=SHAPE, default=None, help="A built-in relief shape (or give --specimen)."
@@ -287,14 +321,18 @@ def trace(
     phases = 1 if rule == "hebbian" else 2
     curve = recall_curve(tr.moves_mm, mem, phases=phases)
     final = {n: float(c) for n, c in zip(curve.names, curve.correlations[-1], strict=True)}
+    open_set = _open_set_fields(tr, mem, rule=rule, built_in=memory is None, phases=phases)
     doc = {
         "trajectory_mm": tr.points_mm.round(4).tolist(),
         "closed": tr.closed,
         "stop_reason": tr.stop_reason,
         "recognised": curve.recognised[-1],
+        "verdict": curve.verdicts[-1],
+        "margin": float(curve.margin[-1]) if np.isfinite(curve.margin[-1]) else None,
         "correlations": final,
         "recall_curve": curve.to_json(),
         "rule": rule,
+        **open_set,
     }
     if view.wanted:
         from taxelkit.viewer.trace_view import view_trace
@@ -314,7 +352,7 @@ def trace(
     else:
         click.echo(
             f"traced {tr.n_sections} sections ({'closed' if tr.closed else tr.stop_reason}); "
-            f"recognised: {doc['recognised']}"
+            f"recognised: {doc['verdict']}"
         )
         for n, c in sorted(final.items(), key=lambda kv: -kv[1]):
             click.echo(f"  {n:16s} c = {c:+.3f}")
@@ -382,6 +420,13 @@ def memorise(
         ).patterns[0]
         mem = mem.with_pattern(name, code)
         click.echo(f"stored {name!r} from {path} ({tr.n_sections} sections)")
+
+    for names_alike in _indistinguishable(mem):
+        click.echo(
+            f"warning: this memory cannot tell apart {' and '.join(names_alike)} "
+            "(their codes tie at the top when recalled from each other)",
+            err=True,
+        )
 
     def writer(tmp: Path) -> None:
         buf = io.BytesIO()

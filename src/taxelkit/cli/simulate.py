@@ -390,11 +390,12 @@ def demo(out: Path, seed: int, force: bool) -> None:
             frames = frames_from_scenario(BONNEVILLE_16X16, scenario, rng=rng)
             rolls.append((name, recognise(frames).identified, frames.n_frames))
         bar.update()
-    s0 = curve.recognised_from_s(curve.recognised[-1])
+    final = curve.recognised[-1]
+    s0 = None if final is None else curve.recognised_from_s(final)
     lines.append(
         f"paper 000: traced a star rotated by 23 deg ({trace.n_sections} sections, "
         f"{'closed' if trace.closed else trace.stop_reason}); recognised as "
-        f"{curve.recognised[-1]!r}, top-ranked from s = {s0}"
+        f"{curve.verdicts[-1]!r}, top-ranked from s = {s0}"
     )
     tac = ", ".join(n for n, _ in cyl.recognition.tactemes)
     lines.append(

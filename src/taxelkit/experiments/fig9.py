@@ -52,16 +52,38 @@ class Fig9Result:
             for n, c in zip(self.names, self.curves[setup.label], strict=True)
         }
 
+    def ties_per_s(self, setup: RecallSetup) -> list[int]:
+        """At each ``s``, how many of the traced shapes end in a tie at the top."""
+        curves = self.curves[setup.label]
+        return [sum(c.recognised[j] is None for c in curves) for j in range(len(curves[0].s))]
+
+    def margins(self, setup: RecallSetup) -> dict[str, list[float | None]]:
+        """Per traced shape, the winning margin (best ``c`` minus second best) at each ``s``."""
+        return {
+            n: [row["margin"] for row in c.to_json()]
+            for n, c in zip(self.names, self.curves[setup.label], strict=True)
+        }
+
+    def summary(self, setup: RecallSetup) -> dict[str, Any]:
+        """Verdict table of one setup: from which ``s``, margins and ties per ``s``."""
+        return {
+            "rule": setup.label,
+            "recognised_from_s": self.recognised_from_s(setup),
+            "s": [float(v) for v in self.curves[setup.label][0].s],
+            "ties_per_s": self.ties_per_s(setup),
+            "winning_margin": self.margins(setup),
+            "final_verdicts": {
+                n: c.verdicts[-1] for n, c in zip(self.names, self.curves[setup.label], strict=True)
+            },
+        }
+
     def to_json(self) -> dict[str, Any]:
-        """``recognised_from_s`` of the improved rule on top; curves of both rules."""
+        """``recognised_from_s`` of the improved rule on top; ties, margins, curves of both."""
+        improved = self.summary(IMPROVED)
         return {
             "experiment": "fig9",
-            "rule": IMPROVED.label,
-            "recognised_from_s": self.recognised_from_s(IMPROVED),
-            "faithful": {
-                "rule": FAITHFUL.label,
-                "recognised_from_s": self.recognised_from_s(FAITHFUL),
-            },
+            **improved,
+            "faithful": self.summary(FAITHFUL),
             "paper_recognised_from_s": PAPER_RECOGNISED_FROM_S,
             "curves": {
                 setup.label: {

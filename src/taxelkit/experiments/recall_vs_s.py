@@ -49,6 +49,11 @@ class RecallVsSResult:
     n_trials : int
         Trials per shape.
     correct : dict label -> (shapes, trials, S) bool
+        The true shape alone top-ranked (a tie is never correct).
+    tied : dict label -> (shapes, trials, S) bool
+        Two or more stored shapes tied at the top: "undecided".
+    margin : dict label -> (shapes, trials, S) float
+        Best ``c`` minus the second best.
     closed : (shapes, trials) bool
         Whether each trace closed.
     """
@@ -57,6 +62,8 @@ class RecallVsSResult:
     s: tuple[float, ...]
     n_trials: int
     correct: dict[str, NDArray[np.bool_]]
+    tied: dict[str, NDArray[np.bool_]]
+    margin: dict[str, NDArray[np.float64]]
     closed: NDArray[np.bool_]
 
     def fraction(self, setup: RecallSetup) -> NDArray[np.float64]:
@@ -67,22 +74,35 @@ class RecallVsSResult:
     def to_json(self) -> dict[str, Any]:
         """Fractions per shape and s for both rules."""
 
-        def table(setup: RecallSetup) -> dict[str, list[float]]:
+        def table(setup: RecallSetup) -> dict[str, Any]:
             f = self.fraction(setup)
-            return {n: [float(v) for v in f[i]] for i, n in enumerate(self.names)}
+            ties = self.tied[setup.label].sum(axis=1)  # (shapes, S)
+            margin = self.margin[setup.label]
+            return {
+                "rule": setup.label,
+                "fraction_correct": {n: [float(v) for v in f[i]] for i, n in enumerate(self.names)},
+                "ties": {n: [int(v) for v in ties[i]] for i, n in enumerate(self.names)},
+                "ties_per_s": [int(v) for v in ties.sum(axis=0)],
+                "mean_margin": {
+                    n: [round(float(v), 6) for v in margin[i].mean(axis=0)]
+                    for i, n in enumerate(self.names)
+                },
+            }
 
         return {
             "experiment": "recall-vs-s",
             "s": list(self.s),
             "n_trials_per_shape": self.n_trials,
-            "improved": {"rule": IMPROVED.label, "fraction_correct": table(IMPROVED)},
-            "faithful": {"rule": FAITHFUL.label, "fraction_correct": table(FAITHFUL)},
+            "improved": table(IMPROVED),
+            "faithful": table(FAITHFUL),
             "closed_fraction": {n: float(self.closed[i].mean()) for i, n in enumerate(self.names)},
             "target": {"improved_at_s_ge_0.5": 0.95},
         }
 
 
-def _trial(args: tuple[int, int, np.random.SeedSequence]) -> tuple[int, int, list[Any], bool]:
+def _trial(
+    args: tuple[int, int, np.random.SeedSequence],
+) -> tuple[int, int, list[tuple[list[bool], list[bool], list[float]]], bool]:
     shape_idx, trial, seq = args
     rng = np.random.default_rng(seq)
     name = SHAPE_NAMES[shape_idx]
@@ -97,7 +117,13 @@ def _trial(args: tuple[int, int, np.random.SeedSequence]) -> tuple[int, int, lis
         curve = recall_curve(
             tr.moves_mm, reference_memory(setup), s=RECALL_S_GRID, phases=setup.phases
         )
-        rows.append([r == name for r in curve.recognised])
+        rows.append(
+            (
+                [r == name for r in curve.recognised],
+                [r is None for r in curve.recognised],
+                [float(v) for v in curve.margin],
+            )
+        )
     return shape_idx, trial, rows, tr.closed
 
 
@@ -124,17 +150,20 @@ def run_recall_vs_s(
     n_shapes = len(SHAPE_NAMES)
     seqs = np.random.SeedSequence(seed).spawn(n_shapes * n_trials)
     jobs = [(i, t, seqs[i * n_trials + t]) for i in range(n_shapes) for t in range(n_trials)]
-    correct = {
-        s.label: np.zeros((n_shapes, n_trials, len(RECALL_S_GRID)), bool)
-        for s in (FAITHFUL, IMPROVED)
-    }
+    shape = (n_shapes, n_trials, len(RECALL_S_GRID))
+    setups = (FAITHFUL, IMPROVED)
+    correct = {s.label: np.zeros(shape, bool) for s in setups}
+    tied = {s.label: np.zeros(shape, bool) for s in setups}
+    margin = {s.label: np.zeros(shape) for s in setups}
     closed = np.zeros((n_shapes, n_trials), bool)
     n_workers = min(4, os.cpu_count() or 1) if workers is None else max(1, int(workers))
 
     def record(res: tuple[int, int, list[Any], bool], done: int) -> None:
         i, t, rows, was_closed = res
-        correct[FAITHFUL.label][i, t] = rows[0]
-        correct[IMPROVED.label][i, t] = rows[1]
+        for setup, (ok, tie, gap) in zip(setups, rows, strict=True):
+            correct[setup.label][i, t] = ok
+            tied[setup.label][i, t] = tie
+            margin[setup.label][i, t] = gap
         closed[i, t] = was_closed
         if progress is not None:
             progress(done, len(jobs))
@@ -146,4 +175,6 @@ def run_recall_vs_s(
         with ProcessPoolExecutor(max_workers=n_workers) as pool:
             for k, res in enumerate(pool.map(_trial, jobs, chunksize=4)):
                 record(res, k + 1)
-    return RecallVsSResult(tuple(SHAPE_NAMES), RECALL_S_GRID, n_trials, correct, closed)
+    return RecallVsSResult(
+        tuple(SHAPE_NAMES), RECALL_S_GRID, n_trials, correct, tied, margin, closed
+    )

@@ -70,6 +70,18 @@ def _fig9(**kw: Any) -> ExperimentResult:
     return run_fig9(**kw)
 
 
+def _fig9_readings(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.fig9_readings import run_fig9_readings
+
+    return run_fig9_readings(**kw)
+
+
+def _open_set(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.open_set import run_open_set
+
+    return run_open_set(**kw)
+
+
 def _recall_vs_s(**kw: Any) -> ExperimentResult:
     from taxelkit.experiments.recall_vs_s import run_recall_vs_s
 
@@ -114,11 +126,25 @@ EXPERIMENTS: dict[str, Experiment] = {
         Experiment("fig8", "Paper 000 Fig. 8: tracing the five 200 um specimens", _fig8, "shape"),
         Experiment("fig9", "Paper 000 Fig. 9: correlation against arc length", _fig9, "shape"),
         Experiment(
+            "fig9-readings",
+            "Paper 000 Fig. 9: readings of the faithful code and rule",
+            _fig9_readings,
+            "reading",
+        ),
+        Experiment(
             "recall-vs-s",
             "Paper 000: recognition rate against s",
             _recall_vs_s,
             "trial",
             trials=50,
+            workers=True,
+        ),
+        Experiment(
+            "open-set",
+            "Paper 000 beyond five shapes: unknown shapes, calibrated confidence",
+            _open_set,
+            "trace",
+            trials=20,
             workers=True,
         ),
         Experiment(

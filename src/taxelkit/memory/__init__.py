@@ -36,9 +36,11 @@ from taxelkit.memory.partial_code import (
 )
 from taxelkit.memory.recall import (
     RECALL_CHUNK_QUERIES,
+    TIE_TOLERANCE,
     RecallResult,
     correlation,
     recall_with_operator,
+    verdict_text,
 )
 from taxelkit.memory.recall_rules import (
     FAITHFUL_RULE,
@@ -65,6 +67,7 @@ __all__ = [
     "RECALL_CHUNK_QUERIES",
     "RECALL_RULES",
     "SECTOR_BOUNDARY_TOLERANCE",
+    "TIE_TOLERANCE",
     "ZERO_MOVE_TOLERANCE_MM",
     "AssociativeMemory",
     "ChainCodeConfig",
@@ -91,4 +94,5 @@ __all__ = [
     "relative_frequency",
     "rounding_thresholds",
     "ternary",
+    "verdict_text",
 ]

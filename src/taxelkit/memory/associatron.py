@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import InputError
 from taxelkit.memory.chain_code import DEFAULT_CHAIN_CODE, ChainCodeConfig, chain_code_from_moves
-from taxelkit.memory.recall import RecallResult, recall_with_operator
+from taxelkit.memory.recall import TIE_TOLERANCE, RecallResult, recall_with_operator
 from taxelkit.memory.recall_rules import FAITHFUL_RULE, RecallOperator, get_recall_rule
 from taxelkit.neuron.quantisers import ternary
 
@@ -119,13 +119,17 @@ class AssociativeMemory:
         """Number of stored patterns ``K``."""
         return len(self.names)
 
-    def recall(self, queries: ArrayLike) -> RecallResult:
+    def recall(self, queries: ArrayLike, *, tie_tolerance: float = TIE_TOLERANCE) -> RecallResult:
         """Recognise queries over all ``m`` rotations (Eq. 12, 14).
 
         Parameters
         ----------
         queries : (Q, N) or (N,) int
             Chain codes with values in {-1, 0, +1} (0 = unknown).
+        tie_tolerance : float
+            Patterns whose ``c`` is within this of the best are tied and the
+            query is undecided between them
+            (:data:`~taxelkit.memory.recall.TIE_TOLERANCE`).
 
         Returns
         -------
@@ -138,7 +142,12 @@ class AssociativeMemory:
             If the queries have the wrong shape or values.
         """
         return recall_with_operator(
-            self.operator, self.patterns, queries, names=self.names, config=self.config
+            self.operator,
+            self.patterns,
+            queries,
+            names=self.names,
+            config=self.config,
+            tie_tolerance=tie_tolerance,
         )
 
     def with_pattern(self, name: str, pattern_or_moves: ArrayLike) -> AssociativeMemory:

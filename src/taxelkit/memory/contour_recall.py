@@ -34,12 +34,14 @@ from taxelkit.memory.associatron import AssociativeMemory, memorise
 from taxelkit.memory.chain_code import DEFAULT_CHAIN_CODE, ChainCodeConfig, chain_code_from_moves
 from taxelkit.memory.direction_histogram import histogram_from_moves, relative_frequency
 from taxelkit.memory.partial_code import partial_chain_code_from_moves
+from taxelkit.memory.recall import verdict_text
 
 __all__ = [
     "DEFAULT_S_GRID",
     "RecallCurve",
     "memorise_contours",
     "moves_turned",
+    "prefix_codes",
     "recall_curve",
 ]
 
@@ -59,14 +61,31 @@ class RecallCurve:
         Stored contours, memory order.
     correlations : (S, K) float
         ``c`` of Eq. 14, best over the m rotations, for each stored contour.
-    recognised : tuple of str
-        The top-ranked contour at each ``s``.
+    recognised : tuple of (str or None)
+        The single top-ranked contour at each ``s``; None where two or more
+        are tied (:data:`~taxelkit.memory.recall.TIE_TOLERANCE`).
+    margin : (S,) float
+        Best ``c`` minus the second best at each ``s`` (0 on a tie).
+    tied : tuple of tuple of str
+        The names tied at the top at each ``s`` (one name when decided).
     """
 
     s: NDArray[np.float64]
     names: tuple[str, ...]
     correlations: NDArray[np.float64]
-    recognised: tuple[str, ...]
+    recognised: tuple[str | None, ...]
+    margin: NDArray[np.float64]
+    tied: tuple[tuple[str, ...], ...]
+
+    @property
+    def verdicts(self) -> tuple[str, ...]:
+        """The recognised name or ``"undecided between A and B"`` at each ``s``."""
+        return tuple(verdict_text(t) for t in self.tied)
+
+    @property
+    def n_ties(self) -> int:
+        """Number of ``s`` at which the top is a tie."""
+        return sum(r is None for r in self.recognised)
 
     def recognised_from_s(self, name: str) -> float | None:
         """Smallest ``s`` from which ``name`` stays top-ranked to the end; None if never."""
@@ -78,14 +97,23 @@ class RecallCurve:
         return float(self.s[first])
 
     def to_json(self) -> list[dict[str, Any]]:
-        """``[{"s": s, "correlations": {name: c}}, ...]``."""
+        """``[{"s", "correlations": {name: c}, "margin", "verdict"}, ...]``."""
         return [
             {
                 "s": float(s),
                 "correlations": {n: float(c) for n, c in zip(self.names, row, strict=True)},
+                "margin": _finite_or_none(round(float(margin), 6)),
+                "verdict": verdict,
             }
-            for s, row in zip(self.s, self.correlations, strict=True)
+            for s, row, margin, verdict in zip(
+                self.s, self.correlations, self.margin, self.verdicts, strict=True
+            )
         ]
+
+
+def _finite_or_none(value: float) -> float | None:
+    """JSON has no infinity: the margin with one stored contour becomes None."""
+    return value if np.isfinite(value) else None
 
 
 def moves_turned(moves_mm: NDArray[np.float64], angle_rad: float) -> NDArray[np.float64]:
@@ -145,6 +173,60 @@ def memorise_contours(
     return memorise(list(names), np.stack(codes), config=config, rule=rule)
 
 
+def prefix_codes(
+    moves_mm: ArrayLike,
+    memory: AssociativeMemory,
+    *,
+    s: ArrayLike = DEFAULT_S_GRID,
+    unknown_for_partial: bool | None = None,
+    phases: int = 1,
+) -> NDArray[np.int8]:
+    """Chain codes of the growing parts of a trace, one per ``s``.
+
+    The part up to ``s`` is chosen after the fact (``s`` is known only once
+    the trace has ended); each code is computed from the moves of that part
+    alone, except that ``unknown_for_partial`` uses ``s`` as the coverage of
+    the partial code (it then assumes the total length known).
+
+    Parameters
+    ----------
+    moves_mm, memory, s, unknown_for_partial, phases
+        As :func:`recall_curve`.
+
+    Returns
+    -------
+    (S, N) int8
+        Values in {-1, 0, +1}.
+    """
+    moves = np.asarray(moves_mm, dtype=np.float64)
+    if moves.ndim != 2 or moves.shape[1] != 2 or moves.shape[0] == 0:
+        raise InputError(f"moves_mm must have shape (K, 2) with K >= 1, got {moves.shape}")
+    grid = np.asarray(s, dtype=np.float64).ravel()
+    if grid.size == 0 or np.any(grid <= 0) or np.any(grid > 1):
+        raise InputError("s must hold values in (0, 1]")
+    unknown = memory.rule != "hebbian" if unknown_for_partial is None else unknown_for_partial
+    length = np.concatenate([[0.0], np.cumsum(np.hypot(moves[:, 0], moves[:, 1]))])
+    total = length[-1]
+    angles = _phase_angles(memory.config, phases)
+    codes = []
+    for frac in grid:  # one code per s; recall is batched over all of them
+        k = max(1, int(np.searchsorted(length, frac * total - 1e-9, side="left")))
+        best, best_score = 0.0, -1.0
+        for angle in angles:  # the most concentrated phase of the part traced so far
+            f = relative_frequency(
+                histogram_from_moves(moves_turned(moves[:k], float(angle)), m=memory.config.m)
+            )
+            score = float(np.sum(f**2))
+            if score > best_score + 1e-12:
+                best, best_score = float(angle), score
+        part = moves_turned(moves[:k], best)
+        if unknown and frac < 1.0:
+            codes.append(partial_chain_code_from_moves(part, coverage=frac, config=memory.config))
+        else:
+            codes.append(chain_code_from_moves(part, config=memory.config))
+    return np.stack(codes)
+
+
 def recall_curve(
     moves_mm: ArrayLike,
     memory: AssociativeMemory,
@@ -172,31 +254,11 @@ def recall_curve(
     -------
     RecallCurve
     """
-    moves = np.asarray(moves_mm, dtype=np.float64)
-    if moves.ndim != 2 or moves.shape[1] != 2 or moves.shape[0] == 0:
-        raise InputError(f"moves_mm must have shape (K, 2) with K >= 1, got {moves.shape}")
     grid = np.asarray(s, dtype=np.float64).ravel()
-    if grid.size == 0 or np.any(grid <= 0) or np.any(grid > 1):
-        raise InputError("s must hold values in (0, 1]")
-    unknown = memory.rule != "hebbian" if unknown_for_partial is None else unknown_for_partial
-    length = np.concatenate([[0.0], np.cumsum(np.hypot(moves[:, 0], moves[:, 1]))])
-    total = length[-1]
-    angles = _phase_angles(memory.config, phases)
-    codes = []
-    for frac in grid:  # one code per s; recall below is batched over all of them
-        k = max(1, int(np.searchsorted(length, frac * total - 1e-9, side="left")))
-        best, best_score = 0.0, -1.0
-        for angle in angles:  # the most concentrated phase of the part traced so far
-            f = relative_frequency(
-                histogram_from_moves(moves_turned(moves[:k], float(angle)), m=memory.config.m)
-            )
-            score = float(np.sum(f**2))
-            if score > best_score + 1e-12:
-                best, best_score = float(angle), score
-        part = moves_turned(moves[:k], best)
-        if unknown and frac < 1.0:
-            codes.append(partial_chain_code_from_moves(part, coverage=frac, config=memory.config))
-        else:
-            codes.append(chain_code_from_moves(part, config=memory.config))
-    result = memory.recall(np.stack(codes))
-    return RecallCurve(grid, memory.names, result.correlations, tuple(result.recognised))
+    codes = prefix_codes(
+        moves_mm, memory, s=grid, unknown_for_partial=unknown_for_partial, phases=phases
+    )
+    result = memory.recall(codes)
+    return RecallCurve(
+        grid, memory.names, result.correlations, result.recognised, result.margin, result.tied
+    )

@@ -15,13 +15,21 @@ All shifts of all queries go through the rule in one batched matrix product
 no Python loop over shifts or queries.
 
 Ties (not covered by the paper) are common: when recalls converge to clean
-stored patterns, several shifts or patterns reach the same ``c``, often 1.
-They are broken by the *evidence* ``a = (1/N) sum_i x_i y_i`` - the agreement
-between the stored pattern and the shifted query itself, where unknown
-elements count 0 - and then by the lowest shift index and the lowest pattern
-index. The primary score stays Eq. 14; :attr:`RecallResult.margin` is the gap
-in ``c`` between the winner and the best other pattern, 0 when the win came
-from a tie-break.
+stored patterns, several patterns reach the same ``c``, often 1 (the
+Hebbian memory recalls *some* stored pattern from almost every shift of any
+query). The verdict is therefore a specification, not an order. Patterns are
+ranked by ``c`` and, among those within :data:`TIE_TOLERANCE` of the best
+``c``, by the *evidence* ``a = (1/N) sum_i x_i y_i`` - the agreement between
+the stored pattern and the shifted query itself, where unknown elements
+count 0 (a second score computed from the data, not an order). The patterns
+within the tolerance of the best in both are *tied*: one of them alone is the
+recognised shape, two or more give "undecided between A and B"
+(:attr:`RecallResult.recognised` is None). No list order or index ever
+decides, so shuffling the stored patterns changes no verdict. Within one
+pattern, shifts with equal ``c`` and evidence are ranked by the lowest shift;
+that only picks the reported shift and ``Z``, never the shape.
+:attr:`RecallResult.margin` is the gap in ``c`` between the best and the
+second-best pattern: 0 on a tie, and 0 when the evidence decided.
 """
 
 from __future__ import annotations
@@ -38,11 +46,24 @@ from taxelkit.memory.chain_code import DEFAULT_CHAIN_CODE, ChainCodeConfig
 from taxelkit.memory.code_rotation import cyclic_shift_index
 from taxelkit.memory.recall_rules import RecallOperator
 
-__all__ = ["RECALL_CHUNK_QUERIES", "RecallResult", "correlation", "recall_with_operator"]
+__all__ = [
+    "RECALL_CHUNK_QUERIES",
+    "TIE_TOLERANCE",
+    "RecallResult",
+    "correlation",
+    "recall_with_operator",
+    "verdict_text",
+]
 
 #: Queries recalled per batched matrix product (bounds the ``(chunk, m, N)``
 #: float64 temporaries to a few MB for the paper's N = 48).
 RECALL_CHUNK_QUERIES = 2048
+
+#: Two patterns whose correlations ``c`` (Eq. 14, dimensionless) differ by at
+#: most this are tied. ``c`` is a multiple of ``1 / N``, so any smaller
+#: difference is an exact tie; the tolerance only absorbs floating-point
+#: rounding. Pass a larger ``tie_tolerance`` to call near-ties undecided.
+TIE_TOLERANCE = 1e-9
 
 
 def correlation(stored: ArrayLike, recalled: ArrayLike) -> NDArray[np.float64]:
@@ -105,27 +126,69 @@ class RecallResult:
         pattern ``k``'s contour turned by about ``-s * 360 / m`` deg.
     evidence : (Q, K) float64
         Agreement ``(1/N) sum_i x_i y_i`` between pattern ``k`` and the query
-        at ``best_shift`` (unknown elements count 0); the tie-breaker.
-    recognised : tuple of str
-        Name of the winning pattern per query.
+        at ``best_shift`` (unknown elements count 0); ranks the shifts of one
+        pattern that have equal ``c``.
+    recognised : tuple of (str or None)
+        Name of the single best pattern per query; None when two or more are
+        tied (within ``tie_tolerance``): undecided.
     recognised_index : (Q,) int64
-        Its index in ``names``.
+        Its index in ``names``; -1 when undecided.
     margin : (Q,) float64
-        Winner's ``c`` minus the best other pattern's ``c`` (>= 0; 0 when the
-        winner was chosen by a tie-break; ``inf`` with a single stored pattern).
+        Best ``c`` minus the second-best pattern's ``c`` (>= 0; 0 on an exact
+        tie; ``inf`` with a single stored pattern).
     recalled : (Q, N) int8
-        ``Z`` of the winning pattern's best shift, in {-1, 0, +1}; it is
-        expressed in the stored (shifted-query) orientation.
+        ``Z`` at the best shift of the recognised pattern (with a tie, of the
+        first tied pattern in ``names``), in {-1, 0, +1}, in the stored (shifted-query) orientation.
+    tied : tuple of tuple of str
+        Per query, the names within ``tie_tolerance`` of the best in both
+        ``c`` and evidence, sorted by name (one name when decided).
     """
 
     names: tuple[str, ...]
     correlations: NDArray[np.float64]
     best_shift: NDArray[np.int64]
     evidence: NDArray[np.float64]
-    recognised: tuple[str, ...]
+    recognised: tuple[str | None, ...]
     recognised_index: NDArray[np.int64]
     margin: NDArray[np.float64]
     recalled: NDArray[np.int8]
+    tied: tuple[tuple[str, ...], ...]
+
+    @property
+    def decided(self) -> NDArray[np.bool_]:
+        """``(Q,)`` True where one pattern alone is best."""
+        out: NDArray[np.bool_] = self.recognised_index >= 0
+        return out
+
+    @property
+    def verdicts(self) -> tuple[str, ...]:
+        """Per query, the recognised name or ``"undecided between A and B"``."""
+        return tuple(verdict_text(names) for names in self.tied)
+
+
+def verdict_text(tied: Sequence[str]) -> str:
+    """The verdict for the names tied at the top: the name, or "undecided between ...".
+
+    Parameters
+    ----------
+    tied : sequence of str
+        Names within the tie tolerance of the best score (at least one).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> verdict_text(["star"])
+    'star'
+    >>> verdict_text(["circle", "hexagon", "star"])
+    'undecided between circle, hexagon and star'
+    """
+    names = list(tied)
+    if len(names) == 1:
+        return names[0]
+    return f"undecided between {', '.join(names[:-1])} and {names[-1]}"
 
 
 def _as_queries(queries: ArrayLike, n: int) -> NDArray[np.int8]:
@@ -162,6 +225,7 @@ def recall_with_operator(
     *,
     names: Sequence[str],
     config: ChainCodeConfig = DEFAULT_CHAIN_CODE,
+    tie_tolerance: float = TIE_TOLERANCE,
 ) -> RecallResult:
     """Recall queries at all ``m`` cyclic shifts and score them against the patterns.
 
@@ -185,6 +249,9 @@ def recall_with_operator(
         ``K`` pattern names.
     config : ChainCodeConfig
         Gives ``m`` and ``l`` for the shifts.
+    tie_tolerance : float
+        Correlations (and then evidence) within this of the best are tied
+        (>= 0, dimensionless).
 
     Returns
     -------
@@ -193,12 +260,16 @@ def recall_with_operator(
     Raises
     ------
     InputError
-        If the queries have the wrong shape or values.
+        If the queries have the wrong shape or values, or ``tie_tolerance`` is
+        negative or not finite.
 
     References
     ----------
     Paper 000, Eq. 12 (recall), Eq. 14 (correlation), Section V.2 (shifts).
     """
+    tol = float(tie_tolerance)
+    if not (np.isfinite(tol) and tol >= 0.0):
+        raise InputError(f"tie_tolerance must be a finite number >= 0, got {tie_tolerance!r}")
     x = np.asarray(patterns, dtype=np.float64)
     k, n = x.shape
     y = _as_queries(queries, n)
@@ -212,42 +283,84 @@ def recall_with_operator(
     evid_n = np.empty((q, k), dtype=np.int64)
     best_shift = np.empty((q, k), dtype=np.int64)
     recalled = np.empty((q, n), dtype=np.int8)
-    winner = np.empty(q, dtype=np.int64)
+    shown = np.empty(q, dtype=np.int64)
     for start in range(0, q, RECALL_CHUNK_QUERIES):
         stop = min(start + RECALL_CHUNK_QUERIES, q)
         chunk = y[start:stop].astype(np.float64)  # (c, N)
-        shifted = np.take(chunk, table, axis=1)  # (c, m, N): all shifts, one gather
-        z = _phi(operator.fields(shifted), operator.epsilon)  # (c, m, N) int8
-        # Integer numerators of Eq. 14 and of the evidence, exact in float64.
-        cn = np.rint(z.reshape(-1, n).astype(np.float64) @ x.T).astype(np.int64)
-        cn = cn.reshape(stop - start, m, k)  # (c, m, K)
-        an = np.rint(chunk @ x_unshift.T).astype(np.int64).reshape(stop - start, m, k)
-        # Lexicographic key: correlation first, evidence second (both in [-N, N]).
-        key = (cn + n) * (2 * n + 1) + (an + n)
-        shift = np.argmax(key, axis=1)  # (c, K): lowest shift on a full tie
-        best_key = np.take_along_axis(key, shift[:, np.newaxis, :], axis=1)[:, 0, :]
-        win = np.argmax(best_key, axis=1)  # (c,): lowest index on a full tie
-        rows = np.arange(stop - start)
-        corr_n[start:stop] = np.take_along_axis(cn, shift[:, np.newaxis, :], axis=1)[:, 0, :]
-        evid_n[start:stop] = np.take_along_axis(an, shift[:, np.newaxis, :], axis=1)[:, 0, :]
-        best_shift[start:stop] = shift
-        winner[start:stop] = win
-        recalled[start:stop] = z[rows, shift[rows, win], :]
+        (
+            corr_n[start:stop],
+            evid_n[start:stop],
+            best_shift[start:stop],
+            shown[start:stop],
+            recalled[start:stop],
+        ) = _recall_chunk(operator, chunk, x, x_unshift, table)
     correlations = corr_n / n
-    if k > 1:
-        others = correlations.copy()
-        others[np.arange(q), winner] = -np.inf
-        margin = correlations[np.arange(q), winner] - others.max(axis=1)
-    else:
-        margin = np.full(q, np.inf)
     name_tuple = tuple(names)
+    evidence = evid_n / n
+    top = correlations.max(axis=1, initial=-np.inf)[:, np.newaxis]  # (Q, 1)
+    near_top = correlations >= top - tol  # (Q, K)
+    top_a = np.where(near_top, evidence, -np.inf).max(axis=1, initial=-np.inf)[:, np.newaxis]
+    is_tied = near_top & (evidence >= top_a - tol)  # (Q, K)
+    winner = np.argmax(is_tied, axis=1)  # the only True where decided
+    tied = tuple(tuple(sorted(name_tuple[j] for j in np.flatnonzero(row))) for row in is_tied)
+    decided = is_tied.sum(axis=1) == 1
+    index = np.where(decided, winner, -1).astype(np.int64)
     return RecallResult(
         names=name_tuple,
         correlations=correlations,
         best_shift=best_shift,
-        evidence=evid_n / n,
-        recognised=tuple(name_tuple[i] for i in winner),
-        recognised_index=winner,
-        margin=margin,
+        evidence=evidence,
+        recognised=tuple(name_tuple[i] if i >= 0 else None for i in index),
+        recognised_index=index,
+        margin=_top_margin(correlations),
         recalled=recalled,
+        tied=tied,
     )
+
+
+def _recall_chunk(
+    operator: RecallOperator,
+    chunk: NDArray[np.float64],
+    x: NDArray[np.float64],
+    x_unshift: NDArray[np.float64],
+    table: NDArray[np.intp],
+) -> tuple[
+    NDArray[np.int64], NDArray[np.int64], NDArray[np.intp], NDArray[np.intp], NDArray[np.int8]
+]:
+    """Recall of a chunk of queries ``(c, N)`` against patterns ``x`` ``(K, N)``.
+
+    Returns the correlation and evidence numerators ``(c, K)`` at each
+    pattern's best shift, that shift ``(c, K)``, the first pattern with the
+    best (correlation, evidence) ``(c,)`` and the recalled pattern at its
+    shift ``(c, N)``.
+    """
+    c, n = chunk.shape
+    m, k = table.shape[0], x.shape[0]
+    shifted = np.take(chunk, table, axis=1)  # (c, m, N): all shifts, one gather
+    z = _phi(operator.fields(shifted), operator.epsilon)  # (c, m, N) int8
+    # Integer numerators of Eq. 14 and of the evidence, exact in float64.
+    cn = np.rint(z.reshape(-1, n).astype(np.float64) @ x.T).astype(np.int64)
+    cn = cn.reshape(c, m, k)  # (c, m, K)
+    an = np.rint(chunk @ x_unshift.T).astype(np.int64).reshape(c, m, k)
+    # Lexicographic key: correlation first, evidence second (both in [-N, N]).
+    key = (cn + n) * (2 * n + 1) + (an + n)
+    shift = np.argmax(key, axis=1)  # (c, K): lowest shift on a full tie
+    best_key = np.take_along_axis(key, shift[:, np.newaxis, :], axis=1)[:, 0, :]
+    win = np.argmax(best_key, axis=1)  # (c,): a top pattern, for the displayed Z only
+    rows = np.arange(c)
+    corr = np.take_along_axis(cn, shift[:, np.newaxis, :], axis=1)[:, 0, :]
+    evid = np.take_along_axis(an, shift[:, np.newaxis, :], axis=1)[:, 0, :]
+    return corr, evid, shift, win, z[rows, shift[rows, win], :]
+
+
+def _top_margin(correlations: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Best correlation minus the second best, ``(Q,)``; ``inf`` with one pattern.
+
+    Depends only on the values, not on the order of the patterns.
+    """
+    q, k = correlations.shape
+    if k == 1:
+        return np.full(q, np.inf)
+    two = np.sort(correlations, axis=1)[:, -2:]
+    margin: NDArray[np.float64] = two[:, 1] - two[:, 0]
+    return margin

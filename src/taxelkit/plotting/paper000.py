@@ -132,7 +132,7 @@ def plot_trace_recall(trace: Trace, curve: RecallCurve, *, rule: str) -> Figure:
     b.set_xlabel("normalised arc length s")
     b.set_ylabel("correlation c")
     b.set_ylim(-1.05, 1.05)
-    b.set_title(f"recognised: {curve.recognised[-1]} ({rule})")
+    b.set_title(f"recognised: {curve.verdicts[-1]} ({rule})")
     b.legend(fontsize=8)
     fig.tight_layout()
     return fig

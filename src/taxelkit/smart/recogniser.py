@@ -41,6 +41,7 @@ from taxelkit.smart.tactemes import (
     segment_tactemes,
     transition_tactemes,
 )
+from taxelkit.smart.track_geometry import line_extents
 
 __all__ = ["DEFAULT_CLEANING", "DEFAULT_LIMITS", "Recognition", "SmartSensor", "recognise"]
 
@@ -301,6 +302,14 @@ def recognise(
             classes, stats.n_taxels, 2.0 * half, stats.elongation, limits, area_mm2=stats.area_mm2
         ).astype(np.int8)
 
+    extent = np.full((classes.size, 2), np.nan)
+    lines = np.flatnonzero(classes == ContactClass.LINE)
+    if lines.size:
+        stack = images.reshape(-1, *images.shape[-2:])
+        extent[lines] = line_extents(
+            stack[lines], stats.centre_mm[lines], stats.orientation_deg[lines], pitch
+        )
+
     def track_of(idx: NDArray[np.intp]) -> SegmentTrack:
         return SegmentTrack(
             idx,
@@ -310,6 +319,7 @@ def recognise(
             stats.elongation[idx],
             half[idx],
             t_s[idx],
+            extent[idx],
         )
 
     k, k_none = debounce_counts(cfg, float(t_s[1] - t_s[0]) if t_s.size > 1 else None)
@@ -410,6 +420,8 @@ class SmartSensor:
             zip(network.w_output.T.tolist(), network.b_output.tolist(), strict=True)
         )
         self._basis_t = np.ascontiguousarray(self._basis.T)
+        self._u_mm = self._basis[:, 1] * self.pitch_mm  # taxel centres, mm
+        self._v_mm = self._basis[:, 2] * self.pitch_mm
         self.reset()
 
     def reset(self) -> None:
@@ -422,7 +434,7 @@ class SmartSensor:
         self._cand_rows: list[tuple[float, ...]] = []  # statistics of the candidate frames
         # the open segment's frames and statistics, in growing buffers (amortised O(1))
         self._seg_idx = np.empty(64, dtype=np.intp)
-        self._seg_rows = np.empty((64, 7))
+        self._seg_rows = np.empty((64, 9))
         self._seg_n = 0
         self._state = _Levels34(self.config)
         self._limit_state = LimitState()
@@ -468,7 +480,14 @@ class SmartSensor:
         half = math.sqrt(3.0 * lam_max * p * p)
         if self.limits is not None:
             cls = limit_one(cls, int(n), 2.0 * half, elong, area, self.limits, self._limit_state)
-        return cls, (su / n * p, sv / n * p, theta, area, elong, half)
+        cx, cy = su / n * p, sv / n * p
+        lo = hi = math.nan
+        if cls == ContactClass.LINE:  # the drawn ends along the axis (the pivot's yardstick)
+            t = math.radians(theta)
+            on = b.ravel()
+            proj = (self._u_mm[on] - cx) * math.cos(t) + (self._v_mm[on] - cy) * math.sin(t)
+            lo, hi = float(proj.min()) - 0.5 * p, float(proj.max()) + 0.5 * p
+        return cls, (cx, cy, theta, area, elong, half, lo, hi)
 
     # -- Level 3 and 4 -------------------------------------------------------------------
     def push(self, frame: ArrayLike, t_s: float | None = None) -> list[Event]:
@@ -539,8 +558,9 @@ class SmartSensor:
         n = self._seg_n
         r = self._seg_rows[:n]
         return SegmentTrack(
-            self._seg_idx[:n].copy(), r[:, 0:2], r[:, 2], r[:, 3], r[:, 4], r[:, 5], r[:, 6]
-        )
+            self._seg_idx[:n].copy(), r[:, 0:2], r[:, 2], r[:, 3], r[:, 4], r[:, 5], r[:, 8],
+            r[:, 6:8],
+        )  # fmt: skip
 
     def result(self) -> Recognition:
         """Everything so far as a :class:`Recognition` (pending detections included)."""

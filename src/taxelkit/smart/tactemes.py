@@ -65,6 +65,7 @@ from taxelkit.smart.track_geometry import (
     axis_angle_deg,
     axis_difference_deg,
     axis_vectors,
+    carried_shift,
     corner_turn,
     first,
     orthogonal_turn,
@@ -127,14 +128,18 @@ class TactemeConfig:
         Pivot within this many half-lengths of the line's centre: the line
         spins about its middle (sliding). A cone's pivot measured 0.72-1.16.
     pivot_end_ratio : float
-        Pivot within this many half-lengths of the line's centre: about one end
-        (a cone: ideally 1; a truncated cone with top/bottom radius ratio q:
-        1 + 2q / (1 - q), at least 2.08 for q >= 0.35). 1.44 is the geometric
-        mean of 1 and 2.08, set from the geometry rather than calibrated on
-        one engine. Measured over whole rolls (median of the running
-        estimate): kinematic cones 0.77-1.0, truncated cones 1.56-3.8;
-        MuJoCo cones 0.77-1.32 (the pressed line stops short of the apex),
-        truncated cones 1.85-4.4.
+        Pivot within this many half-lengths of the line's middle: about one
+        end. Each line is its drawn segment, from end to end along its axis
+        (:func:`~taxelkit.smart.track_geometry.line_extents`), not its second
+        moment, which shortens a tapering line and shifts its centre to the
+        wide end. A cone: ideally 1; a truncated cone with top/bottom radius
+        ratio ``q``: ``1 + 2q / (1 - q)``, at least 1.74 for the narrowest
+        frustum the table tells from a cone, ``q = 0.27``. 1.32 is the
+        geometric mean of 1 and 1.74, set from the geometry rather than
+        calibrated on one engine. Measured (median of the running estimate,
+        clean sensor): kinematic cones 0.63-1.03, truncated cones 1.46-4.1;
+        MuJoCo cones 0.65-1.3 (its pressed line stops short of the apex),
+        truncated cones 1.03-4.1 (the lowest with every imperfection at once).
     orthogonal_min_deg, orthogonal_max_deg : float
         Window of the angle between a point's two runs for an orthogonal turn, deg.
     area_tolerance : float
@@ -172,7 +177,8 @@ class TactemeConfig:
         last ``max(k frames, smooth_s)`` before they are compared, s: three
         frames at 20 Hz, as the debounce; 36 at 240 Hz.
     pivot_band : float
-        Factor of doubt around ``pivot_end_ratio``: "about one end" needs a
+        Factor of doubt around ``pivot_end_ratio`` (1.15: about the spread
+        of the estimate over a roll): "about one end" needs a
         ratio below ``pivot_end_ratio / pivot_band``, "in an arc" above
         ``pivot_end_ratio x pivot_band``; between the two the line is watched
         as it turns on (the estimate improves with the turn) and stays
@@ -196,7 +202,7 @@ class TactemeConfig:
     parallel_tol_deg: float = 4.0
     turn_deg: float = 12.0
     pivot_min_ratio: float = 0.4
-    pivot_end_ratio: float = 1.44
+    pivot_end_ratio: float = 1.32
     orthogonal_min_deg: float = 60.0
     orthogonal_max_deg: float = 120.0
     area_tolerance: float = 0.25
@@ -209,7 +215,7 @@ class TactemeConfig:
     transition_gap_s: float = 0.3
     turn_leg_mm: float = 3.0
     pivot_turn_deg: float = 20.0
-    pivot_band: float = 1.12
+    pivot_band: float = 1.15
     pivot_hold_s: float = 0.5
     smooth_s: float = 0.15
 
@@ -339,6 +345,11 @@ class SegmentTrack:
         contact's largest second moment.
     t_s : (n,) float, s
         Timestamps of the frames.
+    extent_mm : (n, 2) float or None
+        Where each line begins and ends along its axis, mm from its centre
+        (:func:`~taxelkit.smart.track_geometry.line_extents`; NaN where not
+        measured). None: the line is taken as centred on its centre, with
+        half-length ``half_length_mm``.
     """
 
     frames: NDArray[np.intp]
@@ -348,6 +359,7 @@ class SegmentTrack:
     elongation: NDArray[np.float64]
     half_length_mm: NDArray[np.float64]
     t_s: NDArray[np.float64]
+    extent_mm: NDArray[np.float64] | None = None
 
     def frame_interval_s(self, k: int) -> float:
         """Frame interval from the segment's first ``k`` frames (fixed once accepted), s."""
@@ -369,11 +381,23 @@ class SegmentTrack:
 
 
 def _pivot_ratios(track: SegmentTrack, start: int, stop: int) -> NDArray[np.float64]:
-    """:func:`~taxelkit.smart.track_geometry.pivot_ratios` of the lines ``start..stop - 1``."""
-    return pivot_ratios(
-        track.orientation_deg[start:stop], track.centre_mm[start:stop],
-        track.half_length_mm[start:stop],
-    )  # fmt: skip
+    """:func:`~taxelkit.smart.track_geometry.pivot_ratios` of the lines ``start..stop - 1``.
+
+    With the lines' extents, each line is its drawn segment (its middle and
+    half its length); without, its centre and moment half-length.
+    """
+    theta = track.orientation_deg[start:stop]
+    centre = track.centre_mm[start:stop]
+    half = track.half_length_mm[start:stop]
+    if track.extent_mm is not None:
+        ext = track.extent_mm[start:stop]
+        measured: NDArray[np.bool_] = np.isfinite(ext[:, 0]) & np.isfinite(ext[:, 1])
+        t = np.deg2rad(theta)
+        offset = 0.5 * (ext[:, 0] + ext[:, 1])
+        middle = centre + offset[:, None] * np.stack([np.cos(t), np.sin(t)], axis=-1)
+        centre = np.where(measured[:, None], middle, centre)
+        half = np.where(measured, 0.5 * (ext[:, 1] - ext[:, 0]), half)
+    return pivot_ratios(theta, centre, half)
 
 
 def _orthogonal_turn(centre: NDArray[np.float64], start: int, config: TactemeConfig) -> int | None:
@@ -464,7 +488,12 @@ def segment_tactemes(
         # re-anchor its centre: its turn counts from the segment's first reference
         start_ref = min(w - 1, n - 1)
         turned_all = np.where(np.arange(n) >= start_ref, turn(angle, np.full(n, start_ref)), 0.0)
-        parallel = (across >= config.parallel_move_mm) & (turned_all <= config.parallel_tol_deg)
+        # rolled across, summed over re-anchors (a rolling line's area swings as it
+        # crosses the rows), on the normal of the segment's first reference
+        t0 = np.deg2rad(angle[start_ref])
+        rolled = carried_shift(centre, anchor, ref)
+        across_all = np.abs(-rolled[:, 0] * np.sin(t0) + rolled[:, 1] * np.cos(t0))
+        parallel = (across_all >= config.parallel_move_mm) & (turned_all <= config.parallel_tol_deg)
         j_par = first(sustained(parallel, hold), 0)
         j_turn = first(sustained(turned_all > config.turn_deg, hold), 0)
         if j_par is not None and (j_turn is None or j_par < j_turn):

@@ -18,8 +18,10 @@ __all__ = [
     "axis_angle_deg",
     "axis_difference_deg",
     "axis_vectors",
+    "carried_shift",
     "corner_turn",
     "first",
+    "line_extents",
     "orthogonal_turn",
     "pivot_ratios",
     "rolling_mean",
@@ -81,6 +83,40 @@ def anchors(
     return out
 
 
+def carried_shift(
+    centre: NDArray[np.float64], anchor: NDArray[np.intp], ref: NDArray[np.intp]
+) -> NDArray[np.float64]:
+    """Displacement of the centre since the segment began, summed across re-anchors.
+
+    Each anchor's stretch contributes the shift from its reference to its
+    last frame (or to the current frame, for the stretch under way); the
+    frames between an anchor and its reference (a change of width or area,
+    not motion) contribute nothing. A line rolling on while its area
+    re-anchors the references thus keeps the distance it has already rolled.
+
+    Parameters
+    ----------
+    centre : (n, 2) float, mm
+        Smoothed centres.
+    anchor, ref : (n,) int
+        Each frame's anchor (:func:`anchors`) and reference frame.
+
+    Returns
+    -------
+    (n, 2) float, mm
+    """
+    n = anchor.size
+    starts = np.flatnonzero(np.diff(anchor, prepend=-1))  # first frame of each stretch
+    ends = np.append(starts[1:] - 1, n - 1)
+    refs = ref[starts]
+    done = np.where((ends >= refs)[:, None], centre[ends] - centre[refs], 0.0)
+    before = np.cumsum(done, axis=0) - done  # what the earlier stretches rolled
+    stretch = np.cumsum(np.diff(anchor, prepend=-1) != 0) - 1
+    current = np.where((np.arange(n) >= ref)[:, None], centre - centre[ref], 0.0)
+    out: NDArray[np.float64] = before[stretch] + current
+    return out
+
+
 def first(mask: NDArray[np.bool_], start: int) -> int | None:
     hits = np.flatnonzero(mask[start:])
     return None if hits.size == 0 else int(hits[0]) + start
@@ -100,6 +136,45 @@ def turn(angle: NDArray[np.float64], ref: NDArray[np.intp]) -> NDArray[np.float6
     d = np.abs((angle - angle[ref] + 90.0) % 180.0 - 90.0)
     out: NDArray[np.float64] = d
     return out
+
+
+def line_extents(
+    images: NDArray[np.bool_],
+    centre_mm: NDArray[np.float64],
+    orientation_deg: NDArray[np.float64],
+    pitch_mm: float,
+) -> NDArray[np.float64]:
+    """Where each contact begins and ends along its own axis, mm from its centre.
+
+    Parameters
+    ----------
+    images : (n, rows, cols) bool
+        Contact images (non-empty).
+    centre_mm, orientation_deg : (n, 2) and (n,) float
+        Their centres (centred index coordinates times the pitch, as
+        :func:`~taxelkit.smart.moments.image_stats`) and axes.
+    pitch_mm : float
+
+    Returns
+    -------
+    (n, 2) float, mm
+        The lowest and highest projection of a contact taxel's centre on the
+        axis, relative to the centre, widened by half a pitch: the ends of the
+        line as drawn, whatever its width profile. (The second moment gives a
+        tapering line, such as a cone's whose width falls to nothing at the
+        apex, a shorter length and a centre shifted to its wide end.)
+    """
+    _, rows, cols = images.shape
+    u = (np.arange(cols) - 0.5 * (cols - 1)) * pitch_mm
+    v = (np.arange(rows) - 0.5 * (rows - 1)) * pitch_mm
+    t = np.deg2rad(orientation_deg)
+    cos, sin = np.cos(t)[:, None, None], np.sin(t)[:, None, None]
+    proj = (u[None, None, :] - centre_mm[:, 0, None, None]) * cos + (
+        v[None, :, None] - centre_mm[:, 1, None, None]
+    ) * sin
+    lo = np.where(images, proj, np.inf).min(axis=(1, 2)) - 0.5 * pitch_mm
+    hi = np.where(images, proj, -np.inf).max(axis=(1, 2)) + 0.5 * pitch_mm
+    return np.stack([lo, hi], axis=-1)
 
 
 def pivot_ratios(

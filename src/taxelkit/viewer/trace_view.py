@@ -122,7 +122,7 @@ def view_trace(
     _log_curve(rr, stream, trace, curve)
     stream.set_time("section", sequence=trace.n_sections)
     ending = "closed" if trace.closed else trace.stop_reason
-    verdict = curve.recognised[-1] if curve.recognised else "-"
+    verdict = curve.verdicts[-1] if curve.verdicts else "-"
     stream.log(
         TRACE_ENTITY_PATHS["verdict"],
         rr.TextLog(f"{trace.n_sections} sections ({ending}); recognised: {verdict}"),
@@ -139,7 +139,7 @@ def _log_curve(rr: Any, stream: Any, trace: Trace, curve: RecallCurve) -> None:
         stream.set_time("section", sequence=int(k))
         for name, c in zip(curve.names, curve.correlations[j], strict=True):
             stream.log(f"{TRACE_ENTITY_PATHS['correlation']}/{name}", rr.Scalars(float(c)))
-        if curve.recognised[j] != last:
-            last = curve.recognised[j]
+        if curve.verdicts[j] != last:
+            last = curve.verdicts[j]
             text = f"s = {float(curve.s[j]):.2f}: {last}"
             stream.log(TRACE_ENTITY_PATHS["recognised"], rr.TextLog(text))
