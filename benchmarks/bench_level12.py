@@ -8,9 +8,13 @@ processed by
   :func:`taxelkit.smart.classify_contacts`;
 * ``per-frame``: :func:`taxelkit.smart.frame_stats` called once per frame,
   the streaming path (a batch of one through the same kernel);
-* ``skimage``: ``skimage.measure.regionprops`` once per frame (area, centroid,
-  orientation, inertia eigenvalues), the usual library baseline, when
-  scikit-image is installed (measured on a subset and extrapolated).
+* ``skimage per frame``: ``skimage.measure.regionprops`` once per frame (area,
+  centroid, orientation, inertia eigenvalues), when scikit-image is installed
+  (measured on a subset and extrapolated);
+* ``skimage batch``: ``regionprops_table`` once for a batch of frames stacked
+  into one label image (one label per frame): the best scikit-image allows;
+* ``NumPy einsum batch``: the same moments as a NumPy user would write them
+  for the whole batch (``benchmarks/_baselines.py``).
 
 The per-frame results are checked to be identical to the batched ones.
 
@@ -32,6 +36,7 @@ from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
 
+from _baselines import numpy_moments, skimage_moments  # noqa: E402
 from taxelkit.sensors.presets import BONNEVILLE_16X16  # noqa: E402
 from taxelkit.smart import classify_contacts, frame_stats, image_stats  # noqa: E402
 
@@ -108,16 +113,26 @@ def main() -> None:
         ("batched both", t_stats + t_class),
         ("per-frame stats", t_loop),
     ]
+    t_numpy = best_of(lambda: numpy_moments(images), args.repeat)
+    rows.append(("NumPy einsum batch", t_numpy))
     if HAVE_SKIMAGE:
         t_sk = best_of(lambda: skimage_per_frame(subset), 1) * args.frames / len(subset)
         rows.append(("skimage per frame", t_sk))
+        t_skb = best_of(lambda: skimage_moments(images[: 4 * len(subset)]), 1)
+        rows.append(("skimage batch", t_skb * args.frames / min(args.frames, 4 * len(subset))))
 
     print(f"{args.frames} random 16 x 16 contact images, 1 thread (loops timed on {len(subset)})")
-    header = f"{'path':<20} {'time s':>9} {'frames/s':>12} {'vs per-frame':>13}"
+    header = (
+        f"{'path':<20} {'time s':>9} {'frames/s':>12} {'vs per-frame':>13} "
+        f"{'batched both vs it':>19}"
+    )
     print(header)
     print("-" * len(header))
+    both = t_stats + t_class
     for name, t in rows:
-        print(f"{name:<20} {t:>9.3f} {args.frames / t:>12.0f} {t_loop / t:>12.1f}x")
+        print(
+            f"{name:<20} {t:>9.3f} {args.frames / t:>12.0f} {t_loop / t:>12.1f}x {t / both:>18.1f}x"
+        )
     counts = np.bincount(classify_contacts(stats), minlength=5)
     print("classes (none, indeterminate, point, line, area):", counts.tolist())
 

@@ -115,14 +115,20 @@ def test_max_mb_option_and_environment_raise_the_cli_limit(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
     from taxelkit.cli import run
+    from taxelkit.frames import TactileFrames
+    from taxelkit.io.recordings import write_recording
 
-    path = tmp_path / "r.npz"
-    np.savez(path, frames=np.zeros((300, 32, 32)))  # 2.3 MiB
+    big = tmp_path / "r.npz"
+    np.savez(big, frames=np.zeros((300, 32, 32)))  # 2.3 MiB, read a chunk at a time
     monkeypatch.setenv(MAX_MB_ENV, "1")
+    assert run(["info", str(big)]) == 0
+    capsys.readouterr()
+    path = write_recording(TactileFrames(np.zeros((700, 32, 32), bool)), tmp_path / "r.csv")
+    assert path.stat().st_size > 2**20  # CSV files are read whole, under the limit
     assert run(["info", str(path)]) == 2
     assert "over the read limit of 1 MiB" in capsys.readouterr().err
-    assert run(["--max-mb", "3", "info", str(path)]) == 0
-    monkeypatch.setenv(MAX_MB_ENV, "3")
+    assert run(["--max-mb", "16", "info", str(path)]) == 0  # 11 MiB of parsed table
+    monkeypatch.setenv(MAX_MB_ENV, "16")
     assert run(["info", str(path)]) == 0
     capsys.readouterr()
     assert run(["--max-mb", "nan", "info", str(path)]) == 2

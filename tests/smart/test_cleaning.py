@@ -86,11 +86,11 @@ def test_everything_off_leaves_the_images_alone() -> None:
 @given(
     seed=st.integers(0, 2**32 - 1),
     rows=st.integers(3, 20),
-    cols=st.sampled_from([3, 8, 16, 17, 33, 64, 70]),
+    cols=st.sampled_from([3, 8, 16, 17, 33, 64, 70, 128, 130]),
     density=st.floats(0.0, 0.4),
 )
 @settings(max_examples=40, deadline=None)
-def test_streaming_equals_batch_and_packed_equals_bool(
+def test_streaming_equals_batch_and_one_word_equals_several(
     seed: int, rows: int, cols: int, density: float
 ) -> None:
     rng = np.random.default_rng(seed)
@@ -101,7 +101,7 @@ def test_streaming_equals_batch_and_packed_equals_bool(
     cleaner = ImageCleaner((rows, cols))
     stream = np.stack([cleaner.push(img, ts) for img, ts in zip(f, t, strict=True)])
     np.testing.assert_array_equal(stream, batch)
-    wide = cleaning_module._Bool(cols)  # the path of arrays over 64 columns, forced
+    wide = cleaning_module._Words(cols)  # the path of arrays over 64 columns, forced
     original = cleaning_module._backend
     try:
         cleaning_module._backend = lambda _cols: wide

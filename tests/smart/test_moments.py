@@ -394,3 +394,21 @@ def test_docstring_examples() -> None:
     result = doctest.testmod(moments_module, optionflags=doctest.ELLIPSIS)
     assert result.attempted >= 3
     assert result.failed == 0
+
+
+@pytest.mark.parametrize("shape", [(64, 64), (40, 128), (128, 128), (20, 255)])
+def test_large_arrays_sum_by_rows_exactly(shape: tuple[int, int]) -> None:
+    """Arrays from 64 x 64 up sum rows first; the sums are exact, as the one-product path's."""
+    from taxelkit.smart import moments
+
+    rng = np.random.default_rng(shape[1])
+    images = rng.random((30, *shape)) < 0.3
+    images[::4] = False
+    u = np.arange(shape[1]) - (shape[1] - 1) / 2.0
+    v = np.arange(shape[0]) - (shape[0] - 1) / 2.0
+    uu, vv = np.meshgrid(u, v)
+    f = images.reshape(30, -1).astype(np.float64)
+    expected = np.stack(
+        [f.sum(axis=1)] + [f @ w.ravel() for w in (uu, vv, uu * uu, vv * vv, uu * vv)]
+    )
+    np.testing.assert_array_equal(moments._index_sums(images), expected)

@@ -102,8 +102,11 @@ def test_recognize_a_cube_recorded_by_another_program_at_another_pitch(
 
     doc = json.loads(out)
     assert doc["identified"] == "cube"
-    assert {"identified", "candidates", "tactemes", "classes"} <= set(doc)
-    assert len(doc["classes"]) == rec.n_frames
+    assert {"identified", "candidates", "tactemes", "class_segments"} <= set(doc)
+    assert doc["n_frames"] == rec.n_frames
+    assert doc["class_segments"][-1]["last_frame"] == rec.n_frames - 1
+    code = run(["recognize", str(path), "--pitch-mm", "1.2", "--json", "--per-frame"])
+    assert len(json.loads(capsys.readouterr().out)["classes"]) == rec.n_frames
 
 
 def test_recognize_cli_on_a_simulated_roll(

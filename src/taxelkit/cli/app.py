@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import logging
+import math
 import sys
 import warnings
 from collections.abc import Callable, Sequence
@@ -59,6 +60,46 @@ def _summary(rec: TactileFrames, path: Path) -> dict[str, Any]:
     return out
 
 
+_CHUNKED_SUFFIXES = (".h5", ".hdf5", ".npz")
+
+
+def _chunked_summary(path: Path, pitch_mm: float | None) -> dict[str, Any]:
+    """:func:`_summary` of a recording read a chunk at a time (memory bounded by the chunk)."""
+    from taxelkit.io.chunked_read import open_chunks
+
+    total, n, lo, hi = 0.0, 0, math.inf, -math.inf
+    first: TactileFrames | None = None
+    t_first = t_last = 0.0
+    with open_chunks(path, pitch_mm=pitch_mm) as opened:
+        for chunk in opened.chunks():
+            if first is None:
+                first, t_first = chunk, float(chunk.t_s[0])
+            t_last = float(chunk.t_s[-1])
+            total += float(np.count_nonzero(chunk.frames)) if chunk.is_contact else 0.0
+            lo, hi = min(lo, float(chunk.frames.min())), max(hi, float(chunk.frames.max()))
+            n += chunk.n_frames
+    assert first is not None  # open_chunks refuses zero frames
+    duration = t_last - t_first if n > 1 else 0.0
+    out: dict[str, Any] = {
+        "file": str(path),
+        "sensor": first.sensor,
+        "frames": n,
+        "rows": first.shape[1],
+        "cols": first.shape[2],
+        "pitch_mm": first.pitch_mm,
+        "units": first.units,
+        "dtype": str(first.frames.dtype),
+        "duration_s": duration,
+        "rate_hz": (n - 1) / duration if n > 1 else None,
+    }
+    if first.is_contact:
+        out["contact_fraction"] = total / (n * first.shape[1] * first.shape[2])
+        out["min"], out["max"] = int(lo), int(hi)
+    else:
+        out["min"], out["max"] = lo, hi
+    return out
+
+
 # ----------------------------------------------------------------------------- commands
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="taxelkit")
@@ -92,11 +133,16 @@ def cli(ctx: click.Context, verbose: bool, max_mb: float | None) -> None:
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 @click.option("--topic", default=None, help=_TOPIC_HELP)
 def info(file: Path, pitch_mm: float | None, as_json: bool, topic: str | None) -> None:
-    """Summarise a recording FILE (.npz, .h5, .csv, .mcap, rosbag2): frames, shape, rate, values."""
+    """Summarise a recording FILE (.npz, .h5, .csv, .mcap, rosbag2): frames, shape, rate, values.
+
+    .h5 and .npz files are read a chunk at a time, whatever their size.
+    """
     from taxelkit.io.recordings import read_recording
 
-    rec = read_recording(file, pitch_mm=pitch_mm, topic=topic)
-    s = _summary(rec, file)
+    if topic is None and file.suffix.lower() in _CHUNKED_SUFFIXES:
+        s = _chunked_summary(file, pitch_mm)
+    else:
+        s = _summary(read_recording(file, pitch_mm=pitch_mm, topic=topic), file)
     if as_json:
         click.echo(json.dumps(s))
         return
@@ -106,7 +152,7 @@ def info(file: Path, pitch_mm: float | None, as_json: bool, topic: str | None) -
     click.echo(f"frames    {s['frames']} x {s['rows']} x {s['cols']} ({s['dtype']}, {s['units']})")
     click.echo(f"pitch     {s['pitch_mm']:.6g} mm")
     click.echo(f"duration  {s['duration_s']:.6g} s at {rate}")
-    if rec.is_contact:
+    if "contact_fraction" in s:
         click.echo(f"contact   {100 * s['contact_fraction']:.2f} % of taxel-frames")
     else:
         click.echo(f"values    {s['min']:.6g} .. {s['max']:.6g} {s['units']}")
@@ -147,8 +193,10 @@ def show(
     """Draw frames of a recording FILE as an image strip, or send them to rerun.
 
     With --view, --view-url or --save-view every frame from --start to --stop
-    is logged to rerun (sensor/frames, on the frame and time timelines).
+    is logged to rerun (sensor/frames, on the frame and time timelines). For
+    the strip alone, .h5 and .npz files are read at the drawn frames only.
     """
+    from taxelkit.io.chunked_read import open_chunks
     from taxelkit.io.recordings import read_recording
     from taxelkit.plotting.strip import frame_indices_for_strip, plot_frame_strip
 
@@ -156,6 +204,21 @@ def show(
         raise InputError("give --out IMAGE, or --view / --view-url / --save-view FILE.rrd")
     if out is not None:
         check_figure_suffix(out)
+    if not view.wanted and topic is None and file.suffix.lower() in _CHUNKED_SUFFIXES:
+        with open_chunks(file) as opened:
+            stop = opened.n_frames if stop is None else min(stop, opened.n_frames)
+            if start >= stop:
+                raise InputError(f"--start ({start}) must be below the number of frames ({stop})")
+            idx = start + frame_indices_for_strip(stop - start, max_frames)
+            rec = opened.frames_at(idx.tolist())
+        if threshold is not None:
+            rec = TactileFrames(rec.contact(threshold), rec.t_s, rec.pitch_mm, sensor=rec.sensor)
+        labels = [f"#{i}  {t:.3g} s" for i, t in zip(idx.tolist(), rec.t_s.tolist(), strict=True)]
+        fig = plot_frame_strip(rec, labels=labels, title=f"{file.name} ({rec.sensor})")
+        assert out is not None
+        save_figure(fig, out, force=force)
+        click.echo(f"wrote {out}")
+        return
     rec = read_recording(file, topic=topic)
     stop = rec.n_frames if stop is None else min(stop, rec.n_frames)
     if start >= stop:

@@ -5,31 +5,67 @@ SOURCE is ``serial:PORT[@BAUD]`` (pyserial; ``serial:/dev/ttyUSB0``,
 local address, e.g. ``udp:0.0.0.0:9000``). The device must send the packets
 of ``docs/live-protocol.md``. One line is printed per event; damaged packets
 are skipped and counted in the closing summary line.
+
+Every read takes all the frames that have arrived (a UDP source decodes its
+datagrams together) and hands them to the smart sensor as one batch
+(:class:`~taxelkit.smart.recognise_chunks.ChunkRecogniser` in streaming mode:
+Levels 1-2 vectorised over the batch, events as they happen), so the cost per
+frame falls as the rate rises. Frames whose time does not increase (a sender
+that restarted) are skipped and counted. SIGINT (Ctrl-C) and SIGTERM end the
+run within one read (at most 0.1 s), also while it waits for data: the summary is
+printed, ``--record`` and ``--save-view`` files are closed complete, and the
+exit code is 130 or 143. Memory does not grow with the run: the sender's
+frame indices and times are kept for the last :data:`WIRE_HISTORY_FRAMES`
+frames, the per-frame classes for the last batch.
 """
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import math
-from array import array
-from collections.abc import Callable
+import signal
+import threading
+import time
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
+from taxelkit.cli.live_record import Recorder
 from taxelkit.cli.view import ViewTarget, with_view
 from taxelkit.errors import InputError, check_positive
-from taxelkit.io.frame_protocol import DecodedFrame, PayloadType
-from taxelkit.io.live_sources import LiveTimeoutError
+from taxelkit.io.datagram_batch import FrameBatch
+from taxelkit.io.frame_protocol import PayloadType
+from taxelkit.io.live_sources import FrameSource, LiveTimeoutError
 from taxelkit.io.source_plugins import resolve_source
 from taxelkit.smart.elimination import Event
-from taxelkit.smart.recogniser import SmartSensor
+from taxelkit.smart.recognise_chunks import ChunkRecogniser
 
-__all__ = ["EXIT_INTERRUPTED", "EXIT_OK", "format_event", "recognize_live"]
+__all__ = [
+    "EXIT_INTERRUPTED",
+    "EXIT_OK",
+    "EXIT_TERMINATED",
+    "WIRE_HISTORY_FRAMES",
+    "format_event",
+    "recognize_live",
+]
 
 #: Exit code after ``max_frames`` frames, the end of the stream, or a quiet device.
 EXIT_OK = 0
-#: Exit code after Ctrl-C (128 + SIGINT), once the summary has been printed.
+#: Exit code after Ctrl-C or SIGINT (128 + 2), once the summary has been printed.
 EXIT_INTERRUPTED = 130
+#: Exit code after SIGTERM (128 + 15), once the summary has been printed.
+EXIT_TERMINATED = 143
+#: Frames whose sender index and time are kept to print events (1 MiB): an event
+#: about an older frame prints index -1 and time nan.
+WIRE_HISTORY_FRAMES = 2**16
+#: Longest wait in one read, s: how soon a signal or a timeout is noticed.
+_POLL_S = 0.1
+_STOPS = {signal.SIGINT: ("interrupted", EXIT_INTERRUPTED)}
+if hasattr(signal, "SIGTERM"):
+    _STOPS[signal.SIGTERM] = ("terminated", EXIT_TERMINATED)
 
 logger = logging.getLogger(__name__)
 
@@ -46,47 +82,109 @@ def format_event(event: Event, index: int, t_s: float) -> str:
     return f"{t_s:10.3f} s  frame {index}  {event.kind} {value}"
 
 
+class _Stop:
+    """The signal that asked the run to stop, if any."""
+
+    def __init__(self) -> None:
+        self.signum: int | None = None
+
+    def __call__(self, signum: int, frame: Any) -> None:
+        self.signum = signum
+
+
+@contextlib.contextmanager
+def _stop_on_signals() -> Iterator[_Stop]:
+    """SIGINT and SIGTERM set a flag instead of killing the run (main thread only).
+
+    The handlers are installed whatever the inherited disposition: a command
+    started in the background by a shell inherits SIGINT ignored, and would
+    otherwise never stop on it.
+    """
+    stop = _Stop()
+    if threading.current_thread() is not threading.main_thread():
+        yield stop
+        return
+    previous = {sig: signal.signal(sig, stop) for sig in _STOPS}
+    try:
+        yield stop
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
 class _LiveRun:
     """The state of one live recognition: the sensor, once the first frame gives its shape."""
 
-    def __init__(self, pitch_mm: float, threshold: float | None, view: Any = None) -> None:
+    def __init__(
+        self, pitch_mm: float, threshold: float | None, view: Any = None, recorder: Any = None
+    ) -> None:
         self.view = view  # a taxelkit.viewer.RerunView, or None
+        self.recorder: Recorder | None = recorder
         self.pitch_mm = pitch_mm
         self.threshold = threshold
-        self.sensor: SmartSensor | None = None
-        self.wire_index = array("q")  # sender's index and time of each processed frame
-        self.wire_t_s = array("d")
+        self.sensor: ChunkRecogniser | None = None
+        self.frames = 0
+        self.t_last = -math.inf
+        self.out_of_order = 0  # frames whose time did not increase (a sender restart)
+        self.wire_index = np.full(WIRE_HISTORY_FRAMES, -1, np.int64)  # a ring, by frame
+        self.wire_t_s = np.full(WIRE_HISTORY_FRAMES, np.nan)
         self.wrong_shape = 0
 
-    def push(self, frame: DecodedFrame) -> list[str]:
-        """Process one frame; the lines of the events it caused."""
+    def push(self, batch: FrameBatch) -> list[str]:
+        """Process a batch of frames; the lines of the events it caused."""
         if self.sensor is None:
-            if frame.payload_type == PayloadType.UINT16 and self.threshold is None:
+            if batch.payload_type == PayloadType.UINT16 and self.threshold is None:
                 raise InputError(
                     "the device sends raw uint16 counts: give a contact threshold in counts"
                 )
-            if self.threshold is None:
-                self.sensor = SmartSensor(frame.shape, pitch_mm=self.pitch_mm)
-            else:
-                self.sensor = SmartSensor(
-                    frame.shape, pitch_mm=self.pitch_mm, threshold=self.threshold
-                )
-        elif frame.shape != self.sensor.shape:
-            self.wrong_shape += 1
-            logger.warning("skipped a %s frame (the stream is %s)", frame.shape, self.sensor.shape)
+            self.sensor = ChunkRecogniser(
+                batch.shape, pitch_mm=self.pitch_mm, threshold=self.threshold, streaming=True
+            )
+        elif batch.shape != self.sensor.shape:
+            self.wrong_shape += batch.n_frames
+            logger.warning("skipped %d %s frames (the stream is %s)", batch.n_frames,
+                           batch.shape, self.sensor.shape)  # fmt: skip
             return []
-        self.wire_index.append(frame.index)
-        self.wire_t_s.append(frame.t_s)
-        events = self.sensor.push(frame.values, frame.t_s)
+        batch = self._in_time_order(batch)
+        if batch.n_frames == 0:
+            return []
+        if self.recorder is not None:
+            self.recorder.append(batch)
+        first, n = self.frames, batch.n_frames
+        slots = np.arange(first, first + n) % WIRE_HISTORY_FRAMES
+        self.wire_index[slots] = batch.index
+        self.wire_t_s[slots] = batch.t_s
+        self.frames += n
+        events = self.sensor.push(batch.values, batch.t_s)
         if self.view is not None:
-            j = self.sensor.frame_index - 1
-            self.view.log_frame(j, frame.t_s, frame.values, self.sensor.classes[-1])
-            self.view.log_events(events, frame.t_s)
-        return [format_event(e, self.wire_index[e.frame], self.wire_t_s[e.frame]) for e in events]
+            classes = self.sensor.last_classes
+            for j, (t, values, c) in enumerate(zip(batch.t_s, batch.values, classes, strict=True)):
+                self.view.log_frame(first + j, float(t), values, int(c))
+            for e in events:
+                self.view.log_events([e], self._wire(e.frame)[1])
+        return [format_event(e, *self._wire(e.frame)) for e in events]
+
+    def _in_time_order(self, batch: FrameBatch) -> FrameBatch:
+        """The frames whose time is after every earlier one (the rest are counted)."""
+        t = batch.t_s
+        keep = t > np.maximum.accumulate(np.concatenate([[self.t_last], t[:-1]]))
+        if keep.all():
+            self.t_last = float(t[-1])
+            return batch
+        self.out_of_order += int(np.count_nonzero(~keep))
+        if keep.any():
+            self.t_last = float(t[keep][-1])
+        return FrameBatch(batch.index[keep], t[keep], batch.values[keep], batch.payload_type)
+
+    def _wire(self, frame: int) -> tuple[int, float]:
+        """The sender's index and time of a processed frame (-1, nan if forgotten)."""
+        if frame < self.frames - WIRE_HISTORY_FRAMES:
+            return -1, math.nan
+        slot = frame % WIRE_HISTORY_FRAMES
+        return int(self.wire_index[slot]), float(self.wire_t_s[slot])
 
     def summary(self, source_stats: str, why: str) -> str:
         """The closing line."""
-        n = 0 if self.sensor is None else self.sensor.frame_index
         outcome = "no frames"
         if self.sensor is not None:
             result = self.sensor.result()
@@ -95,7 +193,9 @@ class _LiveRun:
             else:
                 outcome = f"candidates {','.join(result.candidates) or '-'}"
         shape = f", {self.wrong_shape} of another shape" if self.wrong_shape else ""
-        return f"{why}: {n} frames processed{shape}, {source_stats}; {outcome}"
+        if self.out_of_order:
+            shape += f", {self.out_of_order} out of time order"
+        return f"{why}: {self.frames} frames processed{shape}, {source_stats}; {outcome}"
 
 
 def recognize_live(
@@ -107,6 +207,7 @@ def recognize_live(
     timeout_s: float | None = 5.0,
     echo: Callable[[str], None],
     save_view: Path | None = None,
+    record: Path | None = None,
     force: bool = False,
     spawn_view: bool = False,
     view_url: str | None = None,
@@ -127,7 +228,7 @@ def recognize_live(
         0.03 mm. Ignored for bool frames.
     max_frames : int, optional
         Stop after this many frames; None runs until the stream ends, the
-        device goes quiet, or Ctrl-C.
+        device goes quiet, SIGINT (Ctrl-C) or SIGTERM.
     timeout_s : float or None
         Longest wait for a frame, s. Before the first frame a timeout is an
         error; after it, the device is taken to have finished. None waits for ever.
@@ -136,8 +237,12 @@ def recognize_live(
     save_view : pathlib.Path, optional
         Also log every frame, contact class and event to this rerun ``.rrd``
         file (:mod:`taxelkit.viewer`, the viewer extra), written atomically.
+    record : pathlib.Path, optional
+        Also append the received frames to this ``.h5`` recording
+        (:class:`~taxelkit.io.chunked_write.RecordingAppender`), flushed every
+        :data:`RECORD_CHUNK_FRAMES` frames: a crash loses at most that many.
     force : bool, optional
-        Replace an existing ``save_view`` file.
+        Replace existing ``save_view`` and ``record`` files.
     spawn_view : bool, optional
         Also show the run in a rerun viewer on this machine, as it happens.
     view_url : str, optional
@@ -146,7 +251,8 @@ def recognize_live(
     Returns
     -------
     int
-        :data:`EXIT_OK`, or :data:`EXIT_INTERRUPTED` after Ctrl-C.
+        :data:`EXIT_OK`, :data:`EXIT_INTERRUPTED` after SIGINT (Ctrl-C), or
+        :data:`EXIT_TERMINATED` after SIGTERM.
 
     Raises
     ------
@@ -159,8 +265,10 @@ def recognize_live(
     LiveTimeoutError
         If no frame arrives within ``timeout_s`` of starting.
     InputError
-        On a bad ``pitch_mm``, ``threshold``, ``max_frames`` or ``timeout_s``, or uint16
-        frames without a threshold.
+        On a bad ``pitch_mm``, ``threshold``, ``max_frames``, ``timeout_s`` or
+        ``record`` name, or uint16 frames without a threshold.
+    OutputExistsError
+        If ``record`` exists and ``force`` is false.
     """
     opener = resolve_source(source)  # any kind of 'taxelkit sources', checked before opening
     if pitch_mm is None:
@@ -171,52 +279,101 @@ def recognize_live(
     idle = None if timeout_s is None else check_positive("timeout_s", timeout_s)
     if threshold is not None and not math.isfinite(threshold):
         raise InputError(f"threshold must be a finite number, got {threshold!r}")
+    recorder = None
+    if record is not None:
+        if record.suffix.lower() not in (".h5", ".hdf5"):
+            raise InputError(f"--record must end in .h5 or .hdf5, got {record.name!r}")
+        if record.exists() and not force:
+            from taxelkit.errors import OutputExistsError
+
+            raise OutputExistsError(f"{record}: exists; pass --force to replace it")
+        recorder = Recorder(record, pitch, force)
     target = ViewTarget(spawn_view, view_url, save_view)
     if not target.wanted:
-        return _run_live(opener, _LiveRun(pitch, threshold), max_frames, idle, echo)
+        return _run_live(opener, _LiveRun(pitch, threshold, None, recorder), max_frames, idle, echo)
     from taxelkit.viewer.rerun_view import RerunView
 
     def session(where: ViewTarget) -> int:
         view = RerunView(save_path=where.save_path, spawn=where.spawn, connect_url=where.url)
-        run = _LiveRun(pitch, threshold, view)
+        run = _LiveRun(pitch, threshold, view, recorder)
         try:
             return _run_live(opener, run, max_frames, idle, echo)
         finally:
-            if run.sensor is not None and run.sensor.frame_index:
-                last = run.sensor.frame_index - 1
-                view.log_result(last, float(run.wire_t_s[last]), run.sensor.result())
+            if run.sensor is not None and run.frames:
+                from taxelkit.smart.recogniser import Recognition
+
+                last, r = run.frames - 1, run.sensor.result()
+                verdict = Recognition(
+                    np.empty(0, np.int8), r.tactemes, r.events, r.identified, r.candidates,
+                    r.verdict,
+                )  # fmt: skip
+                view.log_result(last, run._wire(last)[1], verdict)
             view.close()
 
     return with_view(target, session, force=force)
 
 
 def _run_live(
-    opener: Callable[[], Any],
+    opener: Callable[[], FrameSource],
     run: _LiveRun,
     max_frames: int | None,
     idle: float | None,
     echo: Callable[[str], None],
 ) -> int:
-    """The receive loop: frames to the sensor, lines to ``echo``, then the summary."""
-    with opener() as src:
-        why, code, received = "end of stream", EXIT_OK, 0
+    """The receive loop: batches to the sensor, lines to ``echo``, then the summary."""
+    with _stop_on_signals() as stop, opener() as src:
+        why, code = "end of stream", EXIT_OK
         try:
-            for frame in src.frames(max_frames=max_frames, idle_timeout_s=idle):
-                received += 1
-                for line in run.push(frame):
-                    echo(line)
-            if received == max_frames:
-                why = f"stopped after {max_frames} frames"
-        except LiveTimeoutError:
-            if run.sensor is None:
-                raise
-            why = f"no frame for {idle:g} s"
-        except KeyboardInterrupt:
+            why, code = _receive(src, run, max_frames, idle, echo, stop)
+        except KeyboardInterrupt:  # SIGINT outside the main thread's handler
             why, code = "interrupted", EXIT_INTERRUPTED
+        finally:
+            recorded = "" if run.recorder is None else f"; {run.recorder.close()}"
         s = src.stats
         counts = (
             f"damaged packets skipped: {s.corrupted}, frame indices missing: {s.missing}, "
             f"bytes skipped: {s.bytes_skipped}"
         )
-        echo(run.summary(counts, why))
+        echo(run.summary(counts, why) + recorded)
     return code
+
+
+def _receive(
+    src: FrameSource,
+    run: _LiveRun,
+    max_frames: int | None,
+    idle: float | None,
+    echo: Callable[[str], None],
+    stop: _Stop,
+) -> tuple[str, int]:
+    """Read until the end, a limit, a quiet device or a signal; why it ended and the code."""
+    last = time.monotonic()
+    while True:
+        if stop.signum is not None:
+            return _STOPS[signal.Signals(stop.signum)]
+        wait = _POLL_S if idle is None else max(0.0, min(_POLL_S, last + idle - time.monotonic()))
+        batches = src.poll_batches(wait)
+        if not batches:
+            if src.at_end:
+                return "end of stream", EXIT_OK
+            if idle is not None and time.monotonic() - last >= idle:
+                if run.sensor is None:
+                    s = src.stats
+                    raise LiveTimeoutError(
+                        f"no frame from {src.description} for {idle:g} s ({s.bytes_received} "
+                        f"bytes received, {s.frames} frames, {s.corrupted} damaged packets)"
+                    )
+                return f"no frame for {idle:g} s", EXIT_OK
+            continue
+        for batch in batches:
+            if max_frames is not None and run.frames + batch.n_frames >= max_frames:
+                keep = max_frames - run.frames
+                batch = FrameBatch(
+                    batch.index[:keep], batch.t_s[:keep], batch.values[:keep], batch.payload_type
+                )
+                for line in run.push(batch):
+                    echo(line)
+                return f"stopped after {max_frames} frames", EXIT_OK
+            for line in run.push(batch):
+                echo(line)
+        last = time.monotonic()  # the wait starts once the frames are processed

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -18,6 +19,9 @@ from taxelkit.cli.options import (
 )
 from taxelkit.cli.view import ViewTarget, view_options, with_view
 from taxelkit.errors import InputError
+
+if TYPE_CHECKING:
+    from taxelkit.smart.recognise_chunks import ChunkRecognition
 
 __all__ = ["recognize", "roll"]
 
@@ -62,7 +66,20 @@ __all__ = ["recognize", "roll"]
     help="Paper 001's pipeline as printed: no image cleaning, no Level 2 limits, Level 3 in "
     "frames (k = 3). Default: the robust pipeline.",
 )
-@click.option("--force", is_flag=True, help="Overwrite an existing --save-view file.")
+@click.option(
+    "--record",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="With --live: also append the received frames to this .h5 recording, flushed "
+    "every 4096 frames (a crash loses at most those).",
+)
+@click.option(
+    "--per-frame",
+    is_flag=True,
+    help="With --json: also list the class of every frame ('classes'); by default classes "
+    "come as run-length 'class_segments'.",
+)
+@click.option("--force", is_flag=True, help="Overwrite existing --save-view and --record files.")
 @view_options
 def recognize(
     file: Path | None,
@@ -74,6 +91,8 @@ def recognize(
     timeout_s: float,
     topic: str | None,
     faithful: bool,
+    record: Path | None,
+    per_frame: bool,
     force: bool,
     view: ViewTarget,
 ) -> int:
@@ -81,9 +100,10 @@ def recognize(
 
     Works on any valid recording (bool contact images or float deflections, any
     array size and pitch). The recogniser sees only the frames, their
-    timestamps and the pitch. With --view, --view-url or --save-view, the
-    frames, contact classes, tactemes, candidates and verdicts are logged to
-    rerun as they happen (docs/viewer.md).
+    timestamps and the pitch. .h5 and .npz files are read a chunk at a time,
+    so their size is not limited by memory or by --max-mb. With --view,
+    --view-url or --save-view, the frames, contact classes, tactemes,
+    candidates and verdicts are logged to rerun as they happen (docs/viewer.md).
     """
     if live is not None:
         if file is not None:
@@ -98,6 +118,7 @@ def recognize(
             timeout_s=timeout_s,
             echo=click.echo,
             save_view=view.save_path,
+            record=record,
             force=force,
             spawn_view=view.spawn,
             view_url=view.url,
@@ -105,18 +126,64 @@ def recognize(
         return code
     if file is None:
         raise InputError("give a recording FILE or --live SOURCE")
-    from taxelkit.io.recordings import read_recording
-    from taxelkit.smart.recogniser import recognise
-
-    rec = read_recording(file, pitch_mm=pitch_mm, topic=topic)
+    if record is not None:
+        raise InputError("--record applies to --live streams; a FILE is already recorded")
+    options: dict[str, Any] = {"threshold": threshold}
     if faithful:
         from taxelkit.smart.tactemes import PAPER_LEVEL3
 
-        result = recognise(
-            rec, threshold=threshold, cleaning=None, limits=None, config=PAPER_LEVEL3
-        )
+        options.update(cleaning=None, limits=None, config=PAPER_LEVEL3)
+    if not view.wanted and topic is None and file.suffix.lower() in (".h5", ".hdf5", ".npz"):
+        result = _recognise_in_chunks(file, pitch_mm, per_frame, options)
     else:
-        result = recognise(rec, threshold=threshold)
+        result = _recognise_whole(file, pitch_mm, topic, view, force, options)
+    if as_json:
+        click.echo(json.dumps(result.to_json(per_frame=per_frame)))
+        return 0
+    for e in result.events:
+        value = ", ".join(e.value) if isinstance(e.value, tuple) else e.value
+        click.echo(f"frame {e.frame:6d}  {e.kind:11s} {value}")
+    verdict = result.identified or f"undecided among {', '.join(result.candidates)}"
+    click.echo(f"identified: {verdict}")
+    click.echo(f"why: {result.verdict.sentence()}")
+    return 0
+
+
+def _recognise_in_chunks(
+    file: Path, pitch_mm: float | None, per_frame: bool, options: dict[str, Any]
+) -> ChunkRecognition:
+    """Read and recognise a recording a chunk at a time (memory bounded by the chunk)."""
+    from taxelkit.io.chunked_read import open_chunks
+    from taxelkit.smart.recognise_chunks import ChunkRecogniser
+
+    with open_chunks(file, pitch_mm=pitch_mm) as opened:
+        recogniser: ChunkRecogniser | None = None
+        for chunk in opened.chunks():
+            if recogniser is None:
+                shape = (chunk.shape[1], chunk.shape[2])
+                recogniser = ChunkRecogniser(
+                    shape, pitch_mm=chunk.pitch_mm, per_frame=per_frame, **options
+                )
+            recogniser.push(chunk.frames, chunk.t_s)
+    assert recogniser is not None  # open_chunks refuses a recording of zero frames
+    return recogniser.result()
+
+
+def _recognise_whole(
+    file: Path,
+    pitch_mm: float | None,
+    topic: str | None,
+    view: ViewTarget,
+    force: bool,
+    options: dict[str, Any],
+) -> ChunkRecognition:
+    """Read a whole recording (bags, CSV, a rerun view) and recognise it in memory."""
+    from taxelkit.io.recordings import read_recording
+    from taxelkit.smart.recognise_chunks import ChunkRecognition, class_segments
+    from taxelkit.smart.recogniser import recognise
+
+    rec = read_recording(file, pitch_mm=pitch_mm, topic=topic)
+    result = recognise(rec, **options)
     if view.wanted:
         from taxelkit.viewer.rerun_view import view_recognition
 
@@ -126,16 +193,15 @@ def recognize(
             )
 
         with_view(view, log, force=force)
-    if as_json:
-        click.echo(json.dumps(result.to_json()))
-        return 0
-    for e in result.events:
-        value = ", ".join(e.value) if isinstance(e.value, tuple) else e.value
-        click.echo(f"frame {e.frame:6d}  {e.kind:11s} {value}")
-    verdict = result.identified or f"undecided among {', '.join(result.candidates)}"
-    click.echo(f"identified: {verdict}")
-    click.echo(f"why: {result.verdict.sentence()}")
-    return 0
+    return ChunkRecognition(
+        class_segments(result.classes, rec.t_s),
+        result.tactemes,
+        result.events,
+        result.identified,
+        result.candidates,
+        result.verdict,
+        result.classes,
+    )
 
 
 @click.command("roll")

@@ -446,6 +446,27 @@ class FrameDecoder:
         self._count_frame(index)
         return DecodedFrame(int(index), float(t_s), values, ptype)
 
+    def record_frames(self, indices: NDArray[np.int64], n_bytes: int) -> None:
+        """Count frames decoded outside this object (a batch of datagrams), in order.
+
+        Parameters
+        ----------
+        indices : (n,) int
+            Their frame indices, in arrival order.
+        n_bytes : int
+            Datagram bytes they took.
+        """
+        counts = self._counts
+        counts["bytes_received"] += int(n_bytes)
+        if indices.size == 0:
+            return
+        counts["frames"] += int(indices.size)
+        first = indices[:1] if self._last_index is None else np.array([self._last_index])
+        steps = np.mod(np.diff(np.concatenate([first, indices]).astype(np.int64)), _INDEX_MODULUS)
+        gaps = (steps > 1) & (steps < _INDEX_MODULUS // 2)
+        counts["missing"] += int(np.sum(steps[gaps] - 1))
+        self._last_index = int(indices[-1])
+
     def _count_frame(self, index: int) -> None:
         counts = self._counts
         counts["frames"] += 1

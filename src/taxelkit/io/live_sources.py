@@ -33,6 +33,7 @@ from types import ModuleType, TracebackType
 from typing import Any, Literal, Self
 
 from taxelkit.errors import InputError, TaxelkitError, check_positive
+from taxelkit.io.datagram_batch import FrameBatch, batches_from_frames, decode_datagrams
 from taxelkit.io.frame_protocol import (
     DEFAULT_MAX_TAXELS,
     DecodedFrame,
@@ -199,6 +200,18 @@ class FrameSource(ABC):
     @abstractmethod
     def close(self) -> None:
         """Release the port, socket or descriptor (idempotent)."""
+
+    def poll_batches(self, timeout_s: float) -> list[FrameBatch]:
+        """:meth:`poll`, the frames grouped into arrays: batches of one shape and payload type.
+
+        Frames left over by :meth:`frames` come first. Sources that can decode
+        many packets at once (UDP) override it.
+        """
+        frames = list(self._backlog)
+        self._backlog.clear()
+        if not frames or not self.at_end:
+            frames.extend(self.poll(0.0 if frames else timeout_s))
+        return batches_from_frames(frames)
 
     @property
     def stats(self) -> DecoderStats:
@@ -458,6 +471,31 @@ class UdpSource(FrameSource):
         except OSError as e:
             raise LiveSourceError(f"cannot read {self.description}: {_one_line(e)}") from e
         return out
+
+    def receive(
+        self, timeout_s: float, max_datagrams: int = _MAX_DATAGRAMS_PER_POLL
+    ) -> list[bytes]:
+        """Datagrams that have arrived (at most ``max_datagrams``), waiting up to ``timeout_s``."""
+        out: list[bytes] = []
+        recv = self._sock.recv
+        try:
+            ready, _, _ = select.select([self._sock], [], [], max(0.0, timeout_s))
+            if not ready:
+                return out
+            for _ in range(max_datagrams):
+                out.append(recv(_MAX_DATAGRAM_RECV))
+        except BlockingIOError:
+            pass  # drained
+        except OSError as e:
+            raise LiveSourceError(f"cannot read {self.description}: {_one_line(e)}") from e
+        return out
+
+    def poll_batches(self, timeout_s: float) -> list[FrameBatch]:
+        """Every datagram that has arrived (up to 4096), decoded together."""
+        left = super().poll_batches(0.0) if self._backlog else []
+        if left:
+            return left
+        return decode_datagrams(self.decoder, self.receive(timeout_s))
 
     def close(self) -> None:
         self._sock.close()

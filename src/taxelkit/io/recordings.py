@@ -71,6 +71,13 @@ WRITABLE_FRAME_DTYPES = (
     np.dtype(np.float32),
     np.dtype(np.float64),
 )
+#: HDF5 dataset of contact frames packed eight taxels to a byte along each row
+#: (``numpy.packbits(..., axis=2, bitorder="little")``), ``(T, rows, ceil(cols / 8))``
+#: uint8, read in place of ``frames`` (written by long recordings,
+#: :mod:`taxelkit.io.chunked_write`).
+PACKED_FRAMES = "frames_packed"
+#: Attribute of :data:`PACKED_FRAMES`: the number of columns.
+PACKED_COLS_ATTR = "cols"
 #: Default sensor name, as in :class:`~taxelkit.frames.TactileFrames`.
 _DEFAULT_SENSOR = "unknown"
 #: File signatures that identify a format from the first bytes: a zip archive
@@ -167,6 +174,9 @@ def _read_h5(path: Path, head: bytes) -> RawRecording:
                 name: _h5_field(path, root, name, budget, dataset_only=name == "frames")
                 for name in RECORDING_FIELDS
             }
+            if fields["frames"] is None and PACKED_FRAMES in root:
+                fields["frames"] = _h5_packed(path, root, budget)
+                fields["units"] = CONTACT_UNITS if fields["units"] is None else fields["units"]
     except TaxelkitError:
         raise
     except MemoryError:
@@ -177,6 +187,31 @@ def _read_h5(path: Path, head: bytes) -> RawRecording:
             CorruptRecordingError, path, f"not a readable HDF5 file ({describe_exception(exc)})"
         ) from exc
     return _raw_from_fields(fields, found)
+
+
+def _h5_packed(path: Path, root: Any, budget: ReadBudget) -> NDArray[np.bool_]:
+    """Unpack :data:`PACKED_FRAMES`, charging the budget with the unpacked size."""
+    node = h5_node(path, root, PACKED_FRAMES)
+    if not isinstance(node, h5py.Dataset) or node.dtype != np.uint8 or node.ndim != 3:
+        raise fail(
+            CorruptRecordingError,
+            path,
+            f"{PACKED_FRAMES!r} must be a (T, rows, n) uint8 dataset",
+        )
+    cols = int(node.attrs.get(PACKED_COLS_ATTR, 8 * node.shape[2]))
+    if not 8 * node.shape[2] - 8 < cols <= 8 * node.shape[2]:
+        raise fail(
+            InvalidRecordingError,
+            path,
+            f"{PACKED_FRAMES} {PACKED_COLS_ATTR} must be in ({8 * node.shape[2] - 8}, "
+            f"{8 * node.shape[2]}], got {cols}",
+        )
+    check_h5_dataset(path, PACKED_FRAMES, node, budget)
+    budget.take("unpacked frames", (*node.shape[:2], cols), np.dtype(bool))
+    out: NDArray[np.bool_] = np.unpackbits(node[()], axis=2, count=cols, bitorder="little").view(
+        bool
+    )
+    return out
 
 
 def _write_h5(rec: TactileFrames, path: Path) -> None:

@@ -1,0 +1,175 @@
+"""Out-of-core recognition: a day-long recording in bounded memory.
+
+A recording of ``--frames`` 16 x 16 contact frames at 240 frames/s (20 M
+frames is 23 h) is written with :class:`taxelkit.io.chunked_write.RecordingAppender`
+(contact frames packed 8 taxels to a byte, 32 bytes per frame, gzip level 1:
+see ``docs/recording-format.md``), by repeating a block of randomised rolling
+scenarios of the six objects (each contact is touched, rolled and lifted).
+It is then recognised, each in a fresh subprocess whose peak resident memory
+(``resource.getrusage(RUSAGE_SELF).ru_maxrss``) is reported:
+
+* out-of-core: :func:`taxelkit.io.chunked_read.open_chunks` read chunk by chunk
+  into :class:`taxelkit.smart.recognise_chunks.ChunkRecogniser`;
+* in memory (the baseline): ``read_recording`` then ``recognise`` (the path
+  ``taxelkit recognize`` took before), on the first ``--compare-frames``
+  frames, a file that fits; the out-of-core path is run on the same file and
+  its events are checked to be identical.
+
+Usage: ``python benchmarks/bench_out_of_core.py [--frames 20000000] [--compare-frames 2000000]``.
+"""
+
+from __future__ import annotations
+
+import os
+
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ[_var] = "1"
+
+import argparse  # noqa: E402
+import json  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+import tempfile  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from taxelkit.io.chunked_write import RecordingAppender  # noqa: E402
+from taxelkit.motion.rolling import frames_from_scenario  # noqa: E402
+from taxelkit.motion.scenarios import make_scenario  # noqa: E402
+from taxelkit.sensors import BONNEVILLE_16X16  # noqa: E402
+from taxelkit.smart.tacteme_table import OBJECTS  # noqa: E402
+
+RATE_HZ = BONNEVILLE_16X16.max_rate_hz
+
+_OUT_OF_CORE = """
+import json, resource, sys, time
+from taxelkit.io.chunked_read import open_chunks
+from taxelkit.smart.recognise_chunks import ChunkRecogniser
+t0 = time.perf_counter()
+with open_chunks(sys.argv[1]) as rec:
+    recogniser = ChunkRecogniser(rec.shape, pitch_mm=1.7625)
+    for chunk in rec.chunks(int(sys.argv[2])):
+        recogniser.push(chunk.frames, chunk.t_s)
+result = recogniser.result()
+seconds = time.perf_counter() - t0
+print(json.dumps({
+    "frames": result.n_frames, "seconds": seconds, "events": len(result.events),
+    "digest": [(e.kind, e.frame, str(e.value)) for e in result.events[-50:]],
+    "identified": result.identified, "segments": int(result.segments.class_code.size),
+    "maxrss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+}))
+"""
+
+_IN_MEMORY = """
+import json, resource, sys, time
+from taxelkit.io.limits import read_limit
+from taxelkit.io.recordings import read_recording
+from taxelkit.smart.recogniser import recognise
+t0 = time.perf_counter()
+with read_limit(1e6):
+    rec = read_recording(sys.argv[1], pitch_mm=1.7625)
+result = recognise(rec)
+seconds = time.perf_counter() - t0
+print(json.dumps({
+    "frames": rec.n_frames, "seconds": seconds, "events": len(result.events),
+    "digest": [(e.kind, e.frame, str(e.value)) for e in result.events[-50:]],
+    "identified": result.identified,
+    "maxrss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+}))
+"""
+
+
+def base_block(n_scenarios: int) -> np.ndarray:
+    """Contact frames of ``n_scenarios`` rolling scenarios, one after another."""
+    sensor = BONNEVILLE_16X16
+    blocks = []
+    for k in range(n_scenarios):
+        rng = np.random.default_rng(k)
+        sc = make_scenario(OBJECTS[k % len(OBJECTS)], rng=rng, rate_hz=RATE_HZ)
+        frames = frames_from_scenario(sensor, sc, rng=rng).frames
+        blocks.append(sensor.contact_from_displacement(frames))
+    return np.concatenate(blocks)
+
+
+def write_long(path: Path, block: np.ndarray, n_frames: int, chunk_frames: int) -> float:
+    """Write ``n_frames`` frames (``block`` repeated) with the appender; seconds taken."""
+    t0 = time.perf_counter()
+    with RecordingAppender(
+        path,
+        shape=block.shape[1:],
+        pitch_mm=BONNEVILLE_16X16.array.pitch_mm,
+        chunk_frames=chunk_frames,
+        force=True,
+    ) as out:
+        done = 0
+        while done < n_frames:
+            take = min(block.shape[0], n_frames - done)
+            out.append(block[:take], (done + np.arange(take)) / RATE_HZ)
+            done += take
+    return time.perf_counter() - t0
+
+
+def run(script: str, *args: object) -> dict[str, object]:
+    out = subprocess.run(
+        [sys.executable, "-c", script, *map(str, args)], capture_output=True, text=True
+    )
+    if out.returncode:
+        raise SystemExit(out.stderr)
+    doc: dict[str, object] = json.loads(out.stdout)
+    return doc
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--frames", type=int, default=20_000_000)
+    ap.add_argument("--compare-frames", type=int, default=2_000_000)
+    ap.add_argument("--chunk-frames", type=int, default=65536)
+    ap.add_argument("--scenarios", type=int, default=36)
+    ap.add_argument("--workdir", type=Path, default=None)
+    args = ap.parse_args()
+    block = base_block(args.scenarios)
+    with tempfile.TemporaryDirectory(dir=args.workdir) as tmp:
+        small, large = Path(tmp) / "small.h5", Path(tmp) / "large.h5"
+        write_long(small, block, args.compare_frames, args.chunk_frames)
+        memory = run(_IN_MEMORY, small)
+        chunked_small = run(_OUT_OF_CORE, small, args.chunk_frames)
+        same = memory["digest"] == chunked_small["digest"] and (
+            memory["events"] == chunked_small["events"]
+        )
+        write_s = write_long(large, block, args.frames, args.chunk_frames)
+        size_mb = large.stat().st_size / 2**20
+        chunked = run(_OUT_OF_CORE, large, args.chunk_frames)
+    n_small, n = args.compare_frames, args.frames
+    rate_mem = n_small / float(memory["seconds"])  # type: ignore[arg-type]
+    rate_small = n_small / float(chunked_small["seconds"])  # type: ignore[arg-type]
+    rate = n / float(chunked["seconds"])  # type: ignore[arg-type]
+    print(
+        f"out-of-core recognition of 16 x 16 contact frames at 240 Hz, "
+        f"chunks of {args.chunk_frames:,} frames, one core"
+    )
+    print(
+        f"long file: {n:,} frames ({n / RATE_HZ / 3600:.1f} h), {size_mb:,.0f} MiB on disk "
+        f"(packed bits + gzip 1), written at {n / write_s:,.0f} frames/s"
+    )
+    print(f"{'path':44s} {'frames':>12s} {'frames/s':>12s} {'peak RSS MB':>12s}")
+    print(f"{'in memory (read_recording + recognise)':44s} {n_small:12,d} {rate_mem:12,.0f} "
+          f"{memory['maxrss_mb']:12,.0f}")  # fmt: skip
+    print(f"{'out-of-core, same file':44s} {n_small:12,d} {rate_small:12,.0f} "
+          f"{chunked_small['maxrss_mb']:12,.0f}")  # fmt: skip
+    print(f"{'out-of-core, long file':44s} {n:12,d} {rate:12,.0f} "
+          f"{chunked['maxrss_mb']:12,.0f}")  # fmt: skip
+    print(
+        f"ratio out-of-core / in memory on the same file: speed {rate_small / rate_mem:.2f}x, "
+        f"peak memory {float(chunked_small['maxrss_mb']) / float(memory['maxrss_mb']):.2f}x "  # type: ignore[arg-type]
+        f"(events identical: {same})"
+    )
+    print(
+        f"long file: {chunked['events']} events, {chunked['segments']:,} class segments, "
+        f"identified {chunked['identified']!r}; targets: peak < 300 MB, >= 1,000,000 frames/s"
+    )
+
+
+if __name__ == "__main__":
+    main()
