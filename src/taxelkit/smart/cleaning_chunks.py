@@ -1,0 +1,202 @@
+"""The image cleaning of :func:`~taxelkit.smart.cleaning.clean_images`, chunk by chunk, many arrays.
+
+:func:`~taxelkit.smart.cleaning.clean_images` cleans a whole recording;
+:class:`~taxelkit.smart.cleaning_stream.ImageCleaner` one frame. Between the
+two, :class:`ChunkCleaner` takes ``T`` frames of ``N`` arrays at once, with
+every rule's state carried from chunk to chunk, so the streaming sensor and
+the sensor bank run the batch's vectorised rule functions and give the same
+images as :func:`~taxelkit.smart.cleaning.clean_images` on each array's whole
+stream (tested). The state per array:
+
+* the taxels on since the stream began (rule 1: a running AND);
+* the last ``n_stuck - 1`` frames of isolated taxels (rule 1: a taxel is
+  stuck once isolated ``n_stuck`` frames in a row), packed, so the count
+  over a chunk's edge is the batch's own shifted AND;
+* the masked (stuck) taxels and how long each has read off (rule 1's
+  release), for the few taxels concerned;
+* the last bridged frame (rule 3, persistence).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.errors import InputError
+from taxelkit.smart.cleaning import (
+    CleaningConfig,
+    _backend,
+    _bits_of,
+    _bridged,
+    _crowded,
+    _dilate3,
+    _neighbours8,
+    _stray,
+    release_frames_for,
+    stuck_frames_for,
+)
+
+__all__ = ["ChunkCleaner"]
+
+
+def _held_along_time(a: NDArray[Any], n: int) -> NDArray[Any]:
+    """Taxels on in each of the frames ``t - n + 1 .. t`` of ``a`` ``(N, T, ...)`` (axis 1)."""
+    out = a.copy()
+    span = 1
+    while span < n:
+        step = min(span, n - span)
+        shifted = np.zeros_like(out)
+        if step < out.shape[1]:
+            shifted[:, step:] = out[:, :-step]
+        out &= shifted
+        span += step
+    return out
+
+
+class ChunkCleaner:
+    """Clean chunks of frames of ``n_arrays`` arrays of one shape (streaming, vectorised).
+
+    Parameters
+    ----------
+    n_arrays : int
+    shape : (rows, cols)
+    config : CleaningConfig, optional
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> cleaner = ChunkCleaner(2, (8, 8))
+    >>> img = np.zeros((2, 3, 8, 8), bool); img[:, 1:, 3:5, 3:5] = True
+    >>> t = np.arange(3) * 0.05
+    >>> cleaner.push(img, np.broadcast_to(t, (2, 3))).sum(axis=(2, 3)).tolist()
+    [[0, 4, 4], [0, 4, 4]]
+    """
+
+    def __init__(
+        self, n_arrays: int, shape: tuple[int, int], *, config: CleaningConfig | None = None
+    ) -> None:
+        self.n = int(n_arrays)
+        self.shape = (int(shape[0]), int(shape[1]))
+        self.config = CleaningConfig() if config is None else config
+        self._ops = _backend(self.shape[1])
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget every stream."""
+        n = self.n
+        blank = self._ops.pack(np.zeros((n, *self.shape), bool))  # (N, *word shape)
+        self._zero = np.zeros_like(blank[0])
+        self._seen = np.zeros(n, dtype=np.int64)
+        self._t0 = np.zeros(n)
+        self._dt = np.full(n, np.nan)
+        self._since = ~blank  # all on: the AND of no frames
+        self._since_any = True
+        self._iso_hist = np.zeros((n, 0, *blank.shape[1:]), blank.dtype)
+        self._armed: dict[tuple[int, int, int], int] = {}  # (array, word, bit) -> frames off
+        self._prev = blank
+
+    def push(self, images: NDArray[np.bool_], t_s: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Clean frames ``(N, T, rows, cols)`` bool taken at ``t_s`` ``(N, T)``, s: same shape."""
+        img = np.asarray(images)
+        if img.ndim != 4 or img.shape[0] != self.n or img.shape[2:] != self.shape:
+            raise InputError(
+                f"images must have shape ({self.n}, T, {self.shape[0]}, {self.shape[1]}), "
+                f"got {img.shape}"
+            )
+        n, t = img.shape[:2]
+        if t == 0:
+            return img.copy()
+        ops, cfg = self._ops, self.config
+        on = ops.pack(img.reshape(n * t, *self.shape))
+        word = on.shape[1:]
+        on3 = on.reshape(n, t, *word)
+        self._timing(np.asarray(t_s, dtype=np.float64).reshape(n, t))
+        stuck = self._stuck(on3, on) if cfg.stuck else np.zeros_like(on)
+        a = _bridged(ops, on, stuck, cfg)
+        out = a
+        a3 = a.reshape(n, t, *word)
+        if cfg.persistence:
+            before = np.concatenate([self._prev[:, None], a3[:, :-1]], axis=1).reshape(a.shape)
+            out = a & (_dilate3(ops, before) | _crowded(ops, a))
+        if cfg.strays:
+            stray = _stray(ops, out)
+            big = ops.any_per_frame(out & ~stray)
+            out = out & ~(stray & ops.per_frame(big, out))
+        self._prev = a3[:, -1].copy()
+        self._seen += t
+        cleaned: NDArray[np.bool_] = ops.unpack(out, self.shape[1])
+        return cleaned.reshape(n, t, *self.shape)
+
+    def _timing(self, t: NDArray[np.float64]) -> None:
+        new = self._seen == 0
+        self._t0[new] = t[new, 0]
+        later = np.isnan(self._dt) & ((self._seen > 0) | (t.shape[1] > 1))
+        first_next = np.where(self._seen > 0, t[:, 0], t[:, min(1, t.shape[1] - 1)])
+        self._dt[later] = first_next[later] - self._t0[later]
+
+    def _counts(self, i: int) -> tuple[int, int]:
+        dt = float(self._dt[i])
+        if np.isnan(dt):
+            return 3, release_frames_for(None, self.config)
+        return stuck_frames_for(dt, self.config), release_frames_for(dt, self.config)
+
+    def _stuck(self, on3: NDArray[Any], on: NDArray[Any]) -> NDArray[Any]:
+        ops = self._ops
+        n, t = on3.shape[:2]
+        if self._since_any:
+            since = np.bitwise_and.accumulate(
+                np.concatenate([self._since[:, None], on3], axis=1), axis=1
+            )[:, 1:]
+            self._since = since[:, -1].copy()
+            self._since_any = bool(np.any(self._since))
+        else:
+            since = np.zeros_like(on3)
+        iso = (on & ~_neighbours8(ops, on)).reshape(on3.shape)
+        counts = [self._counts(i) for i in range(n)]
+        n_stuck = np.array([c[0] for c in counts])
+        longest = int(n_stuck.max())
+        hist = np.concatenate([self._iso_hist, iso], axis=1)
+        held = np.zeros_like(iso)
+        for k in np.unique(n_stuck).tolist():
+            rows = np.flatnonzero(n_stuck == k)
+            part = hist[rows] if rows.size < n else hist
+            if part.shape[1] > t + k - 1:
+                part = part[:, -(t + k - 1) :]
+            h = _held_along_time(part, k)[:, -t:]
+            held[rows] = h
+        self._iso_hist = hist[:, -(longest - 1) :] if longest > 1 else hist[:, :0]
+        seed = since | held
+        return self._release(on3, seed, [c[1] for c in counts]).reshape(on.shape)
+
+    def _release(self, on3: NDArray[Any], seed: NDArray[Any], n_release: list[int]) -> NDArray[Any]:
+        """Masked bits: seeded, until read off ``n_release`` frames (per taxel, few taxels)."""
+        n, t = on3.shape[:2]
+        out = np.zeros_like(on3).reshape(n, t, -1)
+        on_f = on3.reshape(n, t, -1)
+        seed_f = seed.reshape(n, t, -1)
+        any_seed = np.bitwise_or.reduce(seed_f, axis=1)  # (N, words)
+        todo: dict[tuple[int, int, int], int | None] = {
+            key: off for key, off in self._armed.items()
+        }
+        for i, j in zip(*np.nonzero(any_seed), strict=True):
+            for bit in _bits_of(int(any_seed[i, j]), on_f.dtype):
+                todo.setdefault((int(i), int(j), int(bit)), None)
+        armed: dict[tuple[int, int, int], int] = {}
+        idx = np.arange(t)
+        for (i, j, bit), off in todo.items():
+            b = on_f.dtype.type(bit)
+            o = (on_f[i, :, j] & b) != 0
+            s = (seed_f[i, :, j] & b) != 0
+            was = off is not None
+            last_on = np.maximum.accumulate(np.where(o, idx, -1 - (10**9 if off is None else off)))
+            released = (idx - last_on) >= n_release[i]
+            last_release = np.maximum.accumulate(np.where(released, idx, -1 if not was else -2))
+            last_seed = np.maximum.accumulate(np.where(s, idx, -1 if was else -2))
+            masked = o & (last_seed > last_release)
+            out[i, masked, j] |= b
+            if last_seed[-1] > last_release[-1]:
+                armed[(i, j, bit)] = int(t - 1 - last_on[-1])
+        self._armed = armed
+        return out
