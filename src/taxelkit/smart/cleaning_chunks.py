@@ -91,6 +91,8 @@ class ChunkCleaner:
         self._seen = np.zeros(n, dtype=np.int64)
         self._t0 = np.zeros(n)
         self._dt = np.full(n, np.nan)
+        self._n_stuck = np.full(n, 3, dtype=np.int64)  # until the frame interval is known
+        self._n_release = np.full(n, release_frames_for(None, self.config), dtype=np.int64)
         self._since = ~blank  # all on: the AND of no frames
         self._since_any = True
         self._iso_hist = np.zeros((n, 0, *blank.shape[1:]), blank.dtype)
@@ -135,12 +137,10 @@ class ChunkCleaner:
         later = np.isnan(self._dt) & ((self._seen > 0) | (t.shape[1] > 1))
         first_next = np.where(self._seen > 0, t[:, 0], t[:, min(1, t.shape[1] - 1)])
         self._dt[later] = first_next[later] - self._t0[later]
-
-    def _counts(self, i: int) -> tuple[int, int]:
-        dt = float(self._dt[i])
-        if np.isnan(dt):
-            return 3, release_frames_for(None, self.config)
-        return stuck_frames_for(dt, self.config), release_frames_for(dt, self.config)
+        for i in np.flatnonzero(later).tolist():  # once per array
+            dt = float(self._dt[i])
+            self._n_stuck[i] = stuck_frames_for(dt, self.config)
+            self._n_release[i] = release_frames_for(dt, self.config)
 
     def _stuck(self, on3: NDArray[Any], on: NDArray[Any]) -> NDArray[Any]:
         ops = self._ops
@@ -154,21 +154,20 @@ class ChunkCleaner:
         else:
             since = np.zeros_like(on3)
         iso = (on & ~_neighbours8(ops, on)).reshape(on3.shape)
-        counts = [self._counts(i) for i in range(n)]
-        n_stuck = np.array([c[0] for c in counts])
+        n_stuck = self._n_stuck
         longest = int(n_stuck.max())
         hist = np.concatenate([self._iso_hist, iso], axis=1)
         held = np.zeros_like(iso)
-        for k in np.unique(n_stuck).tolist():
-            rows = np.flatnonzero(n_stuck == k)
-            part = hist[rows] if rows.size < n else hist
-            if part.shape[1] > t + k - 1:
-                part = part[:, -(t + k - 1) :]
-            h = _held_along_time(part, k)[:, -t:]
-            held[rows] = h
+        if np.any(hist):  # no isolated taxel in the window: nothing held
+            for k in np.unique(n_stuck).tolist():
+                rows = np.flatnonzero(n_stuck == k)
+                part = hist[rows] if rows.size < n else hist
+                if part.shape[1] > t + k - 1:
+                    part = part[:, -(t + k - 1) :]
+                held[rows] = _held_along_time(part, k)[:, -t:]
         self._iso_hist = hist[:, -(longest - 1) :] if longest > 1 else hist[:, :0]
         seed = since | held
-        return self._release(on3, seed, [c[1] for c in counts]).reshape(on.shape)
+        return self._release(on3, seed, self._n_release.tolist()).reshape(on.shape)
 
     def _release(self, on3: NDArray[Any], seed: NDArray[Any], n_release: list[int]) -> NDArray[Any]:
         """Masked bits: seeded, until read off ``n_release`` frames (per taxel, few taxels)."""

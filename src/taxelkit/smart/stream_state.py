@@ -68,6 +68,15 @@ class ClassHistory(Sequence[int]):
         self._starts += starts
         self._n += int(codes.size)
 
+    def extend_constant(self, code: int, m: int) -> None:
+        """``m`` more frames of class ``code``."""
+        if m <= 0:
+            return
+        if not self._codes or self._codes[-1] != code:
+            self._starts.append(self._n)
+            self._codes.append(code)
+        self._n += m
+
     def __len__(self) -> int:
         return self._n
 
@@ -220,6 +229,14 @@ class ArrayStream:
                 self._pend_chunks.append((j0 + rest, rows[rest]))
         self._feed(final=False)
         return self.state.events[before:]
+
+    def push_quiet(self, t_s: NDArray[np.float64]) -> None:
+        """A chunk of "no contact" frames at times ``t_s`` ``(m,)`` while :attr:`idle`."""
+        m = int(t_s.size)
+        if m:
+            self._timing(float(t_s[0]), float(t_s[1]) if m > 1 else None)
+            self.classes.extend_constant(_NONE, m)
+            self.frame_index += m
 
     # -- shared -----------------------------------------------------------------------------
     def _drop_candidate(self) -> None:

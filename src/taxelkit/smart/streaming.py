@@ -252,7 +252,7 @@ class SmartSensor:
             :data:`~taxelkit.frames.DEFAULT_FRAME_INTERVAL_S`, as for a
             recording without ``t_s``). Events carry frame indices.
         """
-        f = np.asarray(frame)
+        f = frame if type(frame) is np.ndarray else np.asarray(frame)
         if f.shape != self.shape:
             raise InputError(f"frame must have shape {self.shape}, got {f.shape}")
         j = self.frame_index
@@ -261,19 +261,18 @@ class SmartSensor:
         if self.batch_frames == 1:
             cls, row = self._frame.classify(f, t)
             return self._stream.push_one(cls, row, t)
-        if self._buf is None or self._buf.dtype != f.dtype:
-            pending = self.flush() if self._buf_n else []
-            self._buf = np.empty((self.batch_frames, *self.shape), dtype=f.dtype)
-            if pending:
-                return pending + self._take(f, t)
-        return self._take(f, t)
-
-    def _take(self, f: NDArray[Any], t: float) -> list[Event]:
-        assert self._buf is not None
-        self._buf[self._buf_n] = f
-        self._buf_t[self._buf_n] = t
-        self._buf_n += 1
-        return self.flush() if self._buf_n == self.batch_frames else []
+        buf = self._buf
+        events: list[Event] = []
+        if buf is None or buf.dtype != f.dtype:
+            events = self.flush()
+            buf = self._buf = np.empty((self.batch_frames, *self.shape), dtype=f.dtype)
+        k = self._buf_n
+        buf[k] = f
+        self._buf_t[k] = t
+        self._buf_n = k + 1
+        if k + 1 == self.batch_frames:
+            events += self.flush()
+        return events
 
     def push_many(self, frames: ArrayLike, t_s: ArrayLike | None = None) -> list[Event]:
         """Take frames ``(T, rows, cols)`` at once (times ``(T,)`` s); the events emitted now.
