@@ -87,20 +87,23 @@ class ChunkCleaner:
         """Forget every stream."""
         n = self.n
         blank = self._ops.pack(np.zeros((n, *self.shape), bool))  # (N, *word shape)
-        self._zero = np.zeros_like(blank[0])
         self._seen = np.zeros(n, dtype=np.int64)
         self._t0 = np.zeros(n)
         self._dt = np.full(n, np.nan)
         self._n_stuck = np.full(n, 3, dtype=np.int64)  # until the frame interval is known
         self._n_release = np.full(n, release_frames_for(None, self.config), dtype=np.int64)
         self._since = ~blank  # all on: the AND of no frames
-        self._since_any = True
         self._iso_hist = np.zeros((n, 0, *blank.shape[1:]), blank.dtype)
         self._armed: dict[tuple[int, int, int], int] = {}  # (array, word, bit) -> frames off
         self._prev = blank
+        self._busy = np.ones(n, bool)  # some state that a clear chunk would change
 
     def push(self, images: NDArray[np.bool_], t_s: NDArray[np.float64]) -> NDArray[np.bool_]:
-        """Clean frames ``(N, T, rows, cols)`` bool taken at ``t_s`` ``(N, T)``, s: same shape."""
+        """Clean frames ``(N, T, rows, cols)`` bool taken at ``t_s`` ``(N, T)``, s: same shape.
+
+        Arrays whose frames are all clear and whose state is at rest are
+        skipped (their output is clear): a quiet array costs a test.
+        """
         img = np.asarray(images)
         if img.ndim != 4 or img.shape[0] != self.n or img.shape[2:] != self.shape:
             raise InputError(
@@ -108,26 +111,58 @@ class ChunkCleaner:
                 f"got {img.shape}"
             )
         n, t = img.shape[:2]
+        out = np.zeros_like(img)
         if t == 0:
-            return img.copy()
+            return out
+        self._timing(np.asarray(t_s, dtype=np.float64).reshape(n, t))
+        self._seen += t
+        sel = np.flatnonzero(self._busy | img.reshape(n, -1).any(axis=1))
+        longest = int(self._n_stuck.max())
+        if sel.size == 0:
+            self._resize_hist(longest)
+            return out
+        part = img if sel.size == n else img[sel]
+        out[sel] = self._clean(part, sel, longest)
+        return out
+
+    def _resize_hist(self, longest: int) -> None:
+        keep = max(0, longest - 1)
+        h = self._iso_hist
+        if h.shape[1] != keep:
+            full = np.zeros((h.shape[0], keep, *h.shape[2:]), h.dtype)
+            m = min(keep, h.shape[1])
+            if m:
+                full[:, keep - m :] = h[:, h.shape[1] - m :]
+            self._iso_hist = full
+
+    def _clean(self, img: NDArray[np.bool_], sel: NDArray[np.intp], longest: int) -> NDArray[Any]:
         ops, cfg = self._ops, self.config
+        n, t = img.shape[:2]
         on = ops.pack(img.reshape(n * t, *self.shape))
         word = on.shape[1:]
         on3 = on.reshape(n, t, *word)
-        self._timing(np.asarray(t_s, dtype=np.float64).reshape(n, t))
-        stuck = self._stuck(on3, on) if cfg.stuck else np.zeros_like(on)
+        stuck = self._stuck(on3, on, sel, longest) if cfg.stuck else np.zeros_like(on)
         a = _bridged(ops, on, stuck, cfg)
         out = a
         a3 = a.reshape(n, t, *word)
         if cfg.persistence:
-            before = np.concatenate([self._prev[:, None], a3[:, :-1]], axis=1).reshape(a.shape)
+            before = np.concatenate([self._prev[sel, None], a3[:, :-1]], axis=1).reshape(a.shape)
             out = a & (_dilate3(ops, before) | _crowded(ops, a))
         if cfg.strays:
             stray = _stray(ops, out)
             big = ops.any_per_frame(out & ~stray)
             out = out & ~(stray & ops.per_frame(big, out))
-        self._prev = a3[:, -1].copy()
-        self._seen += t
+        last = a3[:, -1]
+        self._prev[sel] = last
+        armed = np.zeros(self.n, bool)  # after _stuck: this chunk's armed taxels
+        armed[[i for i, _, _ in self._armed]] = True
+        flat = self._iso_hist[sel].reshape(n, -1)
+        self._busy[sel] = (
+            np.any(last.reshape(n, -1), axis=1)
+            | np.any(self._since[sel].reshape(n, -1), axis=1)
+            | np.any(flat, axis=1)
+            | armed[sel]
+        )
         cleaned: NDArray[np.bool_] = ops.unpack(out, self.shape[1])
         return cleaned.reshape(n, t, *self.shape)
 
@@ -142,21 +177,23 @@ class ChunkCleaner:
             self._n_stuck[i] = stuck_frames_for(dt, self.config)
             self._n_release[i] = release_frames_for(dt, self.config)
 
-    def _stuck(self, on3: NDArray[Any], on: NDArray[Any]) -> NDArray[Any]:
+    def _stuck(
+        self, on3: NDArray[Any], on: NDArray[Any], sel: NDArray[np.intp], longest: int
+    ) -> NDArray[Any]:
         ops = self._ops
         n, t = on3.shape[:2]
-        if self._since_any:
+        prior = self._since[sel]
+        if np.any(prior):
             since = np.bitwise_and.accumulate(
-                np.concatenate([self._since[:, None], on3], axis=1), axis=1
+                np.concatenate([prior[:, None], on3], axis=1), axis=1
             )[:, 1:]
-            self._since = since[:, -1].copy()
-            self._since_any = bool(np.any(self._since))
+            self._since[sel] = since[:, -1]
         else:
             since = np.zeros_like(on3)
         iso = (on & ~_neighbours8(ops, on)).reshape(on3.shape)
-        n_stuck = self._n_stuck
-        longest = int(n_stuck.max())
-        hist = np.concatenate([self._iso_hist, iso], axis=1)
+        n_stuck = self._n_stuck[sel]
+        self._resize_hist(longest)
+        hist = np.concatenate([self._iso_hist[sel], iso], axis=1)
         held = np.zeros_like(iso)
         if np.any(hist):  # no isolated taxel in the window: nothing held
             for k in np.unique(n_stuck).tolist():
@@ -165,37 +202,59 @@ class ChunkCleaner:
                 if part.shape[1] > t + k - 1:
                     part = part[:, -(t + k - 1) :]
                 held[rows] = _held_along_time(part, k)[:, -t:]
-        self._iso_hist = hist[:, -(longest - 1) :] if longest > 1 else hist[:, :0]
+        keep = self._iso_hist.shape[1]
+        if keep:
+            self._iso_hist[sel] = hist[:, hist.shape[1] - keep :]
         seed = since | held
-        return self._release(on3, seed, self._n_release.tolist()).reshape(on.shape)
+        return self._release(on3, seed, sel).reshape(on.shape)
 
-    def _release(self, on3: NDArray[Any], seed: NDArray[Any], n_release: list[int]) -> NDArray[Any]:
+    def _release(
+        self, on3: NDArray[Any], seed: NDArray[Any], sel: NDArray[np.intp]
+    ) -> NDArray[Any]:
         """Masked bits: seeded, until read off ``n_release`` frames (per taxel, few taxels)."""
         n, t = on3.shape[:2]
         out = np.zeros_like(on3).reshape(n, t, -1)
         on_f = on3.reshape(n, t, -1)
         seed_f = seed.reshape(n, t, -1)
-        any_seed = np.bitwise_or.reduce(seed_f, axis=1)  # (N, words)
-        todo: dict[tuple[int, int, int], int | None] = {
-            key: off for key, off in self._armed.items()
-        }
+        any_seed = np.bitwise_or.reduce(seed_f, axis=1)  # (n, words)
+        local = {int(g): k for k, g in enumerate(sel.tolist())}
+        armed: dict[tuple[int, int, int], int] = {}
+        todo: dict[tuple[int, int, int], int | None] = {}
+        for (g, j, bit), frames_off in self._armed.items():
+            if g in local:
+                todo[(local[g], j, bit)] = frames_off
+            else:  # not in this chunk (cannot happen: an armed array is busy)
+                armed[(g, j, bit)] = frames_off
         for i, j in zip(*np.nonzero(any_seed), strict=True):
             for bit in _bits_of(int(any_seed[i, j]), on_f.dtype):
                 todo.setdefault((int(i), int(j), int(bit)), None)
-        armed: dict[tuple[int, int, int], int] = {}
-        idx = np.arange(t)
-        for (i, j, bit), off in todo.items():
-            b = on_f.dtype.type(bit)
-            o = (on_f[i, :, j] & b) != 0
-            s = (seed_f[i, :, j] & b) != 0
-            was = off is not None
-            last_on = np.maximum.accumulate(np.where(o, idx, -1 - (10**9 if off is None else off)))
-            released = (idx - last_on) >= n_release[i]
-            last_release = np.maximum.accumulate(np.where(released, idx, -1 if not was else -2))
-            last_seed = np.maximum.accumulate(np.where(s, idx, -1 if was else -2))
-            masked = o & (last_seed > last_release)
-            out[i, masked, j] |= b
-            if last_seed[-1] > last_release[-1]:
-                armed[(i, j, bit)] = int(t - 1 - last_on[-1])
+        if not todo:
+            self._armed = armed
+            return out
+        keys = list(todo)
+        ii = np.array([k[0] for k in keys])
+        jj = np.array([k[1] for k in keys])
+        bits = np.array([k[2] for k in keys]).astype(on_f.dtype)[:, None]
+        offs = [todo[k] for k in keys]
+        was = np.array([o is not None for o in offs])
+        off = np.array([10**9 if o is None else o for o in offs])
+        n_release = self._n_release[sel][ii][:, None]
+        idx = np.arange(t)[None, :]
+        # all the taxels at once, (K, T): the batch's per-taxel rule, carried over
+        o = (on_f[ii, :, jj] & bits) != 0
+        s = (seed_f[ii, :, jj] & bits) != 0
+        last_on = np.maximum.accumulate(np.where(o, idx, (-1 - off)[:, None]), axis=1)
+        released = (idx - last_on) >= n_release
+        last_release = np.maximum.accumulate(
+            np.where(released, idx, np.where(was, -2, -1)[:, None]), axis=1
+        )
+        last_seed = np.maximum.accumulate(np.where(s, idx, np.where(was, -1, -2)[:, None]), axis=1)
+        masked = o & (last_seed > last_release)
+        for q in np.flatnonzero(masked.any(axis=1)).tolist():
+            out[ii[q], masked[q], jj[q]] |= bits[q, 0]
+        still = last_seed[:, -1] > last_release[:, -1]
+        frames_off = t - 1 - last_on[:, -1]
+        for q in np.flatnonzero(still).tolist():
+            armed[(int(sel[ii[q]]), int(jj[q]), int(keys[q][2]))] = int(frames_off[q])
         self._armed = armed
         return out

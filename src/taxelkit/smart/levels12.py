@@ -115,18 +115,22 @@ class ChunkLevels12:
         self._big = np.zeros(self.n, bool)
 
     def _limited(
-        self, classes: NDArray[np.int8], stats: ImageStats, half: NDArray[np.float64]
+        self,
+        classes: NDArray[np.int8],
+        stats: ImageStats,
+        half: NDArray[np.float64],
+        sel: NDArray[np.intp],
     ) -> NDArray[np.int8]:
-        """:func:`~taxelkit.smart.contact_limits.apply_limits` on ``(N, T)``, state per array."""
+        """:func:`~taxelkit.smart.contact_limits.apply_limits` on the arrays ``sel``, ``(m, T)``."""
         assert self.limits is not None
         n, t = classes.shape
         taxels = stats.n_taxels.reshape(n, t)
         length = np.where(taxels > 0, 2.0 * half, 0.0)
         high, low = _length_thresholds(self.limits)
-        long = _schmitt_rows(length, high, low, self._long)
+        long = _schmitt_rows(length, high, low, self._long[sel])
         enter = AREA_MIN_AREA_MM2 * (1.0 + self.limits.area_hysteresis)
-        big = _schmitt_rows(stats.area_mm2.reshape(n, t), enter, AREA_MIN_AREA_MM2, self._big)
-        self._long, self._big = long[:, -1].copy(), big[:, -1].copy()
+        big = _schmitt_rows(stats.area_mm2.reshape(n, t), enter, AREA_MIN_AREA_MM2, self._big[sel])
+        self._long[sel], self._big[sel] = long[:, -1], big[:, -1]
         out = classes.copy()
         out[(out == _LINE) & ~long] = _INDET
         out[(out == _AREA) & ~big] = _INDET
@@ -157,23 +161,35 @@ class ChunkLevels12:
         )
         if self._cleaner is not None:
             images = self._cleaner.push(images, t_s)
-        flat = images.reshape(n * t, *self.shape)
+        classes = np.zeros((n, t), dtype=np.int8)  # NONE
+        rows = np.empty((n, t, 9))  # read only where there is contact
+        sel = np.flatnonzero(images.reshape(n, -1).any(axis=1))  # arrays touched in the chunk
+        quiet = np.ones(n, bool)
+        quiet[sel] = False
+        self._long[quiet] = False  # no contact: no length, no area
+        self._big[quiet] = False
+        if sel.size == 0:
+            return classes, rows
+        m = sel.size
+        flat = (images if m == n else images[sel]).reshape(m * t, *self.shape)
         stats = image_stats(flat, pitch_mm=self.pitch_mm)
-        classes = classify_contacts(stats, self.network, confidence=self.confidence)
+        cls = classify_contacts(stats, self.network, confidence=self.confidence)
         half = half_length(stats)
         if self.limits is not None:
-            classes = self._limited(classes.reshape(n, t), stats, half.reshape(n, t))
-        rows = np.empty((n * t, 9))
-        rows[:, 0:2] = stats.centre_mm
-        rows[:, 2] = stats.orientation_deg
-        rows[:, 3] = stats.area_mm2
-        rows[:, 4] = stats.elongation
-        rows[:, 5] = half
-        rows[:, 6:8] = np.nan
-        rows[:, 8] = np.asarray(t_s, dtype=np.float64).reshape(-1)
-        lines = np.flatnonzero(classes == ContactClass.LINE)
+            cls = self._limited(cls.reshape(m, t), stats, half.reshape(m, t), sel).reshape(-1)
+        out = np.empty((m * t, 9))
+        out[:, 0:2] = stats.centre_mm
+        out[:, 2] = stats.orientation_deg
+        out[:, 3] = stats.area_mm2
+        out[:, 4] = stats.elongation
+        out[:, 5] = half
+        out[:, 6:8] = np.nan
+        out[:, 8] = np.asarray(t_s, dtype=np.float64)[sel].reshape(-1)
+        lines = np.flatnonzero(cls == ContactClass.LINE)
         if lines.size:
-            rows[lines, 6:8] = line_extents(
+            out[lines, 6:8] = line_extents(
                 flat[lines], stats.centre_mm[lines], stats.orientation_deg[lines], self.pitch_mm
             )
-        return classes.reshape(n, t), rows.reshape(n, t, 9)
+        classes[sel] = cls.reshape(m, t)
+        rows[sel] = out.reshape(m, t, 9)
+        return classes, rows

@@ -24,6 +24,7 @@ and the last ``w`` running sums are kept.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -94,6 +95,7 @@ class SegmentScanner:
         self._head_t: list[float] = []
         self._head_theta: list[float] = []
         self._head_cap: int | None = None
+        self._dt: dict[int, float] = {}  # frame interval of the first frames, per k
         self._early: list[tuple[NDArray[np.intp], NDArray[np.float64]]] = []
         self._axis_sum = RunningSum(2)
         self._ready = False
@@ -106,7 +108,13 @@ class SegmentScanner:
 
     def frames_for(self, seconds: float, k: int, *, minimum: int | None = None) -> int:
         """As :meth:`SegmentTrack.frames_for <taxelkit.smart.tactemes.SegmentTrack.frames_for>`."""
-        return self._timing().frames_for(seconds, k, minimum=minimum)
+        if len(self._head_t) < max(2, k):  # the rate is not yet fixed
+            return self._timing().frames_for(seconds, k, minimum=minimum)
+        dt = self._dt.get(k)
+        if dt is None:
+            dt = self._dt[k] = self._timing().frame_interval_s(k)
+        floor = k if minimum is None else minimum
+        return max(floor, math.ceil(seconds / dt - 1e-9)) if dt > 0 else floor
 
     def frame_at(self, i: int) -> int:
         """Frame number of the segment's ``i``-th frame (``i`` within the first frames kept)."""
@@ -190,8 +198,7 @@ class SegmentScanner:
         del self._head_frames[self._head_cap :], self._head_t[self._head_cap :]
         del self._head_theta[self._head_cap :]
         w = self.w
-        self._centre, self._axis = RollingMean(w, 2), RollingMean(w, 2)
-        self._area, self._elong, self._half = RollingMean(w), RollingMean(w), RollingMean(w)
+        self._smooth = RollingMean(w, 7)  # centre x, y, axis vector, area, elongation, half
         self._anchor = 0
         self._ref: _Ref | None = None
         self._start_angle: float | None = None  # a line's turn counts from frame w - 1
@@ -254,11 +261,16 @@ class SegmentScanner:
     ) -> list[tuple[Tacteme, int]]:
         cfg, w, cls = self.config, self.w, self.cls
         j = n0 + np.arange(frames.size)
-        centre = self._centre.push(rows[:, 0:2])
-        angle = axis_angle_deg(self._axis.push(axis_vectors(rows[:, 2])))
-        area = self._area.push(rows[:, 3])
-        elong = self._elong.push(rows[:, 4]) if cls == _AREA else rows[:, 4]
-        half = self._half.push(rows[:, 5]) if cls == _LINE else rows[:, 5]
+        raw = np.empty((rows.shape[0], 7))
+        raw[:, 0:2] = rows[:, 0:2]
+        raw[:, 2:4] = axis_vectors(rows[:, 2])
+        raw[:, 4:7] = rows[:, 3:6]
+        smooth = self._smooth.push(raw)  # column by column: the batch's rolling means
+        centre = smooth[:, 0:2]
+        angle = axis_angle_deg(smooth[:, 2:4])
+        area = smooth[:, 4]
+        elong = smooth[:, 5] if cls == _AREA else rows[:, 4]
+        half = smooth[:, 6] if cls == _LINE else rows[:, 5]
         self._last_angle = float(angle[-1])
         pieces = self._anchors(j, area, elong, centre, angle, half)
         valid = np.zeros(j.size, bool)

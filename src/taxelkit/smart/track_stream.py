@@ -109,6 +109,9 @@ class Sustained:
         """Feed the mask of rows numbered ``index``; return the first hit's number (kept)."""
         if self.found is not None or mask.size == 0:
             return self.found
+        if not mask.any():
+            self.run = 0
+            return None
         idx = np.arange(mask.size)
         last_off = np.maximum.accumulate(np.where(mask, -1 - self.run, idx))
         run = idx - last_off
