@@ -38,7 +38,11 @@ from taxelkit.smart.cleaning import (
     stuck_frames_for,
 )
 
-__all__ = ["ChunkCleaner"]
+__all__ = ["GROUP_FRAMES", "ChunkCleaner"]
+
+#: Frames (arrays x frames of a chunk) cleaned per pass: about 4 MB of bool
+#: 16 x 16 frames, so that the rules' temporaries stay in the cache.
+GROUP_FRAMES = 16_384
 
 
 def _held_along_time(a: NDArray[Any], n: int) -> NDArray[Any]:
@@ -121,8 +125,10 @@ class ChunkCleaner:
         if sel.size == 0:
             self._resize_hist(longest)
             return out
-        part = img if sel.size == n else img[sel]
-        out[sel] = self._clean(part, sel, longest)
+        group = max(1, GROUP_FRAMES // t)  # arrays per pass: the temporaries stay in cache
+        for a in range(0, sel.size, group):
+            g = sel[a : a + group]
+            out[g] = self._clean(img if g.size == n else img[g], g, longest)
         return out
 
     def _resize_hist(self, longest: int) -> None:

@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.cleaning import CleaningConfig
-from taxelkit.smart.cleaning_chunks import ChunkCleaner
+from taxelkit.smart.cleaning_chunks import GROUP_FRAMES, ChunkCleaner
 from taxelkit.smart.contact_classes import (
     AREA_MIN_AREA_MM2,
     ContactClass,
@@ -114,6 +114,32 @@ class ChunkLevels12:
         self._long = np.zeros(self.n, bool)  # the limits' hysteresis (LimitState), per array
         self._big = np.zeros(self.n, bool)
 
+    def _levels(
+        self, images: NDArray[np.bool_], t_s: NDArray[np.float64], sel: NDArray[np.intp]
+    ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
+        """Classes ``(m, T)`` and rows ``(m, T, 9)`` of the cleaned frames of arrays ``sel``."""
+        m, t = images.shape[:2]
+        flat = images.reshape(m * t, *self.shape)
+        stats = image_stats(flat, pitch_mm=self.pitch_mm)
+        cls = classify_contacts(stats, self.network, confidence=self.confidence)
+        half = half_length(stats)
+        if self.limits is not None:
+            cls = self._limited(cls.reshape(m, t), stats, half.reshape(m, t), sel).reshape(-1)
+        out = np.empty((m * t, 9))
+        out[:, 0:2] = stats.centre_mm
+        out[:, 2] = stats.orientation_deg
+        out[:, 3] = stats.area_mm2
+        out[:, 4] = stats.elongation
+        out[:, 5] = half
+        out[:, 6:8] = np.nan
+        out[:, 8] = np.asarray(t_s, dtype=np.float64)[sel].reshape(-1)
+        lines = np.flatnonzero(cls == ContactClass.LINE)
+        if lines.size:
+            out[lines, 6:8] = line_extents(
+                flat[lines], stats.centre_mm[lines], stats.orientation_deg[lines], self.pitch_mm
+            )
+        return cls.reshape(m, t), out.reshape(m, t, 9)
+
     def _limited(
         self,
         classes: NDArray[np.int8],
@@ -170,26 +196,8 @@ class ChunkLevels12:
         self._big[quiet] = False
         if sel.size == 0:
             return classes, rows
-        m = sel.size
-        flat = (images if m == n else images[sel]).reshape(m * t, *self.shape)
-        stats = image_stats(flat, pitch_mm=self.pitch_mm)
-        cls = classify_contacts(stats, self.network, confidence=self.confidence)
-        half = half_length(stats)
-        if self.limits is not None:
-            cls = self._limited(cls.reshape(m, t), stats, half.reshape(m, t), sel).reshape(-1)
-        out = np.empty((m * t, 9))
-        out[:, 0:2] = stats.centre_mm
-        out[:, 2] = stats.orientation_deg
-        out[:, 3] = stats.area_mm2
-        out[:, 4] = stats.elongation
-        out[:, 5] = half
-        out[:, 6:8] = np.nan
-        out[:, 8] = np.asarray(t_s, dtype=np.float64)[sel].reshape(-1)
-        lines = np.flatnonzero(cls == ContactClass.LINE)
-        if lines.size:
-            out[lines, 6:8] = line_extents(
-                flat[lines], stats.centre_mm[lines], stats.orientation_deg[lines], self.pitch_mm
-            )
-        classes[sel] = cls.reshape(m, t)
-        rows[sel] = out.reshape(m, t, 9)
+        group = max(1, GROUP_FRAMES // t)  # arrays per pass: the temporaries stay in cache
+        for a in range(0, sel.size, group):
+            g = sel[a : a + group]
+            classes[g], rows[g] = self._levels(images if g.size == n else images[g], t_s, g)
         return classes, rows
