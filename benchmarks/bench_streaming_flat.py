@@ -75,7 +75,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--frames", type=int, default=1_000_000)
     ap.add_argument("--kind", choices=("area", "line", "point"), default="area")
-    ap.add_argument("--batch-frames", type=int, default=4096)
+    ap.add_argument("--batch-frames", type=int, default=2000)  # 5 per window
     args = ap.parse_args()
     rng = np.random.default_rng(0)
     sensor = SmartSensor((16, 16), pitch_mm=PITCH_MM, batch_frames=args.batch_frames)
