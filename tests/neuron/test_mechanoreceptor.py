@@ -75,6 +75,14 @@ def test_spatial_summation_sums_the_receptive_field() -> None:
         spatial_summation(p, 2)
 
 
+@pytest.mark.parametrize("k", [3, 5])
+def test_spatial_summation_equals_the_direct_sum_on_a_random_field(k: int) -> None:
+    p = np.random.default_rng(4).normal(size=(3, 6, 7))
+    padded = np.pad(p, ((0, 0), (k // 2, k // 2), (k // 2, k // 2)))
+    direct = sum(padded[:, i : i + 6, j : j + 7] for i in range(k) for j in range(k))
+    np.testing.assert_allclose(spatial_summation(p, k), direct, rtol=0.0, atol=1e-13)
+
+
 def test_pulse_density_fires_only_above_threshold() -> None:
     u = np.concatenate([np.zeros(5), np.linspace(0, 0.2, 5), np.full(20, 0.2)])[:, None, None]
     params = NeuronParams(tau_s=0.05, threshold_h=0.05)

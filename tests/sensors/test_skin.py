@@ -124,3 +124,21 @@ def test_bad_inputs_raise_input_error() -> None:
         SkinModel(spread_mm=1.0, coupling=1.5)
     with pytest.raises(InputError, match="spread_mm"):
         SkinModel(spread_mm=-1.0)
+
+
+@pytest.mark.parametrize("coupling", [1.0, 0.6])
+def test_spread_is_the_valid_2d_correlation_with_the_outer_product_kernel(coupling: float) -> None:
+    """Against a direct sum over the (2m+1)^2 taps, in float64, for a random field."""
+    skin = SkinModel(spread_mm=1.3, coupling=coupling)
+    pitch = 0.9
+    m = coupling_margin_taxels(skin, pitch)
+    w = coupling_kernel_1d(skin, pitch)
+    kernel = np.outer(w, w)
+    p = np.random.default_rng(3).uniform(0.0, 1.0, (2, 5 + 2 * m, 7 + 2 * m))
+    direct = np.zeros((2, 5, 7))
+    for i in range(2 * m + 1):
+        for j in range(2 * m + 1):
+            direct += kernel[i, j] * p[:, i : i + 5, j : j + 7]
+    expected = np.maximum(p[:, m:-m, m:-m], coupling * direct)
+    u = displacement_from_penetration(p, pitch_mm=pitch, skin=skin)
+    np.testing.assert_allclose(u, expected, rtol=0.0, atol=1e-15)

@@ -353,6 +353,32 @@ class RobustnessResult:
         }
 
 
+def _choose_engines(engines: Sequence[str] | None) -> tuple[list[str], dict[str, Any]]:
+    """The engines to run and the skipped ones with the reason (all available ones by default).
+
+    Raises
+    ------
+    InputError
+        For an unknown engine, one that cannot run here, or none available.
+    """
+    avail = available_engines()
+    if engines is None:
+        chosen = [e for e, why in avail.items() if why is None]
+        skipped = {e: why for e, why in avail.items() if why is not None}
+    else:
+        unknown = [e for e in engines if e not in avail]
+        if unknown:
+            raise InputError(f"unknown engine(s) {unknown}; known: {', '.join(avail)}")
+        blocked = {e: avail[e] for e in engines if avail[e] is not None}
+        if blocked:
+            e, why = next(iter(blocked.items()))
+            raise InputError(f"engine {e} cannot run: {why}")
+        chosen, skipped = list(engines), {}
+    if not chosen:
+        raise InputError("no simulation engine is available")
+    return chosen, skipped
+
+
 def run_robustness(
     *,
     seed: int = 0,
@@ -402,21 +428,7 @@ def run_robustness(
     """
     if int(n_trials) < 1:
         raise InputError(f"n_trials must be >= 1, got {n_trials!r}")
-    avail = available_engines()
-    if engines is None:
-        chosen = [e for e, why in avail.items() if why is None]
-        skipped = {e: why for e, why in avail.items() if why is not None}
-    else:
-        unknown = [e for e in engines if e not in avail]
-        if unknown:
-            raise InputError(f"unknown engine(s) {unknown}; known: {', '.join(avail)}")
-        blocked = {e: avail[e] for e in engines if avail[e] is not None}
-        if blocked:
-            e, why = next(iter(blocked.items()))
-            raise InputError(f"engine {e} cannot run: {why}")
-        chosen, skipped = list(engines), {}
-    if not chosen:
-        raise InputError("no simulation engine is available")
+    chosen, skipped = _choose_engines(engines)
     per_array = max(1, int(n_trials) // 3) if array_trials is None else int(array_trials)
     units = _units(chosen, rates_hz, int(n_trials), int(seed), arrays, per_array)
     n_workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))

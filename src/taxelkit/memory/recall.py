@@ -216,30 +216,14 @@ def recall_with_operator(
     for start in range(0, q, RECALL_CHUNK_QUERIES):
         stop = min(start + RECALL_CHUNK_QUERIES, q)
         chunk = y[start:stop].astype(np.float64)  # (c, N)
-        shifted = np.take(chunk, table, axis=1)  # (c, m, N): all shifts, one gather
-        z = _phi(operator.fields(shifted), operator.epsilon)  # (c, m, N) int8
-        # Integer numerators of Eq. 14 and of the evidence, exact in float64.
-        cn = np.rint(z.reshape(-1, n).astype(np.float64) @ x.T).astype(np.int64)
-        cn = cn.reshape(stop - start, m, k)  # (c, m, K)
-        an = np.rint(chunk @ x_unshift.T).astype(np.int64).reshape(stop - start, m, k)
-        # Lexicographic key: correlation first, evidence second (both in [-N, N]).
-        key = (cn + n) * (2 * n + 1) + (an + n)
-        shift = np.argmax(key, axis=1)  # (c, K): lowest shift on a full tie
-        best_key = np.take_along_axis(key, shift[:, np.newaxis, :], axis=1)[:, 0, :]
-        win = np.argmax(best_key, axis=1)  # (c,): lowest index on a full tie
-        rows = np.arange(stop - start)
-        corr_n[start:stop] = np.take_along_axis(cn, shift[:, np.newaxis, :], axis=1)[:, 0, :]
-        evid_n[start:stop] = np.take_along_axis(an, shift[:, np.newaxis, :], axis=1)[:, 0, :]
-        best_shift[start:stop] = shift
-        winner[start:stop] = win
-        recalled[start:stop] = z[rows, shift[rows, win], :]
+        (
+            corr_n[start:stop],
+            evid_n[start:stop],
+            best_shift[start:stop],
+            winner[start:stop],
+            recalled[start:stop],
+        ) = _recall_chunk(operator, chunk, x, x_unshift, table)
     correlations = corr_n / n
-    if k > 1:
-        others = correlations.copy()
-        others[np.arange(q), winner] = -np.inf
-        margin = correlations[np.arange(q), winner] - others.max(axis=1)
-    else:
-        margin = np.full(q, np.inf)
     name_tuple = tuple(names)
     return RecallResult(
         names=name_tuple,
@@ -248,6 +232,53 @@ def recall_with_operator(
         evidence=evid_n / n,
         recognised=tuple(name_tuple[i] for i in winner),
         recognised_index=winner,
-        margin=margin,
+        margin=_winning_margin(correlations, winner),
         recalled=recalled,
     )
+
+
+def _recall_chunk(
+    operator: RecallOperator,
+    chunk: NDArray[np.float64],
+    x: NDArray[np.float64],
+    x_unshift: NDArray[np.float64],
+    table: NDArray[np.intp],
+) -> tuple[
+    NDArray[np.int64], NDArray[np.int64], NDArray[np.intp], NDArray[np.intp], NDArray[np.int8]
+]:
+    """Recall of a chunk of queries ``(c, N)`` against patterns ``x`` ``(K, N)``.
+
+    Returns the correlation and evidence numerators ``(c, K)`` at each
+    pattern's best shift, that shift ``(c, K)``, the winning pattern ``(c,)``
+    and the recalled pattern at the winner's shift ``(c, N)``.
+    """
+    c, n = chunk.shape
+    m, k = table.shape[0], x.shape[0]
+    shifted = np.take(chunk, table, axis=1)  # (c, m, N): all shifts, one gather
+    z = _phi(operator.fields(shifted), operator.epsilon)  # (c, m, N) int8
+    # Integer numerators of Eq. 14 and of the evidence, exact in float64.
+    cn = np.rint(z.reshape(-1, n).astype(np.float64) @ x.T).astype(np.int64)
+    cn = cn.reshape(c, m, k)  # (c, m, K)
+    an = np.rint(chunk @ x_unshift.T).astype(np.int64).reshape(c, m, k)
+    # Lexicographic key: correlation first, evidence second (both in [-N, N]).
+    key = (cn + n) * (2 * n + 1) + (an + n)
+    shift = np.argmax(key, axis=1)  # (c, K): lowest shift on a full tie
+    best_key = np.take_along_axis(key, shift[:, np.newaxis, :], axis=1)[:, 0, :]
+    win = np.argmax(best_key, axis=1)  # (c,): lowest index on a full tie
+    rows = np.arange(c)
+    corr = np.take_along_axis(cn, shift[:, np.newaxis, :], axis=1)[:, 0, :]
+    evid = np.take_along_axis(an, shift[:, np.newaxis, :], axis=1)[:, 0, :]
+    return corr, evid, shift, win, z[rows, shift[rows, win], :]
+
+
+def _winning_margin(
+    correlations: NDArray[np.float64], winner: NDArray[np.int64]
+) -> NDArray[np.float64]:
+    """Winner's correlation minus the best other one, ``(Q,)``; ``inf`` with one pattern."""
+    q, k = correlations.shape
+    if k == 1:
+        return np.full(q, np.inf)
+    others = correlations.copy()
+    others[np.arange(q), winner] = -np.inf
+    margin: NDArray[np.float64] = correlations[np.arange(q), winner] - others.max(axis=1)
+    return margin

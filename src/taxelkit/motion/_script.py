@@ -246,8 +246,8 @@ def face_down_rim(solid: Cylinder | Cone | TruncatedCone, pose: Pose) -> int:
     return 0 if pose.rotation[2, 2] > 0 else 1
 
 
-def tilt_from_face(b: Builder, u: NDArray[np.float64], d: Draws, *, lay: bool) -> None:
-    """Tilt a round body from its face onto the rim towards ``u``, hold, then lay it down or not."""
+def _tip_off_face(b: Builder, u: NDArray[np.float64]) -> tuple[NDArray[np.float64], float]:
+    """Pivot (the face's rim point towards ``u``) and the turn that lays the body on its side."""
     solid = b.solid
     assert isinstance(solid, Cylinder | Cone | TruncatedCone)
     rim_list = rims(solid)
@@ -255,7 +255,12 @@ def tilt_from_face(b: Builder, u: NDArray[np.float64], d: Draws, *, lay: bool) -
     a = b.pose.rotation[:, 2]
     pivot = b.pose.centroid_mm + rim_list[i][0] * a + rim_list[i][1] * u
     other = b.pose.centroid_mm + rim_list[1 - i][0] * a + rim_list[1 - i][1] * u
-    landing = landing_angle(other[None], pivot, u)
+    return pivot, landing_angle(other[None], pivot, u)
+
+
+def tilt_from_face(b: Builder, u: NDArray[np.float64], d: Draws, *, lay: bool) -> None:
+    """Tilt a round body from its face onto the rim towards ``u``, hold, then lay it down or not."""
+    pivot, landing = _tip_off_face(b, u)
     k = np.cross(E_Z, u)
     speed = d.span(TIP_DEG_S)
     held = d.span(HOLD_FRACTION) * landing
@@ -292,14 +297,7 @@ def stand_up(b: Builder, end: int, d: Draws) -> None:
 
 def lay_silently(b: Builder, u: NDArray[np.float64]) -> None:
     """Put a standing round body on its side (towards ``u``) without recording frames."""
-    solid = b.solid
-    assert isinstance(solid, Cylinder | Cone | TruncatedCone)
-    rim_list = rims(solid)
-    i = face_down_rim(solid, b.pose)
-    a = b.pose.rotation[:, 2]
-    pivot = b.pose.centroid_mm + rim_list[i][0] * a + rim_list[i][1] * u
-    other = b.pose.centroid_mm + rim_list[1 - i][0] * a + rim_list[1 - i][1] * u
-    landing = landing_angle(other[None], pivot, u)
+    pivot, landing = _tip_off_face(b, u)
     rots, cents = rotate_about_line(b.pose, pivot, np.cross(E_Z, u), landing)
     b.pose = Pose(rots[0], cents[0])
 

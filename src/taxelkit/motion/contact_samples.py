@@ -327,6 +327,22 @@ def _press_scenario(
     return np.concatenate(images)[:n], np.concatenate(depths)[:n]
 
 
+def _scenario_shares(
+    scenarios: tuple[ContactScenario, ...], n_per_class: int
+) -> list[tuple[ContactScenario, int]]:
+    """Each scenario with its number of samples, by class: a class's ``n_per_class``
+    split evenly between its scenarios (the first ones take the remainder)."""
+    out: list[tuple[ContactScenario, int]] = []
+    for label in CONTACT_LABELS:
+        group = [s for s in scenarios if s.label == label]
+        if not group:
+            continue
+        shares = np.full(len(group), n_per_class // len(group))
+        shares[: n_per_class % len(group)] += 1
+        out += [(sc, int(c)) for sc, c in zip(group, shares, strict=True) if c > 0]
+    return out
+
+
 def pressed_contacts(
     sensor: Sensor = BONNEVILLE_16X16,
     *,
@@ -382,28 +398,14 @@ def pressed_contacts(
     depths: list[NDArray[np.float64]] = []
     labels: list[NDArray[np.str_]] = []
     names: list[NDArray[np.str_]] = []
-    for label in CONTACT_LABELS:
-        group = [s for s in scenarios if s.label == label]
-        if not group:
-            continue
-        shares = np.full(len(group), int(n_per_class) // len(group))
-        shares[: int(n_per_class) % len(group)] += 1
-        for scenario, count in zip(group, shares, strict=True):
-            if count == 0:
-                continue
-            img, dep = _press_scenario(
-                scenario,
-                int(count),
-                sensor,
-                gen,
-                offset_mm=off,
-                oversample=oversample,
-                add_noise=add_noise,
-            )
-            images.append(img)
-            depths.append(dep)
-            labels.append(np.full(int(count), label))
-            names.append(np.full(int(count), scenario.name))
+    for scenario, count in _scenario_shares(scenarios, int(n_per_class)):
+        img, dep = _press_scenario(
+            scenario, count, sensor, gen, offset_mm=off, oversample=oversample, add_noise=add_noise
+        )
+        images.append(img)
+        depths.append(dep)
+        labels.append(np.full(count, scenario.label))
+        names.append(np.full(count, scenario.name))
     return LabelledContacts(
         labels=np.concatenate(labels),
         scenario=np.concatenate(names),

@@ -340,6 +340,37 @@ def _random_solid(name: str, gen: np.random.Generator, jitter: float) -> Analyti
     return make_solid(name, **sizes)
 
 
+def _scenario_from(
+    name: str,
+    b: Builder,
+    rotations: NDArray[np.float64],
+    centroids_mm: NDArray[np.float64],
+    indent_mm: NDArray[np.float64],
+    shift_mm: NDArray[np.float64],
+    rate_hz: float,
+    *,
+    slides: bool,
+) -> Scenario:
+    """The scenario of a finished script, placed on the array by ``shift_mm``.
+
+    ``rotations`` and ``centroids_mm`` are the builder's poses after any yaw,
+    ``indent_mm`` its indentation; phases come from the builder, times from
+    ``rate_hz``.
+    """
+    return Scenario(
+        name=name,
+        object_name=b.solid.name,
+        solid=b.solid,
+        rotations=rotations,
+        positions_mm=centroids_mm[:, :2] + shift_mm,
+        rest_height_mm=centroids_mm[:, 2],
+        indent_mm=indent_mm,
+        t_s=np.arange(indent_mm.size) / rate_hz,
+        phase=b.phases,
+        slides=slides,
+    )
+
+
 def _assemble(
     name: str,
     solid: AnalyticSolid,
@@ -367,18 +398,7 @@ def _assemble(
             if np.all(slack >= 0.0):
                 rots, cents = yawed(rots0, cents0, turn)
                 shift = -half - low + shift_fraction * slack
-                return Scenario(
-                    name=name,
-                    object_name=solid.name,
-                    solid=solid,
-                    rotations=rots,
-                    positions_mm=cents[:, :2] + shift,
-                    rest_height_mm=cents[:, 2],
-                    indent_mm=indent,
-                    t_s=np.arange(indent.size) / rate_hz,
-                    phase=b.phases,
-                    slides=slides,
-                )
+                return _scenario_from(name, b, rots, cents, indent, shift, rate_hz, slides=slides)
     raise InputError(
         f"cannot fit a {solid!r} script on the {sensor.name} array; reduce size_jitter"
     )
@@ -533,15 +553,6 @@ def cylinder_fig3_scenario(
     shift = -0.5 * (low + high)
     if np.any(high - low > np.array([sensor.array.width_mm, sensor.array.height_mm])):
         raise InputError(f"the Fig. 3 motion does not fit on the {sensor.name} array")
-    return Scenario(
-        name="cylinder-fig3",
-        object_name=solid.name,
-        solid=solid,
-        rotations=rots,
-        positions_mm=cents[:, :2] + shift,
-        rest_height_mm=cents[:, 2],
-        indent_mm=indent,
-        t_s=np.arange(indent.size) / FIG3_RATE_HZ,
-        phase=b.phases,
-        slides=False,
+    return _scenario_from(
+        "cylinder-fig3", b, rots, cents, indent, shift, FIG3_RATE_HZ, slides=False
     )

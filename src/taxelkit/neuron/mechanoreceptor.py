@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy import ndimage
 
 from taxelkit.errors import InputError, check_positive
 from taxelkit.neuron.quantisers import ramp, ternary
@@ -147,6 +148,15 @@ def temporal_summation(receptor: ArrayLike, dt_s: float, tau_s: float) -> NDArra
     (T, ...) float
         ``dt * sum of the last n samples`` (fewer at the start), ``n =
         window_samples(tau_s, dt_s)``; one cumulative sum, no loop over time.
+
+    Notes
+    -----
+    ``scipy.ndimage.correlate1d(s, np.ones(n), axis=0, mode="constant",
+    origin=(n - 1) // 2)`` computes the same window sums (within 1e-16 on random
+    inputs of unit scale) and more accurately (a difference of cumulative sums carries
+    their rounding), but not bit for bit: with it, ``reproduce fig7`` reports
+    other correlations in the fifth decimal (0.99998808 becomes 0.99998792)
+    and other direction errors, so the published results would change.
     """
     s = _series("receptor", receptor)
     n = window_samples(tau_s, dt_s)
@@ -171,7 +181,8 @@ def spatial_summation(potential: ArrayLike, receptive_field: int = 1) -> NDArray
     -------
     (T, rows, cols) float
         Neuron ``(i, j)`` sums the elements within ``k // 2`` of ``(i, j)``
-        (elements outside the array contribute nothing).
+        (elements outside the array contribute nothing):
+        :func:`scipy.ndimage.correlate` with a ``k x k`` kernel of ones.
     """
     p = _series("potential", potential)
     k = int(receptive_field)
@@ -181,17 +192,7 @@ def spatial_summation(potential: ArrayLike, receptive_field: int = 1) -> NDArray
         return p
     if p.ndim != 3:
         raise InputError(f"potential must have shape (T, rows, cols), got {p.shape}")
-    r = k // 2
-    padded = np.pad(p, ((0, 0), (r, r), (r, r)))
-    c = padded.cumsum(axis=1).cumsum(axis=2)  # summed-area table
-    c = np.pad(c, ((0, 0), (1, 0), (1, 0)))
-    rows, cols = p.shape[1:]
-    out: NDArray[np.float64] = (
-        c[:, k : k + rows, k : k + cols]
-        - c[:, :rows, k : k + cols]
-        - c[:, k : k + rows, :cols]
-        + c[:, :rows, :cols]
-    )
+    out: NDArray[np.float64] = ndimage.correlate(p, np.ones((1, k, k)), mode="constant")
     return out
 
 

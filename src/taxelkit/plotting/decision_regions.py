@@ -100,84 +100,19 @@ def plot_decision_regions(
     ----------
     Paper 001, Figure 3 (tactile image classification).
     """
-    a0, a1 = _check_range("area_range_mm2", area_range_mm2, 1e-12)
-    e0, e1 = _check_range("elongation_range", elongation_range, 1.0)
+    areas = _check_range("area_range_mm2", area_range_mm2, 1e-12)
+    elongations = _check_range("elongation_range", elongation_range, 1.0)
     if not isinstance(resolution, int | np.integer) or resolution < 2:
         raise InputError(f"resolution must be an integer >= 2, got {resolution!r}")
-    area_edges = np.geomspace(a0, a1, int(resolution) + 1)
-    elong_edges = np.geomspace(e0, e1, int(resolution) + 1)
-    area_mid = np.sqrt(area_edges[:-1] * area_edges[1:])
-    elong_mid = np.sqrt(elong_edges[:-1] * elong_edges[1:])
-    aa, ee = np.meshgrid(area_mid, elong_mid)
-    codes = classify_features(
-        np.column_stack([aa.ravel(), ee.ravel()]), network, confidence=confidence
-    ).reshape(aa.shape)
-
     if ax is None:
         fig, ax = plt.subplots(figsize=(7.4, 4.6), layout="constrained")
     else:
         fig = ax.figure  # type: ignore[assignment]
-    order = list(ContactClass)
-    cmap = ListedColormap([CLASS_COLOURS[c] for c in order])
-    norm = BoundaryNorm(np.arange(len(order) + 1) - 0.5, cmap.N)
-    ax.pcolormesh(area_edges, elong_edges, codes, cmap=cmap, norm=norm, alpha=0.45, shading="flat")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlim(a0, a1)
-    ax.set_ylim(e0, e1)
-    ax.set_xlabel("area of contact m00 (mm$^2$)")
-    ax.set_ylabel("elongation")
-
-    handles: list[Any] = [
-        Patch(facecolor=CLASS_COLOURS[c], alpha=0.45, label=c.name.lower())
-        for c in (*OUTPUT_CLASSES, ContactClass.INDETERMINATE)
-    ]
+    handles = _draw_regions(ax, areas, elongations, int(resolution), network, confidence)
     if samples is not None:
-        pts = np.asarray(samples, dtype=np.float64)
-        if pts.ndim != 2 or pts.shape[1] != 2:
-            raise InputError(f"samples must have shape (N, 2), got {pts.shape}")
-        if labels is None:
-            ax.scatter(pts[:, 0], pts[:, 1], s=10, c="k", alpha=0.6, lw=0, clip_on=False)
-        else:
-            lab = np.asarray(labels)
-            if lab.shape != (pts.shape[0],):
-                raise InputError(f"labels must have shape ({pts.shape[0]},), got {lab.shape}")
-            for c in OUTPUT_CLASSES:
-                m = lab == int(c)
-                if np.any(m):
-                    ax.scatter(
-                        pts[m, 0],
-                        pts[m, 1],
-                        s=14,
-                        marker=_MARKERS[c],
-                        facecolor=CLASS_COLOURS[c],
-                        edgecolor="k",
-                        linewidth=0.3,
-                        alpha=0.7,
-                        clip_on=False,  # elongation 1 lies on the axis
-                    )
-                    handles.append(
-                        Line2D(
-                            [],
-                            [],
-                            ls="",
-                            marker=_MARKERS[c],
-                            markerfacecolor=CLASS_COLOURS[c],
-                            markeredgecolor="k",
-                            label=f"{c.name.lower()} samples",
-                        )
-                    )
+        handles += _scatter_samples(ax, samples, labels)
     if pitch_mm is not None:
-        p2 = check_positive("pitch_mm", pitch_mm) ** 2
-
-        def taxels_from_area(area: Any) -> Any:
-            return np.asarray(area, dtype=np.float64) / p2
-
-        def area_from_taxels(taxels: Any) -> Any:
-            return np.asarray(taxels, dtype=np.float64) * p2
-
-        top = ax.secondary_xaxis("top", functions=(taxels_from_area, area_from_taxels))
-        top.set_xlabel(f"taxels at {float(pitch_mm):.4g} mm pitch")
+        _add_taxel_axis(ax, pitch_mm)
     ax.legend(
         handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7, frameon=False
     )
@@ -186,3 +121,94 @@ def plot_decision_regions(
     )
     ax.set_title(shown, fontsize=9)
     return fig
+
+
+def _draw_regions(
+    ax: Axes,
+    area_range_mm2: tuple[float, float],
+    elongation_range: tuple[float, float],
+    resolution: int,
+    network: ContactNetwork,
+    confidence: float,
+) -> list[Any]:
+    """Fill each cell of a log-spaced grid with the colour of its class, on log axes.
+
+    Returns the legend handles of the classes.
+    """
+    area_edges = np.geomspace(*area_range_mm2, resolution + 1)
+    elong_edges = np.geomspace(*elongation_range, resolution + 1)
+    area_mid = np.sqrt(area_edges[:-1] * area_edges[1:])
+    elong_mid = np.sqrt(elong_edges[:-1] * elong_edges[1:])
+    aa, ee = np.meshgrid(area_mid, elong_mid)
+    codes = classify_features(
+        np.column_stack([aa.ravel(), ee.ravel()]), network, confidence=confidence
+    ).reshape(aa.shape)
+    order = list(ContactClass)
+    cmap = ListedColormap([CLASS_COLOURS[c] for c in order])
+    norm = BoundaryNorm(np.arange(len(order) + 1) - 0.5, cmap.N)
+    ax.pcolormesh(area_edges, elong_edges, codes, cmap=cmap, norm=norm, alpha=0.45, shading="flat")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlim(*area_range_mm2)
+    ax.set_ylim(*elongation_range)
+    ax.set_xlabel("area of contact m00 (mm$^2$)")
+    ax.set_ylabel("elongation")
+    return [
+        Patch(facecolor=CLASS_COLOURS[c], alpha=0.45, label=c.name.lower())
+        for c in (*OUTPUT_CLASSES, ContactClass.INDETERMINATE)
+    ]
+
+
+def _scatter_samples(ax: Axes, samples: ArrayLike, labels: ArrayLike | None) -> list[Any]:
+    """Scatter ``(area, elongation)`` samples, per class when labelled; their legend handles."""
+    pts = np.asarray(samples, dtype=np.float64)
+    if pts.ndim != 2 or pts.shape[1] != 2:
+        raise InputError(f"samples must have shape (N, 2), got {pts.shape}")
+    if labels is None:
+        ax.scatter(pts[:, 0], pts[:, 1], s=10, c="k", alpha=0.6, lw=0, clip_on=False)
+        return []
+    lab = np.asarray(labels)
+    if lab.shape != (pts.shape[0],):
+        raise InputError(f"labels must have shape ({pts.shape[0]},), got {lab.shape}")
+    handles: list[Any] = []
+    for c in OUTPUT_CLASSES:
+        m = lab == int(c)
+        if not np.any(m):
+            continue
+        ax.scatter(
+            pts[m, 0],
+            pts[m, 1],
+            s=14,
+            marker=_MARKERS[c],
+            facecolor=CLASS_COLOURS[c],
+            edgecolor="k",
+            linewidth=0.3,
+            alpha=0.7,
+            clip_on=False,  # elongation 1 lies on the axis
+        )
+        handles.append(
+            Line2D(
+                [],
+                [],
+                ls="",
+                marker=_MARKERS[c],
+                markerfacecolor=CLASS_COLOURS[c],
+                markeredgecolor="k",
+                label=f"{c.name.lower()} samples",
+            )
+        )
+    return handles
+
+
+def _add_taxel_axis(ax: Axes, pitch_mm: float) -> None:
+    """A top axis giving the area in taxels of ``pitch_mm``."""
+    p2 = check_positive("pitch_mm", pitch_mm) ** 2
+
+    def taxels_from_area(area: Any) -> Any:
+        return np.asarray(area, dtype=np.float64) / p2
+
+    def area_from_taxels(taxels: Any) -> Any:
+        return np.asarray(taxels, dtype=np.float64) * p2
+
+    top = ax.secondary_xaxis("top", functions=(taxels_from_area, area_from_taxels))
+    top.set_xlabel(f"taxels at {float(pitch_mm):.4g} mm pitch")

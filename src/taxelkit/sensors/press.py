@@ -250,29 +250,14 @@ def displacement_from_solid(
     -------
     (P, rows, cols) float, mm
     """
-    rot = check_rotations(rotations)
-    pos = _check_positions(positions_mm)
-    if pos.shape[0] == 1 and rot.shape[0] > 1:
-        pos = np.repeat(pos, rot.shape[0], axis=0)
-    if rot.shape[0] == 1 and pos.shape[0] > 1:
-        rot = np.repeat(rot, pos.shape[0], axis=0)
-    if rot.shape[0] != pos.shape[0]:
-        raise InputError(
-            f"rotations ({rot.shape[0]}) and positions_mm ({pos.shape[0]}) "
-            "must hold the same number of poses"
-        )
+    rot, pos = _check_poses(rotations, positions_mm)
     n_poses = pos.shape[0]
     indent = _as_per_pose("indent_mm", indent_mm, n_poses)
     xs64, ys64, shape = _grid_for(sensor, oversample, active_only)
     ftype = _check_dtype(dtype)
     xs, ys = xs64.astype(ftype), ys64.astype(ftype)
     posf = pos.astype(ftype)
-    # taxel centres of the output, for the point-contact dimple
-    xc, yc = sensor.array.centre_offsets_mm()
-    block = sensor.array.active_region if active_only else None
-    if block is not None:
-        xc = xc[block.col0 : block.col0 + block.cols]
-        yc = yc[block.row0 : block.row0 + block.rows]
+    xc, yc = _output_centres_mm(sensor, active_only)  # for the point-contact dimple
     use_dimple = sensor.skin.point_dimple and sensor.skin.spread_mm > 0
     gen = np.random.default_rng(rng)
     out = np.empty((n_poses, *shape), dtype=ftype)
@@ -295,3 +280,33 @@ def displacement_from_solid(
         np.maximum(pen, 0.0, out=pen)
         out[a:b] = _finish(sensor, pen, int(oversample), add_noise, gen, floor)
     return out
+
+
+def _check_poses(
+    rotations: ArrayLike, positions_mm: ArrayLike
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Rotations ``(P, 3, 3)`` and positions ``(P, 2)``; a single one is repeated to match."""
+    rot = check_rotations(rotations)
+    pos = _check_positions(positions_mm)
+    if pos.shape[0] == 1 and rot.shape[0] > 1:
+        pos = np.repeat(pos, rot.shape[0], axis=0)
+    if rot.shape[0] == 1 and pos.shape[0] > 1:
+        rot = np.repeat(rot, pos.shape[0], axis=0)
+    if rot.shape[0] != pos.shape[0]:
+        raise InputError(
+            f"rotations ({rot.shape[0]}) and positions_mm ({pos.shape[0]}) "
+            "must hold the same number of poses"
+        )
+    return rot, pos
+
+
+def _output_centres_mm(
+    sensor: Sensor, active_only: bool
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """x ``(W,)`` and y ``(H,)`` of the output taxels' centres, mm (active block only if asked)."""
+    xc, yc = sensor.array.centre_offsets_mm()
+    block = sensor.array.active_region if active_only else None
+    if block is not None:
+        xc = xc[block.col0 : block.col0 + block.cols]
+        yc = yc[block.row0 : block.row0 + block.rows]
+    return xc, yc

@@ -295,23 +295,49 @@ def hand_set_network(
     ----------
     Paper 001, Section 3, Level 2 ("the weights ... were calculated by hand").
     """
+    areas = _check_area_order(point_max_area_mm2, line_min_area_mm2, area_min_area_mm2)
+    elongations = _check_elongation_order(line_min_elongation, area_max_elongation)
+    s = check_positive("slope_per_neper", slope_per_neper)
+    g = check_positive("output_gain", output_gain)
+    w_hidden, b_hidden = _hand_set_hidden(areas, elongations, s)
+    return ContactNetwork(w_hidden, b_hidden, *_hand_set_output(g), name="hand-set")
+
+
+def _check_area_order(
+    point_max_area_mm2: float, line_min_area_mm2: float, area_min_area_mm2: float
+) -> tuple[float, float, float]:
+    """``(point_max, line_min, area_min)`` areas, positive and in the order the network needs."""
     a_pt = check_positive("point_max_area_mm2", point_max_area_mm2)
     a_ln = check_positive("line_min_area_mm2", line_min_area_mm2)
     a_ar = check_positive("area_min_area_mm2", area_min_area_mm2)
-    e_ln = check_positive("line_min_elongation", line_min_elongation)
-    e_ar = check_positive("area_max_elongation", area_max_elongation)
-    s = check_positive("slope_per_neper", slope_per_neper)
-    g = check_positive("output_gain", output_gain)
     if not a_ln < a_pt < a_ar:
         raise InputError(
             "areas must satisfy line_min_area_mm2 < point_max_area_mm2 < area_min_area_mm2, "
             f"got {a_ln!r}, {a_pt!r}, {a_ar!r}"
         )
+    return a_pt, a_ln, a_ar
+
+
+def _check_elongation_order(
+    line_min_elongation: float, area_max_elongation: float
+) -> tuple[float, float]:
+    """``(line_min, area_max)`` elongations, positive and in the order the network needs."""
+    e_ln = check_positive("line_min_elongation", line_min_elongation)
+    e_ar = check_positive("area_max_elongation", area_max_elongation)
     if not 1.0 <= e_ar < e_ln:
         raise InputError(
             "elongations must satisfy 1 <= area_max_elongation < line_min_elongation, "
             f"got {e_ar!r}, {e_ln!r}"
         )
+    return e_ln, e_ar
+
+
+def _hand_set_hidden(
+    areas: tuple[float, float, float], elongations: tuple[float, float], s: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Hidden weights ``(2, 5)`` and biases ``(5,)`` of the detectors h0..h4 (see above)."""
+    a_pt, a_ln, a_ar = areas
+    e_ln, e_ar = elongations
     ref = math.log(REFERENCE_AREA_MM2)
     # columns: h0 area>pt, h1 area>ar, h2 elong>ln, h3 elong>ar, h4 area>ln
     w_hidden = s * np.array([[1.0, 1.0, 0.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0, 0.0]])
@@ -324,6 +350,11 @@ def hand_set_network(
             math.log(a_ln) - ref,
         ]
     )
+    return w_hidden, b_hidden
+
+
+def _hand_set_output(g: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Output weights ``(5, 3)`` and biases ``(3,)``: the point, line and area logits."""
     # rows: hidden units; columns: point, line, area
     v = LINE_VOTE
     w_output = g * np.array(
@@ -336,7 +367,7 @@ def hand_set_network(
         ]
     )
     b_output = g * np.array([0.0, -1.0, -1.0])
-    return ContactNetwork(w_hidden, b_hidden, w_output, b_output, name="hand-set")
+    return w_output, b_output
 
 
 #: The hand-set network with the default thresholds (Bonneville 16 x 16 scale).

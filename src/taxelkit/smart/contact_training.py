@@ -207,31 +207,63 @@ def train_contact_network(
         raise InputError(f"batch_size must be an integer >= 1 or None, got {batch_size!r}")
     batch = n if batch_size is None else min(int(batch_size), n)
     gen = np.random.default_rng(rng)
-
     mean = x_raw.mean(axis=0)
     std = x_raw.std(axis=0)
     std = np.where(std > 0, std, 1.0)
+    params = _initial_params(initial, int(hidden_units), mean, std, gen)
     x = (x_raw - mean) / std
+    params = _adam_descent(params, x, y, epochs=int(epochs), batch=batch, lr=lr, wd=wd, gen=gen)
+    w1 = params[0] / std[:, None]
+    b1 = params[1] - (mean / std) @ params[0]
+    return ContactNetwork(w1, b1, params[2], params[3], name="trained")
+
+
+def _initial_params(
+    initial: ContactNetwork | None,
+    hidden_units: int,
+    mean: NDArray[np.float64],
+    std: NDArray[np.float64],
+    gen: np.random.Generator,
+) -> list[NDArray[np.float64]]:
+    """First-layer and output weights and biases, for inputs standardised by ``mean``, ``std``."""
     if initial is None:
-        h = int(hidden_units)
-        params = [
+        h = hidden_units
+        return [
             gen.normal(0.0, 1.0, size=(2, h)),
             gen.normal(0.0, 0.5, size=h),
             gen.normal(0.0, 1.0 / math.sqrt(h), size=(h, _N_OUT)),
             np.zeros(_N_OUT),
         ]
-    else:  # express the given weights in standardised inputs
-        params = [
-            initial.w_hidden * std[:, None],
-            initial.b_hidden + mean @ initial.w_hidden,
-            np.array(initial.w_output),
-            np.array(initial.b_output),
-        ]
+    return [  # the given weights expressed in standardised inputs
+        initial.w_hidden * std[:, None],
+        initial.b_hidden + mean @ initial.w_hidden,
+        np.array(initial.w_output),
+        np.array(initial.b_output),
+    ]
+
+
+def _adam_descent(
+    params: list[NDArray[np.float64]],
+    x: NDArray[np.float64],
+    y: NDArray[np.intp],
+    *,
+    epochs: int,
+    batch: int,
+    lr: float,
+    wd: float,
+    gen: np.random.Generator,
+) -> list[NDArray[np.float64]]:
+    """Adam on mini-batches in a fresh random order each epoch; the final parameters.
+
+    ``params`` (and the batches) in standardised inputs; ``y`` the output index of each sample.
+    """
+    params = list(params)
+    n = x.shape[0]
     m1 = [np.zeros_like(q) for q in params]
     m2 = [np.zeros_like(q) for q in params]
     beta1, beta2, eps = 0.9, 0.999, 1e-8
     step = 0
-    for _ in range(int(epochs)):
+    for _ in range(epochs):
         order = gen.permutation(n)
         for a in range(0, n, batch):
             idx = order[a : a + batch]
@@ -245,9 +277,7 @@ def train_contact_network(
                 m_hat = m1[k] / (1 - beta1**step)
                 v_hat = m2[k] / (1 - beta2**step)
                 params[k] = params[k] - lr * m_hat / (np.sqrt(v_hat) + eps)
-    w1 = params[0] / std[:, None]
-    b1 = params[1] - (mean / std) @ params[0]
-    return ContactNetwork(w1, b1, params[2], params[3], name="trained")
+    return params
 
 
 @dataclass(frozen=True, eq=False)

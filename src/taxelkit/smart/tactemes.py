@@ -65,6 +65,7 @@ from taxelkit.smart.track_geometry import (
     axis_angle_deg,
     axis_difference_deg,
     axis_vectors,
+    carried_shift,
     corner_turn,
     first,
     orthogonal_turn,
@@ -487,7 +488,12 @@ def segment_tactemes(
         # re-anchor its centre: its turn counts from the segment's first reference
         start_ref = min(w - 1, n - 1)
         turned_all = np.where(np.arange(n) >= start_ref, turn(angle, np.full(n, start_ref)), 0.0)
-        parallel = (across >= config.parallel_move_mm) & (turned_all <= config.parallel_tol_deg)
+        # rolled across, summed over re-anchors (a rolling line's area swings as it
+        # crosses the rows), on the normal of the segment's first reference
+        t0 = np.deg2rad(angle[start_ref])
+        rolled = carried_shift(centre, anchor, ref)
+        across_all = np.abs(-rolled[:, 0] * np.sin(t0) + rolled[:, 1] * np.cos(t0))
+        parallel = (across_all >= config.parallel_move_mm) & (turned_all <= config.parallel_tol_deg)
         j_par = first(sustained(parallel, hold), 0)
         j_turn = first(sustained(turned_all > config.turn_deg, hold), 0)
         if j_par is not None and (j_turn is None or j_par < j_turn):

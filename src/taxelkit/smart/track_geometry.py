@@ -18,6 +18,7 @@ __all__ = [
     "axis_angle_deg",
     "axis_difference_deg",
     "axis_vectors",
+    "carried_shift",
     "corner_turn",
     "first",
     "line_extents",
@@ -83,6 +84,40 @@ def anchors(
         nxt = n if hits.size == 0 else r + 1 + int(hits[0])
         out[a:nxt] = a
         a = nxt
+    return out
+
+
+def carried_shift(
+    centre: NDArray[np.float64], anchor: NDArray[np.intp], ref: NDArray[np.intp]
+) -> NDArray[np.float64]:
+    """Displacement of the centre since the segment began, summed across re-anchors.
+
+    Each anchor's stretch contributes the shift from its reference to its
+    last frame (or to the current frame, for the stretch under way); the
+    frames between an anchor and its reference (a change of width or area,
+    not motion) contribute nothing. A line rolling on while its area
+    re-anchors the references thus keeps the distance it has already rolled.
+
+    Parameters
+    ----------
+    centre : (n, 2) float, mm
+        Smoothed centres.
+    anchor, ref : (n,) int
+        Each frame's anchor (:func:`anchors`) and reference frame.
+
+    Returns
+    -------
+    (n, 2) float, mm
+    """
+    n = anchor.size
+    starts = np.flatnonzero(np.diff(anchor, prepend=-1))  # first frame of each stretch
+    ends = np.append(starts[1:] - 1, n - 1)
+    refs = ref[starts]
+    done = np.where((ends >= refs)[:, None], centre[ends] - centre[refs], 0.0)
+    before = np.cumsum(done, axis=0) - done  # what the earlier stretches rolled
+    stretch = np.cumsum(np.diff(anchor, prepend=-1) != 0) - 1
+    current = np.where((np.arange(n) >= ref)[:, None], centre - centre[ref], 0.0)
+    out: NDArray[np.float64] = before[stretch] + current
     return out
 
 

@@ -307,12 +307,7 @@ def trace_edge(
     start = np.asarray(start_mm, dtype=np.float64)
     if start.shape != (2,) or not np.all(np.isfinite(start)):
         raise InputError(f"start_mm must be two finite numbers, got {start_mm!r}")
-    points = [start.copy()]
-    moves: list[Any] = []
-    dvs: list[Any] = []
-    des: list[Any] = []
-    normals: list[Any] = []
-    crossings: list[int] = []
+    log = _TraceLog(points=[start.copy()])
     p = start.copy()
     last_dir: NDArray[np.float64] | None = None
     travelled, misses = 0.0, 0
@@ -331,31 +326,63 @@ def trace_edge(
         dr = dv + de
         p = p + dr
         travelled += float(np.hypot(*dr))
-        points.append(p.copy())
-        moves.append(dr)
-        dvs.append(dv)
-        des.append(de)
-        normals.append(est.normal)
-        crossings.append(int(est.crossings_mm.shape[0]))
+        log.record(p, dv, de, est)
         if progress is not None:
             progress(k + 1)
-        if travelled >= cfg.min_loop_mm:
-            head = np.asarray(points[: CLOSURE_HEAD_POINTS + 1])
-            if np.min(np.hypot(*(head - p).T)) <= cfg.close_radius_mm:
-                stop = "closed"
-                break
-    logger.info("trace stopped (%s) after %d sections", stop, len(moves))
+        if travelled >= cfg.min_loop_mm and _back_at_start(log.points, p, cfg):
+            stop = "closed"
+            break
+    logger.info("trace stopped (%s) after %d sections", stop, len(log.moves))
+    return log.to_trace(stop)
 
-    def stack(v: list[Any]) -> NDArray[np.float64]:
-        return np.asarray(v, dtype=np.float64).reshape(-1, 2)
 
-    return Trace(
-        points_mm=stack(points),
-        moves_mm=stack(moves),
-        dv_mm=stack(dvs),
-        de_mm=stack(des),
-        normals=stack(normals),
-        n_crossings=np.asarray(crossings, dtype=np.int64),
-        closed=stop == "closed",
-        stop_reason=stop,
-    )
+def _back_at_start(
+    points: list[NDArray[np.float64]], p: NDArray[np.float64], cfg: TracerConfig
+) -> bool:
+    """Whether ``p`` is within the closing radius of the trace's first points."""
+    head = np.asarray(points[: CLOSURE_HEAD_POINTS + 1])
+    return bool(np.min(np.hypot(*(head - p).T)) <= cfg.close_radius_mm)
+
+
+@dataclass
+class _TraceLog:
+    """What :func:`trace_edge` records section by section (kept apart from the controller)."""
+
+    points: list[NDArray[np.float64]]
+    moves: list[NDArray[np.float64]] = field(default_factory=list)
+    dvs: list[NDArray[np.float64]] = field(default_factory=list)
+    des: list[NDArray[np.float64]] = field(default_factory=list)
+    normals: list[Any] = field(default_factory=list)
+    crossings: list[int] = field(default_factory=list)
+
+    def record(
+        self,
+        p: NDArray[np.float64],
+        dv: NDArray[np.float64],
+        de: NDArray[np.float64],
+        est: EdgeEstimate,
+    ) -> None:
+        """Append one section: the new position, its two move parts and the estimate."""
+        self.points.append(p.copy())
+        self.moves.append(dv + de)
+        self.dvs.append(dv)
+        self.des.append(de)
+        self.normals.append(est.normal)
+        self.crossings.append(int(est.crossings_mm.shape[0]))
+
+    def to_trace(self, stop: str) -> Trace:
+        """The recorded sections as a :class:`Trace` that stopped for ``stop``."""
+
+        def stack(v: list[Any]) -> NDArray[np.float64]:
+            return np.asarray(v, dtype=np.float64).reshape(-1, 2)
+
+        return Trace(
+            points_mm=stack(self.points),
+            moves_mm=stack(self.moves),
+            dv_mm=stack(self.dvs),
+            de_mm=stack(self.des),
+            normals=stack(self.normals),
+            n_crossings=np.asarray(self.crossings, dtype=np.int64),
+            closed=stop == "closed",
+            stop_reason=stop,
+        )

@@ -175,7 +175,20 @@ def signed_area_mm2(verts: NDArray[np.float64]) -> float:
 def distance_to_closed_polyline_mm(
     pts: NDArray[np.float64], verts: NDArray[np.float64]
 ) -> NDArray[np.float64]:
-    """Distance from points ``(N, 2)`` to the closed polyline through ``verts`` ``(V, 2)``."""
+    """Distance from points ``(N, 2)`` to the closed polyline through ``verts`` ``(V, 2)``.
+
+    Notes
+    -----
+    ``shapely.distance(shapely.LinearRing(verts), shapely.points(pts))`` gives
+    the same distances to about 1e-14 mm, but not bit for bit, and fig8's
+    published tracing errors (``docs/results/fig8.json``) are means of these
+    distances, so they would change in their last digits. The speed is no
+    reason to switch for the specimens (3 to 10 vertices): for 10,000 points
+    both take 6 to 21 ms (numpy faster on the triangle, shapely on the star);
+    shapely wins only on long contours (720 vertices: 0.23 s against 1.3 s),
+    which no specimen has. Containment does use shapely
+    (:func:`shapely.intersects_xy`, in :mod:`taxelkit.world.contour_relief`).
+    """
     start = verts
     seg = np.roll(verts, -1, axis=0) - verts
     seg_len2 = np.sum(seg * seg, axis=1)  # > 0: consecutive vertices differ

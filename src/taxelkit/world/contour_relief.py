@@ -33,16 +33,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import InputError, check_positive
 from taxelkit.world._planar import (
-    UM_PER_MM,
-    as_points,
-    broadcast_xy,
-    check_transform,
     check_vertices,
     check_xy,
     distance_to_closed_polyline_mm,
     signed_area_mm2,
     transform_points,
 )
+from taxelkit.world.step_relief import StepRelief
 
 __all__ = [
     "CIRCLE_OUTLINE_VERTICES",
@@ -94,7 +91,7 @@ class ShapeRelief(Protocol):
 
 
 @dataclass(frozen=True, eq=False)
-class PolygonRelief:
+class PolygonRelief(StepRelief):
     """A plate with a raised simple polygon.
 
     Parameters
@@ -123,7 +120,7 @@ class PolygonRelief:
     _polygon: Any = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        step = check_positive("step_height_um", self.step_height_um)
+        self._check_step_height()
         verts = check_vertices(self.vertices_mm)
         polygon = shapely.Polygon(verts)
         if not shapely.is_valid(polygon):
@@ -138,7 +135,6 @@ class PolygonRelief:
         verts.setflags(write=False)
         shapely.prepare(polygon)
         object.__setattr__(self, "vertices_mm", verts)
-        object.__setattr__(self, "step_height_um", step)
         object.__setattr__(self, "_polygon", polygon)
 
     def __reduce__(self) -> tuple[Any, ...]:
@@ -146,32 +142,13 @@ class PolygonRelief:
         return (_polygon_relief, (np.array(self.vertices_mm), self.step_height_um))
 
     @property
-    def step_height_mm(self) -> float:
-        """Step height in mm."""
-        return self.step_height_um / UM_PER_MM
-
-    @property
     def area_mm2(self) -> float:
         """Area of the raised polygon, mm^2."""
         return signed_area_mm2(self.vertices_mm)
 
-    def height_mm(self, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[np.float64]:
-        """Surface height at points, mm.
-
-        Parameters
-        ----------
-        x_mm, y_mm : (...) float, mm
-            Point coordinates in the specimen frame; broadcast together.
-
-        Returns
-        -------
-        (...) float, mm
-            ``step_height_mm`` inside the polygon or on its boundary, 0 elsewhere.
-        """
-        x, y = broadcast_xy(x_mm, y_mm)
-        raised = shapely.intersects_xy(self._polygon, x, y)
-        height: NDArray[np.float64] = np.where(raised, self.step_height_mm, 0.0)
-        return height
+    def _raised(self, x: NDArray[np.float64], y: NDArray[np.float64]) -> NDArray[np.bool_]:
+        raised: NDArray[np.bool_] = shapely.intersects_xy(self._polygon, x, y)
+        return raised
 
     def outline_mm(self) -> NDArray[np.float64]:
         """Closed contour for plotting and distance computations.
@@ -183,29 +160,7 @@ class PolygonRelief:
         """
         return np.vstack([self.vertices_mm, self.vertices_mm[:1]])
 
-    def distance_to_edge_mm(
-        self, points_mm: ArrayLike, *, signed: bool = False
-    ) -> NDArray[np.float64]:
-        """Euclidean distance from points to the polygon's contour.
-
-        Parameters
-        ----------
-        points_mm : (N, 2) or (..., 2) float, mm
-            Query points.
-        signed : bool
-            If True, positive on the raised side (inside), negative outside.
-
-        Returns
-        -------
-        (N,) or (...) float, mm
-            0 for a point on the contour (e.g. a vertex).
-
-        Raises
-        ------
-        InputError
-            If the points do not have a last axis of length 2 or are not finite.
-        """
-        pts = as_points(points_mm)
+    def _distance_mm(self, pts: NDArray[np.float64], *, signed: bool) -> NDArray[np.float64]:
         flat = pts.reshape(-1, 2)
         dist = distance_to_closed_polyline_mm(flat, self.vertices_mm)
         if signed:
@@ -213,31 +168,12 @@ class PolygonRelief:
             dist = np.where(inside, dist, -dist)
         return dist.reshape(pts.shape[:-1])
 
-    def transformed(
-        self,
-        *,
-        rotation_deg: float = 0.0,
-        offset_mm: tuple[float, float] = (0.0, 0.0),
-        scale: float = 1.0,
+    def _transformed(
+        self, rotation_deg: float, offset_mm: tuple[float, float], scale: float
     ) -> Self:
-        """The same relief scaled, rotated (about the frame origin) and then translated.
-
-        Parameters
-        ----------
-        rotation_deg : float, deg
-            Counter-clockwise rotation about the origin.
-        offset_mm : (x, y) float, mm
-            Translation applied after rotation and scaling.
-        scale : float
-            Uniform scale factor about the origin (> 0); the step height is kept.
-
-        Returns
-        -------
-        PolygonRelief
-            A point ``p`` of this relief maps to ``scale * R p + offset_mm``.
-        """
-        rot, off, s = check_transform(rotation_deg, offset_mm, scale)
-        verts = transform_points(self.vertices_mm, rotation_deg=rot, offset_mm=off, scale=s)
+        verts = transform_points(
+            self.vertices_mm, rotation_deg=rotation_deg, offset_mm=offset_mm, scale=scale
+        )
         return type(self)(verts, step_height_um=self.step_height_um)
 
 
@@ -247,7 +183,7 @@ def _polygon_relief(vertices_mm: NDArray[np.float64], step_height_um: float) -> 
 
 
 @dataclass(frozen=True)
-class CircleRelief:
+class CircleRelief(StepRelief):
     """A plate with a raised disc; heights are computed exactly, not from a polygon.
 
     Parameters
@@ -272,40 +208,18 @@ class CircleRelief:
     def __post_init__(self) -> None:
         object.__setattr__(self, "centre_mm", check_xy("centre_mm", self.centre_mm))
         object.__setattr__(self, "radius_mm", check_positive("radius_mm", self.radius_mm))
-        object.__setattr__(
-            self, "step_height_um", check_positive("step_height_um", self.step_height_um)
-        )
-
-    @property
-    def step_height_mm(self) -> float:
-        """Step height in mm."""
-        return self.step_height_um / UM_PER_MM
+        self._check_step_height()
 
     @property
     def area_mm2(self) -> float:
         """Area of the disc, ``pi r^2``, mm^2."""
         return math.pi * self.radius_mm**2
 
-    def height_mm(self, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[np.float64]:
-        """Surface height at points, mm.
-
-        Parameters
-        ----------
-        x_mm, y_mm : (...) float, mm
-            Point coordinates in the specimen frame; broadcast together.
-
-        Returns
-        -------
-        (...) float, mm
-            ``step_height_mm`` where ``|p - centre| <= radius``, 0 elsewhere.
-        """
-        x, y = broadcast_xy(x_mm, y_mm)
+    def _raised(self, x: NDArray[np.float64], y: NDArray[np.float64]) -> NDArray[np.bool_]:
         dx = x - self.centre_mm[0]
         dy = y - self.centre_mm[1]
-        height: NDArray[np.float64] = np.where(
-            dx * dx + dy * dy <= self.radius_mm**2, self.step_height_mm, 0.0
-        )
-        return height
+        raised: NDArray[np.bool_] = dx * dx + dy * dy <= self.radius_mm**2
+        return raised
 
     def outline_mm(self, *, n_vertices: int = CIRCLE_OUTLINE_VERTICES) -> NDArray[np.float64]:
         """Inscribed regular polygon approximating the circle, for plotting.
@@ -331,50 +245,20 @@ class CircleRelief:
             ]
         )
 
-    def distance_to_edge_mm(
-        self, points_mm: ArrayLike, *, signed: bool = False
-    ) -> NDArray[np.float64]:
-        """Distance from points to the circle, ``| |p - centre| - radius |``.
-
-        Parameters
-        ----------
-        points_mm : (N, 2) or (..., 2) float, mm
-            Query points.
-        signed : bool
-            If True, positive inside the disc (raised side), negative outside.
-
-        Returns
-        -------
-        (N,) or (...) float, mm
-
-        Raises
-        ------
-        InputError
-            If the points do not have a last axis of length 2 or are not finite.
-        """
-        pts = as_points(points_mm)
+    def _distance_mm(self, pts: NDArray[np.float64], *, signed: bool) -> NDArray[np.float64]:
         inward: NDArray[np.float64] = self.radius_mm - np.hypot(
             pts[..., 0] - self.centre_mm[0], pts[..., 1] - self.centre_mm[1]
         )
         return inward if signed else np.abs(inward)
 
-    def transformed(
-        self,
-        *,
-        rotation_deg: float = 0.0,
-        offset_mm: tuple[float, float] = (0.0, 0.0),
-        scale: float = 1.0,
+    def _transformed(
+        self, rotation_deg: float, offset_mm: tuple[float, float], scale: float
     ) -> Self:
-        """The same disc scaled, rotated (about the frame origin) and then translated.
-
-        See :meth:`PolygonRelief.transformed`; the centre moves, the radius scales.
-        """
-        rot, off, s = check_transform(rotation_deg, offset_mm, scale)
         centre = transform_points(
-            np.asarray(self.centre_mm), rotation_deg=rot, offset_mm=off, scale=s
+            np.asarray(self.centre_mm), rotation_deg=rotation_deg, offset_mm=offset_mm, scale=scale
         )
         return type(self)(
             (float(centre[0]), float(centre[1])),
-            self.radius_mm * s,
+            self.radius_mm * scale,
             step_height_um=self.step_height_um,
         )

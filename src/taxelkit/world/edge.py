@@ -12,20 +12,17 @@ from dataclasses import dataclass, field
 from typing import Any, Self
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 from taxelkit.errors import check_positive
 from taxelkit.world._planar import (
-    UM_PER_MM,
-    as_points,
-    broadcast_xy,
     check_finite,
-    check_transform,
     check_xy,
     cos_sin_deg,
     transform_points,
 )
 from taxelkit.world.contour_relief import DEFAULT_STEP_HEIGHT_UM
+from taxelkit.world.step_relief import StepRelief
 
 __all__ = ["EDGE_OUTLINE_HALF_LENGTH_MM", "EdgeRelief"]
 
@@ -35,7 +32,7 @@ EDGE_OUTLINE_HALF_LENGTH_MM = 100.0
 
 
 @dataclass(frozen=True)
-class EdgeRelief:
+class EdgeRelief(StepRelief):
     """A straight step edge: the half-plane on the left of a directed line is raised.
 
     The edge is the line through ``point_mm`` with direction
@@ -73,14 +70,7 @@ class EdgeRelief:
     def __post_init__(self) -> None:
         object.__setattr__(self, "point_mm", check_xy("point_mm", self.point_mm))
         object.__setattr__(self, "angle_deg", check_finite("angle_deg", self.angle_deg))
-        object.__setattr__(
-            self, "step_height_um", check_positive("step_height_um", self.step_height_um)
-        )
-
-    @property
-    def step_height_mm(self) -> float:
-        """Step height in mm."""
-        return self.step_height_um / UM_PER_MM
+        self._check_step_height()
 
     @property
     def direction(self) -> tuple[float, float]:
@@ -91,24 +81,9 @@ class EdgeRelief:
         c, s = self.direction
         return -s * (x - self.point_mm[0]) + c * (y - self.point_mm[1])
 
-    def height_mm(self, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[np.float64]:
-        """Surface height at points, mm.
-
-        Parameters
-        ----------
-        x_mm, y_mm : (...) float, mm
-            Point coordinates in the specimen frame; broadcast together.
-
-        Returns
-        -------
-        (...) float, mm
-            ``step_height_mm`` on the edge and on its left, 0 on its right.
-        """
-        x, y = broadcast_xy(x_mm, y_mm)
-        height: NDArray[np.float64] = np.where(
-            self._left_distance_mm(x, y) >= 0.0, self.step_height_mm, 0.0
-        )
-        return height
+    def _raised(self, x: NDArray[np.float64], y: NDArray[np.float64]) -> NDArray[np.bool_]:
+        raised: NDArray[np.bool_] = self._left_distance_mm(x, y) >= 0.0
+        return raised
 
     def outline_mm(
         self, *, half_length_mm: float = EDGE_OUTLINE_HALF_LENGTH_MM
@@ -130,48 +105,21 @@ class EdgeRelief:
         p = np.asarray(self.point_mm)
         return np.vstack([p - half * d, p + half * d])
 
-    def distance_to_edge_mm(
-        self, points_mm: ArrayLike, *, signed: bool = False
-    ) -> NDArray[np.float64]:
-        """Perpendicular distance from points to the edge line.
-
-        Parameters
-        ----------
-        points_mm : (N, 2) or (..., 2) float, mm
-            Query points.
-        signed : bool
-            If True, positive on the raised (left) side, negative on the other.
-
-        Returns
-        -------
-        (N,) or (...) float, mm
-
-        Raises
-        ------
-        InputError
-            If the points do not have a last axis of length 2 or are not finite.
-        """
-        pts = as_points(points_mm)
+    def _distance_mm(self, pts: NDArray[np.float64], *, signed: bool) -> NDArray[np.float64]:
         left: NDArray[np.float64] = np.asarray(
             self._left_distance_mm(pts[..., 0], pts[..., 1]), dtype=np.float64
         )
         return left if signed else np.abs(left)
 
-    def transformed(
-        self,
-        *,
-        rotation_deg: float = 0.0,
-        offset_mm: tuple[float, float] = (0.0, 0.0),
-        scale: float = 1.0,
+    def _transformed(
+        self, rotation_deg: float, offset_mm: tuple[float, float], scale: float
     ) -> Self:
-        """The same edge scaled, rotated (about the frame origin) and then translated.
-
-        See :meth:`PolygonRelief.transformed`; the direction turns by ``rotation_deg``.
-        """
-        rot, off, s = check_transform(rotation_deg, offset_mm, scale)
-        p = transform_points(np.asarray(self.point_mm), rotation_deg=rot, offset_mm=off, scale=s)
+        p = transform_points(
+            np.asarray(self.point_mm), rotation_deg=rotation_deg, offset_mm=offset_mm, scale=scale
+        )
+        # the direction turns with the plate
         return type(self)(
             (float(p[0]), float(p[1])),
-            self.angle_deg + rot,
+            self.angle_deg + rotation_deg,
             step_height_um=self.step_height_um,
         )

@@ -33,6 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import CorruptRecordingError, InputError, check_positive
 from taxelkit.io.limits import read_npz
+from taxelkit.world._planar import broadcast_xy
 from taxelkit.world.base import Relief
 
 __all__ = [
@@ -185,14 +186,7 @@ class HeightmapRelief:
             sample's own value at its coordinates; 0 outside :attr:`extent_mm`
             (and for non-finite coordinates).
         """
-        x = np.asarray(x_mm, dtype=np.float64)
-        y = np.asarray(y_mm, dtype=np.float64)
-        try:
-            x, y = np.broadcast_arrays(x, y)
-        except ValueError:
-            raise InputError(
-                f"x_mm and y_mm must broadcast together, got shapes {x.shape} and {y.shape}"
-            ) from None
+        x, y = broadcast_xy(x_mm, y_mm)
         n_rows, n_cols = self.shape
         u = (x - self.x0_mm) / self.pixel_mm  # fractional column index
         v = (y - self.y0_mm) / self.pixel_mm  # fractional row index

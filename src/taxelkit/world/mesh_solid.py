@@ -169,13 +169,6 @@ class MeshSolid(PolytopeSolidMethods):
         """Outward unit normals ``(F, 3)`` and offsets ``(F,)`` mm of the merged faces."""
         return self.normals, self.offsets_mm
 
-    def to_trimesh(self) -> trimesh.Trimesh:
-        """The body as a triangle mesh (convex hull of the vertices), mm, centroid at 0."""
-        import trimesh
-
-        hull: trimesh.Trimesh = trimesh.Trimesh(vertices=self.vertices_mm).convex_hull
-        return hull
-
 
 def load_mesh_solid(
     path: str | PathLike[str], *, convex_hull: bool = False, scale: float = 1.0

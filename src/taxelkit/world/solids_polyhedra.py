@@ -12,13 +12,15 @@ not exceed the minimum of the upper ones.
 from __future__ import annotations
 
 import math
+from abc import abstractmethod
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import check_positive
+from taxelkit.world.solid_methods import SolidMethods
 from taxelkit.world.solids_grid import (
     TILT_EPS,
     Combine,
@@ -252,68 +254,42 @@ def polytope_bottom_mm(
     return evaluate_bottom(grid, [PoseGroup(None, funcs, combine, n_work=2)])
 
 
-def _polytope_trimesh(vertices_mm: NDArray[np.float64]) -> trimesh.Trimesh:
-    import trimesh
-
-    hull: trimesh.Trimesh = trimesh.Trimesh(vertices=vertices_mm).convex_hull
-    return hull
-
-
-class _PolytopeGeometry(Protocol):
-    @property
-    def vertices_mm(self) -> NDArray[np.float64]: ...
-
-    @property
-    def planes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
-
-
-class PolytopeSolidMethods:
+class PolytopeSolidMethods(SolidMethods):
     """The :class:`~taxelkit.world.base.Solid` methods of a convex polyhedron.
 
     A subclass provides ``vertices_mm`` ``(V, 3)`` and ``planes`` (outward unit
     normals ``(F, 3)`` and offsets ``(F,)``), relative to its reference point.
     """
 
-    def lowest_z_mm(self: _PolytopeGeometry, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Lowest z of the rotated body relative to its reference point, ``(P,)`` mm.
+    if TYPE_CHECKING:  # declared for the type checker; a dataclass field may provide them
 
-        Parameters
-        ----------
-        rotations : (P, 3, 3) float
-            Body-to-sensor rotation matrices.
-        """
+        @property
+        @abstractmethod
+        def vertices_mm(self) -> NDArray[np.float64]: ...
+
+        @property
+        @abstractmethod
+        def planes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+
+    def _lowest_z(self, rotations: ArrayLike) -> NDArray[np.float64]:
         return polytope_lowest_z_mm(self.vertices_mm, rotations)
 
-    def lowest_point_mm(self: _PolytopeGeometry, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Lowest point of the rotated body, ``(P, 3)`` mm (a mean where several tie)."""
+    def _lowest_point(self, rotations: ArrayLike) -> NDArray[np.float64]:
         return polytope_lowest_point_mm(self.vertices_mm, rotations)
 
-    def lowest_segment_mm(self: _PolytopeGeometry, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Ends of the lowest point, edge or generator, ``(P, 2, 3)`` mm."""
+    def _lowest_segment(self, rotations: ArrayLike) -> NDArray[np.float64]:
         return polytope_lowest_segment_mm(self.vertices_mm, rotations)
 
-    def bottom_mm(
-        self: _PolytopeGeometry, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike
-    ) -> NDArray[Any]:
-        """Bottom of the rotated body on vertical lines through a grid.
-
-        Parameters
-        ----------
-        rotations : (P, 3, 3) float
-            Body-to-sensor rotation matrices.
-        x_mm : (P, W) float, mm
-            x of the grid columns relative to the reference point, per pose.
-        y_mm : (P, H) float, mm
-            y of the grid rows relative to the reference point, per pose.
-
-        Returns
-        -------
-        (P, H, W) float, mm
-            Lowest z of the body on each line relative to the reference point,
-            in the dtype of ``x_mm`` (float32 or float64); ``+inf`` where the
-            line misses.
-        """
+    def _bottom(self, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[Any]:
         return polytope_bottom_mm(*self.planes, rotations, x_mm, y_mm)
+
+    def to_trimesh(self) -> trimesh.Trimesh:
+        """The body as a triangle mesh (the convex hull of its vertices), mm, for plots and
+        baselines; the reference point is the origin."""
+        import trimesh
+
+        hull: trimesh.Trimesh = trimesh.Trimesh(vertices=self.vertices_mm).convex_hull
+        return hull
 
 
 @dataclass(frozen=True)
@@ -347,10 +323,6 @@ class Cube(PolytopeSolidMethods):
         """Outward unit normals ``(6, 3)`` and offsets ``(6,)`` mm of the faces."""
         n = np.concatenate([np.eye(3), -np.eye(3)])
         return n, np.full(6, 0.5 * self.edge_mm)
-
-    def to_trimesh(self) -> trimesh.Trimesh:
-        """The cube as a triangle mesh (12 triangles), for plots and baselines."""
-        return _polytope_trimesh(self.vertices_mm)
 
 
 @dataclass(frozen=True)
@@ -395,7 +367,3 @@ class Tetrahedron(PolytopeSolidMethods):
         """Outward unit normals ``(4, 3)`` and offsets ``(4,)`` mm of the faces."""
         faces = np.array([[0, 1, 2], [0, 1, 3], [1, 2, 3], [2, 0, 3]])
         return planes_from_vertices(self.vertices_mm, faces)
-
-    def to_trimesh(self) -> trimesh.Trimesh:
-        """The tetrahedron as a triangle mesh (4 triangles)."""
-        return _polytope_trimesh(self.vertices_mm)

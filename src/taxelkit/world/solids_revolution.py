@@ -41,12 +41,14 @@ intersection with the numerically stable quadratic formula).
 from __future__ import annotations
 
 import math
+from abc import abstractmethod
 from dataclasses import dataclass
-from typing import Any, Protocol
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from taxelkit.world.solid_methods import SolidMethods
 from taxelkit.world.solids_grid import (
     TILT_EPS,
     PoseGroup,
@@ -127,6 +129,20 @@ class RevolutionProfile:
     rims: tuple[tuple[float, float], ...]
 
 
+def _lowest_rim_points_mm(profile: RevolutionProfile, rotations: ArrayLike) -> NDArray[np.float64]:
+    """Lowest point of every rim circle, ``(P, R, 3)`` mm.
+
+    Along each rim's steepest descent, as :func:`revolution_lowest_point_mm` explains.
+    """
+    rot = as_rotation_batch(rotations)
+    a = rot[:, :, 2]
+    tilt = np.hypot(a[:, 0], a[:, 1])
+    down = -(np.array([0.0, 0.0, 1.0]) - a[:, 2:3] * a)
+    safe = np.where(tilt > 1e-12, tilt, 1.0)[:, None]
+    down = np.where(tilt[:, None] > 1e-12, down / safe, 0.0)
+    return np.stack([zr * a + rr * down for zr, rr in profile.rims], axis=1)
+
+
 def revolution_lowest_point_mm(
     profile: RevolutionProfile, rotations: ArrayLike
 ) -> NDArray[np.float64]:
@@ -141,13 +157,7 @@ def revolution_lowest_point_mm(
     -------
     (P, 3) float64, mm
     """
-    rot = as_rotation_batch(rotations)
-    a = rot[:, :, 2]
-    tilt = np.hypot(a[:, 0], a[:, 1])
-    down = -(np.array([0.0, 0.0, 1.0]) - a[:, 2:3] * a)
-    safe = np.where(tilt > 1e-12, tilt, 1.0)[:, None]
-    down = np.where(tilt[:, None] > 1e-12, down / safe, 0.0)
-    pts = np.stack([zr * a + rr * down for zr, rr in profile.rims], axis=1)  # (P, R, 3)
+    pts = _lowest_rim_points_mm(profile, rotations)
     z = pts[..., 2]
     tied = z <= z.min(axis=1, keepdims=True) + 1e-6
     low: NDArray[np.float64] = (pts * tied[..., None]).sum(axis=1) / tied.sum(axis=1)[:, None]
@@ -167,13 +177,7 @@ def revolution_lowest_segment_mm(
     -------
     (P, 2, 3) float64, mm
     """
-    rot = as_rotation_batch(rotations)
-    a = rot[:, :, 2]
-    tilt = np.hypot(a[:, 0], a[:, 1])
-    down = -(np.array([0.0, 0.0, 1.0]) - a[:, 2:3] * a)
-    safe = np.where(tilt > 1e-12, tilt, 1.0)[:, None]
-    down = np.where(tilt[:, None] > 1e-12, down / safe, 0.0)
-    pts = np.stack([zr * a + rr * down for zr, rr in profile.rims], axis=1)  # (P, R, 3)
+    pts = _lowest_rim_points_mm(profile, rotations)
     z = pts[..., 2]
     lowest = np.argmin(z, axis=1)
     tied = z <= z.min(axis=1, keepdims=True) + 1e-6
@@ -394,54 +398,25 @@ def revolution_bottom_mm(
     return evaluate_bottom(grid, _revolution_groups(profile, rot))
 
 
-class _RevolutionGeometry(Protocol):
-    @property
-    def profile(self) -> RevolutionProfile: ...
-
-
-class RevolutionSolidMethods:
+class RevolutionSolidMethods(SolidMethods):
     """The :class:`~taxelkit.world.base.Solid` methods of a body of revolution.
 
     A subclass provides ``profile``, its :class:`RevolutionProfile`.
     """
 
-    def lowest_z_mm(self: _RevolutionGeometry, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Lowest z of the rotated body relative to its reference point, ``(P,)`` mm.
+    @property
+    @abstractmethod
+    def profile(self) -> RevolutionProfile:
+        """The body's profile."""
 
-        Parameters
-        ----------
-        rotations : (P, 3, 3) float
-            Body-to-sensor rotation matrices.
-        """
+    def _lowest_z(self, rotations: ArrayLike) -> NDArray[np.float64]:
         return revolution_lowest_z_mm(self.profile, rotations)
 
-    def lowest_point_mm(self: _RevolutionGeometry, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Lowest point of the rotated body, ``(P, 3)`` mm (a mean where several tie)."""
+    def _lowest_point(self, rotations: ArrayLike) -> NDArray[np.float64]:
         return revolution_lowest_point_mm(self.profile, rotations)
 
-    def lowest_segment_mm(self: _RevolutionGeometry, rotations: ArrayLike) -> NDArray[np.float64]:
-        """Ends of the lowest point, edge or generator, ``(P, 2, 3)`` mm."""
+    def _lowest_segment(self, rotations: ArrayLike) -> NDArray[np.float64]:
         return revolution_lowest_segment_mm(self.profile, rotations)
 
-    def bottom_mm(
-        self: _RevolutionGeometry, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike
-    ) -> NDArray[Any]:
-        """Bottom of the rotated body on vertical lines through a grid.
-
-        Parameters
-        ----------
-        rotations : (P, 3, 3) float
-            Body-to-sensor rotation matrices.
-        x_mm : (P, W) float, mm
-            x of the grid columns relative to the reference point, per pose.
-        y_mm : (P, H) float, mm
-            y of the grid rows relative to the reference point, per pose.
-
-        Returns
-        -------
-        (P, H, W) float, mm
-            Lowest z of the body on each line relative to the reference point,
-            in the dtype of ``x_mm`` (float32 or float64); ``+inf`` where the
-            line misses.
-        """
+    def _bottom(self, rotations: ArrayLike, x_mm: ArrayLike, y_mm: ArrayLike) -> NDArray[Any]:
         return revolution_bottom_mm(self.profile, rotations, x_mm, y_mm)
