@@ -27,6 +27,7 @@ from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.recogniser import SmartSensor, recognise
 from taxelkit.smart.segment_scan import SegmentScanner
 from taxelkit.smart.stream_state import ClassHistory
+from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, segment_tactemes
 from taxelkit.smart.track_stream import CornerScan
 
@@ -232,3 +233,28 @@ def test_skin_bank_groups_arrays_by_shape_and_keeps_their_numbers() -> None:
         recognise(TactileFrames(big, t, pitch_mm=PITCH)).events
     )
     assert skin.where(1) == (1, 0)
+
+
+def test_a_line_rolling_across_re_anchors_carries_its_roll_when_streamed() -> None:
+    n, cfg = 400, TactemeConfig()
+    rows = np.zeros((n, 9))
+    rows[:, 1] = np.arange(n) * 0.02  # a line along x rolls across itself, 1.2 mm/s at 60 Hz
+    rows[:, 3] = np.where((np.arange(n) // 60) % 2 == 0, 10.0, 15.0)  # its area swings
+    rows[:, 4] = rows[:, 5] = 5.0
+    rows[:, 6], rows[:, 7] = -5.0, 5.0
+    rows[:, 8] = np.arange(n) / 60.0
+    frames = np.arange(n)
+    track = SegmentTrack(
+        frames, rows[:, 0:2], rows[:, 2], rows[:, 3], rows[:, 4], rows[:, 5], rows[:, 8],
+        rows[:, 6:8],
+    )  # fmt: skip
+    want = segment_tactemes(ContactClass.LINE, track, cfg)
+    assert [t for t, _ in want] == [Tacteme.LCMP]  # no stretch alone rolls far enough
+    for step in (1, 7, 64, n):
+        scan = SegmentScanner(ContactClass.LINE, cfg)
+        got = [
+            x
+            for a in range(0, n, step)
+            for x in scan.extend(frames[a : a + step], rows[a : a + step])
+        ]
+        assert got + scan.close() == want, step

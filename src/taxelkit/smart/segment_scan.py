@@ -202,6 +202,11 @@ class SegmentScanner:
         self._anchor = 0
         self._ref: _Ref | None = None
         self._start_angle: float | None = None  # a line's turn counts from frame w - 1
+        # carried_shift: the shift of the stretches (anchors) done, and the current one's
+        self._carried = np.zeros(2)
+        self._stretch = 0  # anchor of the current stretch
+        self._stretch_ref: NDArray[np.float64] | None = None  # centre at its reference
+        self._last_centre = np.zeros(2)
         self._last_angle = float("nan")
         self._done: set[Tacteme] = set()
         new = [Sustained(self.hold) for _ in range(4)]
@@ -325,7 +330,11 @@ class SegmentScanner:
             turned_all = np.where(
                 at, _turn(angle, self._start_angle if self._start_angle is not None else 0.0), 0.0
             )
-            parallel = (across >= cfg.parallel_move_mm) & (turned_all <= cfg.parallel_tol_deg)
+            # rolled across, summed over re-anchors, on the normal of the first reference
+            rolled = self._carried_before(pieces, centre) + shift
+            t0 = np.deg2rad(self._start_angle if self._start_angle is not None else 0.0)
+            across_all = np.abs(-rolled[:, 0] * np.sin(t0) + rolled[:, 1] * np.cos(t0))
+            parallel = (across_all >= cfg.parallel_move_mm) & (turned_all <= cfg.parallel_tol_deg)
             j_par = self._s3.push(parallel, frames)
             j_turn = self._s4.push(turned_all > cfg.turn_deg, frames)
             if not self._par_decided and (j_par is not None or j_turn is not None):
@@ -349,6 +358,24 @@ class SegmentScanner:
         new.sort(key=lambda item: item[1])
         self.found += new
         return new
+
+    def _carried_before(
+        self, pieces: list[tuple[int, int, int, _Ref | None]], centre: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """:func:`~taxelkit.smart.track_geometry.carried_shift`'s sum of the stretches done,
+        per frame ``(m, 2)`` (an exclusive running sum, in the batch's order)."""
+        before = np.empty((centre.shape[0], 2))
+        for lo, hi, a, ref in pieces:
+            if a != self._stretch:  # the previous stretch ended on the frame before
+                end = centre[lo - 1] if lo > 0 else self._last_centre
+                if self._stretch_ref is not None:
+                    self._carried = self._carried + (end - self._stretch_ref)
+                self._stretch, self._stretch_ref = a, None
+            if ref is not None:
+                self._stretch_ref = ref[0]
+            before[lo:hi] = self._carried
+        self._last_centre = centre[-1].copy()
+        return before
 
     def _add(self, new: list[tuple[Tacteme, int]], tac: Tacteme, frame: int | None) -> None:
         if frame is not None and tac not in self._done:

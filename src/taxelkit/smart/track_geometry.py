@@ -114,7 +114,8 @@ def carried_shift(
     ends = np.append(starts[1:] - 1, n - 1)
     refs = ref[starts]
     done = np.where((ends >= refs)[:, None], centre[ends] - centre[refs], 0.0)
-    before = np.cumsum(done, axis=0) - done  # what the earlier stretches rolled
+    before = np.zeros_like(done)  # what the earlier stretches rolled, summed in order
+    before[1:] = np.cumsum(done[:-1], axis=0)
     stretch = np.cumsum(np.diff(anchor, prepend=-1) != 0) - 1
     current = np.where((np.arange(n) >= ref)[:, None], centre - centre[ref], 0.0)
     out: NDArray[np.float64] = before[stretch] + current
