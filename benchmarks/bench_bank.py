@@ -87,6 +87,7 @@ def main() -> None:
     ap.add_argument("--frames", type=int, default=1024)
     ap.add_argument("--batch-frames", type=int, default=256)
     ap.add_argument("--stream-batch-frames", type=int, default=4096)
+    ap.add_argument("--evaluate-every", type=int, default=1)
     ap.add_argument("--active", type=float, default=0.25)
     ap.add_argument("--rolls", type=int, default=12)
     ap.add_argument("--baseline-arrays", type=int, default=10)
@@ -98,7 +99,9 @@ def main() -> None:
     times = (np.arange(t_n) / RATE_HZ).tolist()
     pitch = BONNEVILLE_16X16.array.pitch_mm
 
-    bank = SensorBank(n, (16, 16), pitch_mm=pitch, batch_frames=b)
+    bank = SensorBank(
+        n, (16, 16), pitch_mm=pitch, batch_frames=b, evaluate_every=args.evaluate_every
+    )
     per_push = []
     wall0, t_start = time.perf_counter(), clock()
     for j in range(t_n):
@@ -114,7 +117,8 @@ def main() -> None:
         f"({n * t_n:,} frames), {args.active:.0%} of the arrays rolling objects, faults 'all'"
     )
     print(
-        f"bank (SensorBank.push, batch_frames={b}): {bank_rate:14,.0f} frames/s (target 2,000,000)"
+        f"bank (SensorBank.push, batch_frames={b}, evaluate_every={args.evaluate_every}): "
+        f"{bank_rate:14,.0f} frames/s (target 2,000,000)"
     )
     print(f"  wall clock: {n * t_n / wall:,.0f} frames/s (load average {os.getloadavg()[0]:.1f})")
     print(

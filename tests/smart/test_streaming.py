@@ -191,11 +191,12 @@ def test_a_point_held_still_keeps_its_path_scan_bounded() -> None:
     assert scan._arc.size <= CornerScan.MAX_ROWS
 
 
-def test_bank_gives_each_array_the_events_of_its_own_recording() -> None:
+@pytest.mark.parametrize("evaluate_every", [1, 100])
+def test_bank_gives_each_array_the_events_of_its_own_recording(evaluate_every: int) -> None:
     recs = [random_recording(s, 300, 20.0) for s in range(5)]
     frames = np.stack([r.frames for r in recs])
     t = recs[0].t_s
-    bank = SensorBank(5, (16, 16), pitch_mm=PITCH, batch_frames=32)
+    bank = SensorBank(5, (16, 16), pitch_mm=PITCH, batch_frames=32, evaluate_every=evaluate_every)
     events: list[list[object]] = [[] for _ in range(5)]
     for j in range(300):
         for i, e in bank.push(frames[:, j], t[j]):

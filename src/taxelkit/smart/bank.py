@@ -74,6 +74,12 @@ class SensorBank:
     batch_frames : int
         Pushes buffered before Levels 1-4 run over them (the latency bound,
         in frames of each array).
+    evaluate_every : int
+        Frames of an array's open contact segment gathered before its motion
+        tactemes are looked for (1: every batch). Each look costs the same
+        whatever its length, so a larger value trades the emission delay of
+        motion tactemes (never their frame numbers) for throughput; contacts
+        and lifts are still reported after each batch.
 
     Examples
     --------
@@ -100,6 +106,7 @@ class SensorBank:
         cleaning: CleaningConfig | None = DEFAULT_CLEANING,
         limits: ContactLimits | None = DEFAULT_LIMITS,
         batch_frames: int = 64,
+        evaluate_every: int = 1,
     ) -> None:
         self.n_arrays = check_count("n_arrays", n_arrays)
         rows, cols = check_shape("shape", shape)
@@ -107,6 +114,7 @@ class SensorBank:
         self.pitch_mm = check_positive("pitch_mm", pitch_mm)
         self.threshold = check_threshold("threshold", threshold)
         self.batch_frames = check_count("batch_frames", batch_frames)
+        self.evaluate_every = check_count("evaluate_every", evaluate_every)
         self.config = TactemeConfig() if config is None else config
         self._levels12 = ChunkLevels12(
             self.n_arrays,
@@ -124,7 +132,9 @@ class SensorBank:
         """Start afresh (no frames seen by any array)."""
         self.frame_index = 0
         self._levels12.reset()
-        self._streams = [ArrayStream(self.config) for _ in range(self.n_arrays)]
+        self._streams = [
+            ArrayStream(self.config, chunk_every=self.evaluate_every) for _ in range(self.n_arrays)
+        ]
         self._buf: NDArray[Any] | None = None
         self._buf_t = np.empty((self.n_arrays, self.batch_frames))
         self._buf_n = 0
@@ -174,7 +184,7 @@ class SensorBank:
         events: list[tuple[int, Event]] = []
         buf = self._buf
         if buf is None or buf.dtype != f.dtype:
-            events = self.flush()
+            events = self._run()
             buf = self._buf = np.empty((self.n_arrays, self.batch_frames, *self.shape), f.dtype)
         k = self._buf_n
         buf[:, k] = f
@@ -182,7 +192,7 @@ class SensorBank:
         self._buf_n = k + 1
         self.frame_index += 1
         if k + 1 == self.batch_frames:
-            events += self.flush()
+            events += self._run()
         return events
 
     def push_many(self, frames: ArrayLike, t_s: ArrayLike | None = None) -> list[tuple[int, Event]]:
@@ -197,12 +207,19 @@ class SensorBank:
                 f"{self.shape[1]}), got {f.shape}"
             )
         t = self._times(t_s, f.shape[1])
-        events = self.flush()
+        events = self._run()
         self.frame_index += f.shape[1]
         return events + self._process(f, t)
 
     def flush(self) -> list[tuple[int, Event]]:
-        """Process the buffered frames now; the events they cause."""
+        """Process the buffered frames now, and look at every open segment; the events caused."""
+        out = self._run()
+        for i, stream in enumerate(self._streams):
+            out += [(i, e) for e in stream.look()]
+        return out
+
+    def _run(self) -> list[tuple[int, Event]]:
+        """Levels 1-4 over the buffered frames."""
         if not self._buf_n or self._buf is None:
             return []
         n, self._buf_n = self._buf_n, 0

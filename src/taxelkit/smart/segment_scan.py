@@ -415,6 +415,10 @@ class SegmentScanner:
             if piv.found is not None:
                 break
             ready = _turn(angle, piv.ref_angle) > cfg.pivot_turn_deg
+            if not ready.any():  # no verdict can hold on these frames
+                for s in piv.verdicts:
+                    s.run = 0
+                continue
             hits = []
             for s, (tac, verdict) in zip(
                 piv.verdicts,

@@ -118,12 +118,18 @@ class ArrayStream:
     config : TactemeConfig
     evaluate_every : int
         With frames one at a time, the open segment's scanner is fed every
-        this many frames (and when the segment ends); chunks are fed whole.
+        this many frames (and when the segment ends).
+    chunk_every : int
+        With chunks, the scanner is fed once this many frames of the open
+        segment have come (and when it ends): 1, after every chunk.
     """
 
-    def __init__(self, config: TactemeConfig, evaluate_every: int = 16) -> None:
+    def __init__(
+        self, config: TactemeConfig, evaluate_every: int = 16, chunk_every: int = 1
+    ) -> None:
         self.config = config
         self.every = int(evaluate_every)
+        self.chunk_every = int(chunk_every)
         self.classes = ClassHistory()
         self.state = Levels34(config)
         self.frame_index = 0
@@ -227,6 +233,15 @@ class ArrayStream:
             rest = sel[need:]
             if rest.size and cls != _NONE:
                 self._pend_chunks.append((j0 + rest, rows[rest]))
+        if sum(j.size for j, _ in self._pend_chunks) >= self.chunk_every:
+            self._feed(final=False)
+        return self.state.events[before:]
+
+    def look(self) -> list[Event]:
+        """Feed the open segment what it has waiting; the events caused."""
+        if not (self._pend_j or self._pend_chunks):
+            return []
+        before = len(self.state.events)
         self._feed(final=False)
         return self.state.events[before:]
 

@@ -287,7 +287,7 @@ class PivotRun:
 
     def __init__(self, start: int, hold: int) -> None:
         self.start = start  # segment index of the anchor
-        self.sums = [RunningSum() for _ in range(6)]  # sxx, sxy, syy, bx, by, half
+        self.sums = RunningSum(6)  # sxx, sxy, syy, bx, by, half: column by column
         self.count = 0
         self.ref_angle: float | None = None
         self.pending: list[tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]] = []
@@ -303,15 +303,12 @@ class PivotRun:
         middle = centre + offset[:, None] * np.stack([np.cos(t), np.sin(t)], axis=-1)
         c = np.where(measured[:, None], middle, centre)
         half = np.where(measured, 0.5 * (ext[:, 1] - ext[:, 0]), half)
-        t = np.deg2rad(theta)
         nx, ny = -np.sin(t), np.cos(t)
         d = nx * c[:, 0] + ny * c[:, 1]
-        sxx, sxy, syy, bx, by, sh = (
-            s.push(x)
-            for s, x in zip(
-                self.sums, (nx * nx, nx * ny, ny * ny, nx * d, ny * d, half), strict=True
-            )
-        )
+        terms = np.empty((t.size, 6))
+        terms[:, 0], terms[:, 1], terms[:, 2] = nx * nx, nx * ny, ny * ny
+        terms[:, 3], terms[:, 4], terms[:, 5] = nx * d, ny * d, half
+        sxx, sxy, syy, bx, by, sh = self.sums.push(terms).T
         det = sxx * syy - sxy * sxy
         trace = sxx + syy
         well = det > 1e-6 * trace * trace
