@@ -35,6 +35,7 @@ from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import MOTION_MIN_FRAMES, SegmentTrack, TactemeConfig
 from taxelkit.smart.track_geometry import axis_angle_deg, axis_vectors
 from taxelkit.smart.track_stream import (
+    CarriedShift,
     CornerScan,
     LegScan,
     PivotRun,
@@ -42,6 +43,7 @@ from taxelkit.smart.track_stream import (
     RunningSum,
     Sustained,
     mean_axis_deg,
+    turn_from,
 )
 
 __all__ = ["ROW_COLUMNS", "SegmentScanner", "mean_axis_deg"]
@@ -55,11 +57,6 @@ ROW_COLUMNS = ("cx", "cy", "theta", "area", "elong", "half", "lo", "hi", "t")
 _Ref = tuple[NDArray[np.float64], float, Any, Any, Any]
 
 _POINT, _LINE, _AREA = int(ContactClass.POINT), int(ContactClass.LINE), int(ContactClass.AREA)
-
-
-def _turn(angle: NDArray[np.float64], ref: Any) -> NDArray[np.float64]:
-    out: NDArray[np.float64] = np.abs((angle - ref + 90.0) % 180.0 - 90.0)
-    return out
 
 
 class SegmentScanner:
@@ -183,7 +180,7 @@ class SegmentScanner:
             return []
         assert self._piv is not None
         self._piv.ref_angle = self._last_angle  # the batch's reference: the last frame
-        self._pivot_pending(self._piv)
+        self._piv.decide(*self._pivot_limits)
         new = self._emit_pivot([])
         self.found += new
         return new
@@ -202,11 +199,9 @@ class SegmentScanner:
         self._anchor = 0
         self._ref: _Ref | None = None
         self._start_angle: float | None = None  # a line's turn counts from frame w - 1
-        # carried_shift: the shift of the stretches (anchors) done, and the current one's
-        self._carried = np.zeros(2)
-        self._stretch = 0  # anchor of the current stretch
-        self._stretch_ref: NDArray[np.float64] | None = None  # centre at its reference
-        self._last_centre = np.zeros(2)
+        self._rolled = CarriedShift()  # a line's roll across itself, over re-anchors
+        lo_r, hi_r = cfg.pivot_end_ratio / cfg.pivot_band, cfg.pivot_end_ratio * cfg.pivot_band
+        self._pivot_limits = (cfg.pivot_min_ratio, lo_r, hi_r, cfg.pivot_turn_deg)
         self._last_angle = float("nan")
         self._done: set[Tacteme] = set()
         new = [Sustained(self.hold) for _ in range(4)]
@@ -257,7 +252,8 @@ class SegmentScanner:
                 out.append((pos, m, self._anchor, self._ref))
                 pos = m
             else:
-                out.append((pos, hit, self._anchor, self._ref))
+                if hit > pos:  # no empty piece when the chunk's first frame re-anchors
+                    out.append((pos, hit, self._anchor, self._ref))
                 self._anchor, pos = n0 + hit, hit
         return out
 
@@ -328,10 +324,13 @@ class SegmentScanner:
             if self._start_angle is None and np.any(at):
                 self._start_angle = float(angle[int(np.argmax(at))])
             turned_all = np.where(
-                at, _turn(angle, self._start_angle if self._start_angle is not None else 0.0), 0.0
+                at,
+                turn_from(angle, self._start_angle if self._start_angle is not None else 0.0),
+                0.0,
             )
             # rolled across, summed over re-anchors, on the normal of the first reference
-            rolled = self._carried_before(pieces, centre) + shift
+            stretches = [(lo, hi, a, None if r is None else r[0]) for lo, hi, a, r in pieces]
+            rolled = self._rolled.before(stretches, centre) + shift
             t0 = np.deg2rad(self._start_angle if self._start_angle is not None else 0.0)
             across_all = np.abs(-rolled[:, 0] * np.sin(t0) + rolled[:, 1] * np.cos(t0))
             parallel = (across_all >= cfg.parallel_move_mm) & (turned_all <= cfg.parallel_tol_deg)
@@ -352,30 +351,12 @@ class SegmentScanner:
             moved = np.where(valid, np.hypot(*shift.T), 0.0)
             self._add(new, Tacteme.AC_MOVES, self._s1.push((moved > cfg.move_mm) & same, frames))
             oriented = (elong >= cfg.area_min_elongation) & (relong >= cfg.area_min_elongation)
-            turned = np.where(valid, _turn(angle, ra), 0.0)
+            turned = np.where(valid, turn_from(angle, ra), 0.0)
             rotated = (turned > cfg.area_rotate_deg) & same & oriented
             self._add(new, Tacteme.AC_ROTATES, self._s2.push(rotated, frames))
         new.sort(key=lambda item: item[1])
         self.found += new
         return new
-
-    def _carried_before(
-        self, pieces: list[tuple[int, int, int, _Ref | None]], centre: NDArray[np.float64]
-    ) -> NDArray[np.float64]:
-        """:func:`~taxelkit.smart.track_geometry.carried_shift`'s sum of the stretches done,
-        per frame ``(m, 2)`` (an exclusive running sum, in the batch's order)."""
-        before = np.empty((centre.shape[0], 2))
-        for lo, hi, a, ref in pieces:
-            if a != self._stretch:  # the previous stretch ended on the frame before
-                end = centre[lo - 1] if lo > 0 else self._last_centre
-                if self._stretch_ref is not None:
-                    self._carried = self._carried + (end - self._stretch_ref)
-                self._stretch, self._stretch_ref = a, None
-            if ref is not None:
-                self._stretch_ref = ref[0]
-            before[lo:hi] = self._carried
-        self._last_centre = centre[-1].copy()
-        return before
 
     def _add(self, new: list[tuple[Tacteme, int]], tac: Tacteme, frame: int | None) -> None:
         if frame is not None and tac not in self._done:
@@ -406,35 +387,7 @@ class SegmentScanner:
             if piv.ref_angle is None and int(j[lo]) <= r < int(j[hi - 1]) + 1:
                 piv.ref_angle = float(angle[lo + r - int(j[lo])])
             if piv.ref_angle is not None:
-                self._pivot_pending(piv)
-
-    def _pivot_pending(self, piv: PivotRun) -> None:
-        cfg = self.config
-        lo_r, hi_r = cfg.pivot_end_ratio / cfg.pivot_band, cfg.pivot_end_ratio * cfg.pivot_band
-        for ratio, angle, frames in piv.pending:
-            if piv.found is not None:
-                break
-            ready = _turn(angle, piv.ref_angle) > cfg.pivot_turn_deg
-            if not ready.any():  # no verdict can hold on these frames
-                for s in piv.verdicts:
-                    s.run = 0
-                continue
-            hits = []
-            for s, (tac, verdict) in zip(
-                piv.verdicts,
-                (
-                    (Tacteme.LC_SPINS, ratio < cfg.pivot_min_ratio),
-                    (Tacteme.LCMT_ABOUT_END, (ratio >= cfg.pivot_min_ratio) & (ratio <= lo_r)),
-                    (Tacteme.LCMT_ARC, ratio >= hi_r),
-                ),
-                strict=True,
-            ):
-                f = s.push(ready & verdict, frames)
-                if f is not None:
-                    hits.append((f, tac))
-            if hits:
-                piv.found = min(hits)
-        piv.pending = []
+                piv.decide(*self._pivot_limits)
 
     def _emit_pivot(self, new: list[tuple[Tacteme, int]]) -> list[tuple[Tacteme, int]]:
         piv = self._piv

@@ -15,6 +15,7 @@ and each gives bit for bit what the batch function gives on the whole track:
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -22,6 +23,7 @@ from numpy.typing import NDArray
 from taxelkit.smart.tacteme_table import Tacteme
 
 __all__ = [
+    "CarriedShift",
     "CornerScan",
     "LegScan",
     "PivotRun",
@@ -29,6 +31,7 @@ __all__ = [
     "RunningSum",
     "Sustained",
     "mean_axis_deg",
+    "turn_from",
 ]
 
 
@@ -322,6 +325,86 @@ class PivotRun:
             well & (mean_half > 0), dist / np.where(mean_half > 0, mean_half, 1.0), np.nan
         )
         return out
+
+    def decide(self, min_ratio: float, end_lo: float, end_hi: float, turn_deg: float) -> None:
+        """Run the three verdicts over the pending frames (their reference angle is known).
+
+        Spins below ``min_ratio`` half-lengths, about one end up to ``end_lo``,
+        in an arc from ``end_hi``; only on frames turned more than ``turn_deg``
+        from the reference.
+        """
+        for ratio, angle, frames in self.pending:
+            if self.found is not None:
+                break
+            if frames.size == 0:
+                continue
+            assert self.ref_angle is not None
+            ready = turn_from(angle, self.ref_angle) > turn_deg
+            if not ready.any():  # no verdict can hold on these frames
+                for s in self.verdicts:
+                    s.run = 0
+                continue
+            verdicts = (
+                (Tacteme.LC_SPINS, ratio < min_ratio),
+                (Tacteme.LCMT_ABOUT_END, (ratio >= min_ratio) & (ratio <= end_lo)),
+                (Tacteme.LCMT_ARC, ratio >= end_hi),
+            )
+            hits = []
+            for s, (tac, verdict) in zip(self.verdicts, verdicts, strict=True):
+                f = s.push(ready & verdict, frames)
+                if f is not None:
+                    hits.append((f, tac))
+            if hits:
+                self.found = min(hits)
+        self.pending = []
+
+
+class CarriedShift:
+    """:func:`~taxelkit.smart.track_geometry.carried_shift` of a track arriving in chunks.
+
+    Carries the sum of the shifts of the stretches done (an exclusive running
+    sum, in the batch's order), the current stretch's anchor and the centre
+    at its reference, and the last centre seen.
+    """
+
+    def __init__(self) -> None:
+        self.carried = np.zeros(2)
+        self.stretch = 0  # anchor of the current stretch
+        self.stretch_ref: NDArray[np.float64] | None = None  # centre at its reference
+        self.last_centre = np.zeros(2)
+
+    def before(
+        self,
+        pieces: list[tuple[int, int, int, NDArray[np.float64] | None]],
+        centre: NDArray[np.float64],
+    ) -> NDArray[np.float64]:
+        """The stretches done before each row ``(m, 2)``, mm.
+
+        ``pieces`` are the chunk's runs ``(lo, hi, anchor, centre at the
+        anchor's reference or None before it)``; ``centre`` its smoothed
+        centres ``(m, 2)``.
+        """
+        out = np.empty((centre.shape[0], 2))
+        for lo, hi, a, ref_centre in pieces:
+            if a != self.stretch:  # the previous stretch ended on the frame before
+                end = centre[lo - 1] if lo > 0 else self.last_centre
+                if self.stretch_ref is not None:
+                    self.carried = self.carried + (end - self.stretch_ref)
+                self.stretch, self.stretch_ref = a, None
+            if ref_centre is not None:
+                self.stretch_ref = ref_centre
+            out[lo:hi] = self.carried
+        self.last_centre = centre[-1].copy()
+        return out
+
+
+def turn_from(angle: NDArray[np.float64], ref: Any) -> NDArray[np.float64]:
+    """Axial turn of each angle from ``ref`` (deg, one or one per angle), in [0, 90] deg.
+
+    The arithmetic of :func:`~taxelkit.smart.track_geometry.turn`.
+    """
+    out: NDArray[np.float64] = np.abs((angle - ref + 90.0) % 180.0 - 90.0)
+    return out
 
 
 def mean_axis_deg(theta_deg: NDArray[np.float64]) -> float:
