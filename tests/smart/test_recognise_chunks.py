@@ -96,8 +96,11 @@ def test_chunk_cleaner_equals_batch_cleaning(shape: tuple[int, int]) -> None:
     t_s = np.arange(n) * 0.004  # stuck_s is then 375 frames
     ref = clean_images(images, t_s, config=CleaningConfig())
     for size in (1, 7, 250, n):
-        cleaner = ChunkCleaner(shape)
-        parts = [cleaner.push(images[a : a + size], t_s[a : a + size]) for a in range(0, n, size)]
+        cleaner = ChunkCleaner(1, shape)  # one array of the bank's cleaner
+        parts = [
+            cleaner.push(images[None, a : a + size], t_s[None, a : a + size])[0]
+            for a in range(0, n, size)
+        ]
         assert np.array_equal(np.concatenate(parts), ref), size
 
 

@@ -1,20 +1,20 @@
-"""The image cleaning of :func:`~taxelkit.smart.cleaning.clean_images`, a chunk at a time.
+"""The image cleaning of :func:`~taxelkit.smart.cleaning.clean_images`, chunk by chunk, many arrays.
 
-:func:`~taxelkit.smart.cleaning.clean_images` cleans a whole recording at once;
-:class:`ChunkCleaner` takes the same frames in consecutive chunks of any
-length and returns, chunk by chunk, exactly the images the batch function
-would (tested). The rules are those of :mod:`taxelkit.smart.cleaning`; only
-their state crosses the chunk boundary:
+:func:`~taxelkit.smart.cleaning.clean_images` cleans a whole recording;
+:class:`~taxelkit.smart.cleaning_stream.ImageCleaner` one frame. Between the
+two, :class:`ChunkCleaner` takes ``T`` frames of ``N`` arrays at once, with
+every rule's state carried from chunk to chunk, so the streaming sensor and
+the sensor bank run the batch's vectorised rule functions and give the same
+images as :func:`~taxelkit.smart.cleaning.clean_images` on each array's whole
+stream (tested). The state per array:
 
-* the running AND of rule 1 (taxels on since the stream began), one frame;
-* the last ``n_stuck - 1`` frames of "isolated and on" (rule 1's hold test
-  looks that far back), at most ``stuck_s`` of frames;
-* for each taxel still armed by rule 1 (seeded and not yet released), the
-  frames at which it was last on, last seeded and last released;
-* the previous bridged frame (rule 3's persistence looks one frame back).
-
-None of it grows with the recording, so an out-of-core recogniser holds one
-chunk of images at a time.
+* the taxels on since the stream began (rule 1: a running AND);
+* the last ``n_stuck - 1`` frames of isolated taxels (rule 1: a taxel is
+  stuck once isolated ``n_stuck`` frames in a row), packed, so the count
+  over a chunk's edge is the batch's own shifted AND;
+* the masked (stuck) taxels and how long each has read off (rule 1's
+  release), for the few taxels concerned;
+* the last bridged frame (rule 3, persistence).
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 from taxelkit.errors import InputError
 from taxelkit.smart.cleaning import (
@@ -30,152 +30,237 @@ from taxelkit.smart.cleaning import (
     _backend,
     _bits_of,
     _bridged,
-    _clean,
-    _held,
+    _crowded,
+    _dilate3,
     _neighbours8,
+    _stray,
     release_frames_for,
     stuck_frames_for,
 )
 
-__all__ = ["ChunkCleaner"]
+__all__ = ["GROUP_FRAMES", "ChunkCleaner"]
 
-#: Per armed taxel: frames (global indices) last on, last released, last seeded.
-_Marks = tuple[int, int, int]
+#: Frames (arrays x frames of a chunk) cleaned per pass: about 4 MB of bool
+#: 16 x 16 frames, so that the rules' temporaries stay in the cache.
+GROUP_FRAMES = 16_384
+
+
+def _held_along_time(a: NDArray[Any], n: int) -> NDArray[Any]:
+    """Taxels on in each of the frames ``t - n + 1 .. t`` of ``a`` ``(N, T, ...)`` (axis 1)."""
+    out = a.copy()
+    span = 1
+    while span < n:
+        step = min(span, n - span)
+        shifted = np.zeros_like(out)
+        if step < out.shape[1]:
+            shifted[:, step:] = out[:, :-step]
+        out &= shifted
+        span += step
+    return out
 
 
 class ChunkCleaner:
-    """Clean contact images chunk by chunk, as :func:`clean_images` cleans them all at once.
+    """Clean chunks of frames of ``n_arrays`` arrays of one shape (streaming, vectorised).
 
     Parameters
     ----------
+    n_arrays : int
     shape : (rows, cols)
-        Frame shape.
     config : CleaningConfig, optional
 
     Examples
     --------
     >>> import numpy as np
-    >>> from taxelkit.smart.cleaning import clean_images
-    >>> img = np.zeros((6, 8, 8), bool); img[1:, 3:5, 3:5] = True
-    >>> t = np.arange(6) * 0.05
-    >>> cleaner = ChunkCleaner((8, 8))
-    >>> parts = [cleaner.push(img[a:a + 4], t[a:a + 4]) for a in (0, 4)]
-    >>> bool(np.array_equal(np.concatenate(parts), clean_images(img, t)))
-    True
+    >>> cleaner = ChunkCleaner(2, (8, 8))
+    >>> img = np.zeros((2, 3, 8, 8), bool); img[:, 1:, 3:5, 3:5] = True
+    >>> t = np.arange(3) * 0.05
+    >>> cleaner.push(img, np.broadcast_to(t, (2, 3))).sum(axis=(2, 3)).tolist()
+    [[0, 4, 4], [0, 4, 4]]
     """
 
-    def __init__(self, shape: tuple[int, int], *, config: CleaningConfig | None = None) -> None:
-        rows, cols = int(shape[0]), int(shape[1])
-        if rows < 1 or cols < 1:
-            raise InputError(f"shape must be two positive integers, got {shape!r}")
-        self.shape = (rows, cols)
+    def __init__(
+        self, n_arrays: int, shape: tuple[int, int], *, config: CleaningConfig | None = None
+    ) -> None:
+        self.n = int(n_arrays)
+        self.shape = (int(shape[0]), int(shape[1]))
         self.config = CleaningConfig() if config is None else config
-        self._ops = _backend(cols)
+        self._ops = _backend(self.shape[1])
         self.reset()
 
     def reset(self) -> None:
-        """Forget the stream."""
-        self._n_seen = 0
-        self._t0: float | None = None
-        self._dt: float | None = None
-        self._since_start: NDArray[Any] | None = None  # running AND, None before frame 0
-        self._iso_tail: NDArray[Any] | None = None  # last n_stuck - 1 isolated-and-on frames
-        self._marks: dict[tuple[int, Any], _Marks] = {}  # armed (word, bit) -> marks
-        self._prev: NDArray[Any] | None = None  # bridged frame before the chunk
+        """Forget every stream."""
+        n = self.n
+        blank = self._ops.pack(np.zeros((n, *self.shape), bool))  # (N, *word shape)
+        self._seen = np.zeros(n, dtype=np.int64)
+        self._t0 = np.zeros(n)
+        self._dt = np.full(n, np.nan)
+        self._n_stuck = np.full(n, 3, dtype=np.int64)  # until the frame interval is known
+        self._n_release = np.full(n, release_frames_for(None, self.config), dtype=np.int64)
+        self._since = ~blank  # all on: the AND of no frames
+        self._iso_hist = np.zeros((n, 0, *blank.shape[1:]), blank.dtype)
+        self._armed: dict[tuple[int, int, int], int] = {}  # (array, word, bit) -> frames off
+        self._prev = blank
+        self._busy = np.ones(n, bool)  # some state that a clear chunk would change
 
-    def push(self, images: ArrayLike, t_s: ArrayLike) -> NDArray[np.bool_]:
-        """Clean the next chunk.
+    def push(self, images: NDArray[np.bool_], t_s: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Clean frames ``(N, T, rows, cols)`` bool taken at ``t_s`` ``(N, T)``, s: same shape.
 
-        Parameters
-        ----------
-        images : (n, rows, cols) bool
-            The next ``n`` thresholded contact images (``n`` may be 0).
-        t_s : (n,) float, s
-            Their timestamps.
-
-        Returns
-        -------
-        (n, rows, cols) bool
-            The cleaned images, those :func:`clean_images` gives for these frames.
+        Arrays whose frames are all clear and whose state is at rest are
+        skipped (their output is clear): a quiet array costs a test.
         """
         img = np.asarray(images)
-        if img.ndim != 3 or img.dtype != bool or img.shape[1:] != self.shape:
+        if img.ndim != 4 or img.shape[0] != self.n or img.shape[2:] != self.shape:
             raise InputError(
-                f"images must be bool with shape (n, {self.shape[0]}, {self.shape[1]}), "
-                f"got {img.dtype} {img.shape}"
+                f"images must have shape ({self.n}, T, {self.shape[0]}, {self.shape[1]}), "
+                f"got {img.shape}"
             )
-        t = np.asarray(t_s, dtype=np.float64)
-        if t.shape != (img.shape[0],):
-            raise InputError(f"t_s must have shape ({img.shape[0]},), got {t.shape}")
-        n = img.shape[0]
-        if n == 0:
-            return img.copy()
-        if self._t0 is None:
-            self._t0 = float(t[0])
-        if self._dt is None and self._n_seen + n > 1:
-            self._dt = float(t[1 - self._n_seen] - self._t0)
-        ops, cfg = self._ops, self.config
-        on = ops.pack(img)
-        if self._prev is None:
-            self._prev = np.zeros_like(on[0])
-        stuck = self._stuck(on) if cfg.stuck else np.zeros_like(on)
-        bridged = _bridged(ops, on, stuck, cfg)
-        out = _clean(ops, bridged, self._prev, cfg)
-        self._prev = bridged[-1].copy()
-        self._n_seen += n
-        return ops.unpack(out, self.shape[1])
-
-    # -- rule 1 with carried state -------------------------------------------------------
-    def _since_start_of(self, on: NDArray[Any]) -> NDArray[Any]:
-        """Taxels on in every frame since the stream began (running AND across chunks)."""
-        acc = on[0] if self._since_start is None else self._since_start
-        if not np.any(acc):
-            self._since_start = acc
-            return np.zeros_like(on)
-        out: NDArray[Any] = np.bitwise_and.accumulate(np.concatenate([acc[None], on]), axis=0)[1:]
-        self._since_start = out[-1].copy()
+        n, t = img.shape[:2]
+        out = np.zeros_like(img)
+        if t == 0:
+            return out
+        self._timing(np.asarray(t_s, dtype=np.float64).reshape(n, t))
+        self._seen += t
+        sel = np.flatnonzero(self._busy | img.reshape(n, -1).any(axis=1))
+        longest = int(self._n_stuck.max())
+        if sel.size == 0:
+            self._resize_hist(longest)
+            return out
+        group = max(1, GROUP_FRAMES // t)  # arrays per pass: the temporaries stay in cache
+        for a in range(0, sel.size, group):
+            g = sel[a : a + group]
+            out[g] = self._clean(img if g.size == n else img[g], g, longest)
         return out
 
-    def _stuck(self, on: NDArray[Any]) -> NDArray[Any]:
-        dt = 1.0 if self._dt is None else self._dt
-        n_stuck = stuck_frames_for(dt, self.config)
-        n_release = release_frames_for(dt, self.config)
-        iso = on & ~_neighbours8(self._ops, on)
-        tail = self._iso_tail if self._iso_tail is not None else iso[:0]
-        both = np.concatenate([tail, iso])
-        held = _held(both, n_stuck)[tail.shape[0] :]
-        self._iso_tail = both[max(0, both.shape[0] - (n_stuck - 1)) :].copy()
-        seed = self._since_start_of(on) | held
-        return self._mask(on, seed, n_release)
+    def _resize_hist(self, longest: int) -> None:
+        keep = max(0, longest - 1)
+        h = self._iso_hist
+        if h.shape[1] != keep:
+            full = np.zeros((h.shape[0], keep, *h.shape[2:]), h.dtype)
+            m = min(keep, h.shape[1])
+            if m:
+                full[:, keep - m :] = h[:, h.shape[1] - m :]
+            self._iso_hist = full
 
-    def _mask(self, on: NDArray[Any], seed: NDArray[Any], n_release: int) -> NDArray[Any]:
-        """Bits masked in each frame: seeded and not yet off for ``n_release`` frames."""
-        frames, rest = on.shape[0], on.shape[1:]
-        on_f = on.reshape(frames, -1)
-        seed_f = seed.reshape(frames, -1)
-        out = np.zeros_like(on_f)
-        g = np.arange(self._n_seen, self._n_seen + frames)
-        seeded = np.bitwise_or.reduce(seed_f, axis=0)
-        keys = {
-            (j, bit)
-            for j in np.flatnonzero(seeded).tolist()
-            for bit in _bits_of(int(seeded[j]), on_f.dtype)
-        }
-        keys.update(self._marks)
-        marks: dict[tuple[int, Any], _Marks] = {}
-        for j, bit in sorted(keys, key=lambda key: (key[0], int(key[1]))):
-            last_on0, last_release0, last_seed0 = self._marks.get((j, bit), (-1, -1, -1))
-            o = (on_f[:, j] & bit) != 0
-            s = (seed_f[:, j] & bit) != 0
-            last_on = np.maximum(np.maximum.accumulate(np.where(o, g, -1)), last_on0)
-            released = (g - last_on) >= n_release
-            last_release = np.maximum(
-                np.maximum.accumulate(np.where(released, g, -1)), last_release0
-            )
-            last_seed = np.maximum(np.maximum.accumulate(np.where(s, g, -1)), last_seed0)
-            masked = o & (last_seed > last_release)
-            out[masked, j] |= bit
-            if last_seed[-1] > last_release[-1]:  # still armed: carry its marks
-                marks[(j, bit)] = (int(last_on[-1]), int(last_release[-1]), int(last_seed[-1]))
-        self._marks = marks
-        return out.reshape((frames, *rest))
+    def _clean(self, img: NDArray[np.bool_], sel: NDArray[np.intp], longest: int) -> NDArray[Any]:
+        ops, cfg = self._ops, self.config
+        n, t = img.shape[:2]
+        on = ops.pack(img.reshape(n * t, *self.shape))
+        word = on.shape[1:]
+        on3 = on.reshape(n, t, *word)
+        stuck = self._stuck(on3, on, sel, longest) if cfg.stuck else np.zeros_like(on)
+        a = _bridged(ops, on, stuck, cfg)
+        out = a
+        a3 = a.reshape(n, t, *word)
+        if cfg.persistence:
+            before = np.concatenate([self._prev[sel, None], a3[:, :-1]], axis=1).reshape(a.shape)
+            out = a & (_dilate3(ops, before) | _crowded(ops, a))
+        if cfg.strays:
+            stray = _stray(ops, out)
+            big = ops.any_per_frame(out & ~stray)
+            out = out & ~(stray & ops.per_frame(big, out))
+        last = a3[:, -1]
+        self._prev[sel] = last
+        armed = np.zeros(self.n, bool)  # after _stuck: this chunk's armed taxels
+        armed[[i for i, _, _ in self._armed]] = True
+        flat = self._iso_hist[sel].reshape(n, -1)
+        self._busy[sel] = (
+            np.any(last.reshape(n, -1), axis=1)
+            | np.any(self._since[sel].reshape(n, -1), axis=1)
+            | np.any(flat, axis=1)
+            | armed[sel]
+        )
+        cleaned: NDArray[np.bool_] = ops.unpack(out, self.shape[1])
+        return cleaned.reshape(n, t, *self.shape)
+
+    def _timing(self, t: NDArray[np.float64]) -> None:
+        new = self._seen == 0
+        self._t0[new] = t[new, 0]
+        later = np.isnan(self._dt) & ((self._seen > 0) | (t.shape[1] > 1))
+        first_next = np.where(self._seen > 0, t[:, 0], t[:, min(1, t.shape[1] - 1)])
+        self._dt[later] = first_next[later] - self._t0[later]
+        for i in np.flatnonzero(later).tolist():  # once per array
+            dt = float(self._dt[i])
+            self._n_stuck[i] = stuck_frames_for(dt, self.config)
+            self._n_release[i] = release_frames_for(dt, self.config)
+
+    def _stuck(
+        self, on3: NDArray[Any], on: NDArray[Any], sel: NDArray[np.intp], longest: int
+    ) -> NDArray[Any]:
+        ops = self._ops
+        n, t = on3.shape[:2]
+        prior = self._since[sel]
+        if np.any(prior):
+            since = np.bitwise_and.accumulate(
+                np.concatenate([prior[:, None], on3], axis=1), axis=1
+            )[:, 1:]
+            self._since[sel] = since[:, -1]
+        else:
+            since = np.zeros_like(on3)
+        iso = (on & ~_neighbours8(ops, on)).reshape(on3.shape)
+        n_stuck = self._n_stuck[sel]
+        self._resize_hist(longest)
+        hist = np.concatenate([self._iso_hist[sel], iso], axis=1)
+        held = np.zeros_like(iso)
+        if np.any(hist):  # no isolated taxel in the window: nothing held
+            for k in np.unique(n_stuck).tolist():
+                rows = np.flatnonzero(n_stuck == k)
+                part = hist[rows] if rows.size < n else hist
+                if part.shape[1] > t + k - 1:
+                    part = part[:, -(t + k - 1) :]
+                held[rows] = _held_along_time(part, k)[:, -t:]
+        keep = self._iso_hist.shape[1]
+        if keep:
+            self._iso_hist[sel] = hist[:, hist.shape[1] - keep :]
+        seed = since | held
+        return self._release(on3, seed, sel).reshape(on.shape)
+
+    def _release(
+        self, on3: NDArray[Any], seed: NDArray[Any], sel: NDArray[np.intp]
+    ) -> NDArray[Any]:
+        """Masked bits: seeded, until read off ``n_release`` frames (per taxel, few taxels)."""
+        n, t = on3.shape[:2]
+        out = np.zeros_like(on3).reshape(n, t, -1)
+        on_f = on3.reshape(n, t, -1)
+        seed_f = seed.reshape(n, t, -1)
+        any_seed = np.bitwise_or.reduce(seed_f, axis=1)  # (n, words)
+        local = {int(g): k for k, g in enumerate(sel.tolist())}
+        armed: dict[tuple[int, int, int], int] = {}
+        todo: dict[tuple[int, int, int], int | None] = {}
+        for (g, j, bit), frames_off in self._armed.items():
+            if g in local:
+                todo[(local[g], j, bit)] = frames_off
+            else:  # not in this chunk (cannot happen: an armed array is busy)
+                armed[(g, j, bit)] = frames_off
+        for i, j in zip(*np.nonzero(any_seed), strict=True):
+            for bit in _bits_of(int(any_seed[i, j]), on_f.dtype):
+                todo.setdefault((int(i), int(j), int(bit)), None)
+        if not todo:
+            self._armed = armed
+            return out
+        keys = list(todo)
+        ii = np.array([k[0] for k in keys])
+        jj = np.array([k[1] for k in keys])
+        bits = np.array([k[2] for k in keys]).astype(on_f.dtype)[:, None]
+        offs = [todo[k] for k in keys]
+        was = np.array([o is not None for o in offs])
+        off = np.array([10**9 if o is None else o for o in offs])
+        n_release = self._n_release[sel][ii][:, None]
+        idx = np.arange(t)[None, :]
+        # all the taxels at once, (K, T): the batch's per-taxel rule, carried over
+        o = (on_f[ii, :, jj] & bits) != 0
+        s = (seed_f[ii, :, jj] & bits) != 0
+        last_on = np.maximum.accumulate(np.where(o, idx, (-1 - off)[:, None]), axis=1)
+        released = (idx - last_on) >= n_release
+        last_release = np.maximum.accumulate(
+            np.where(released, idx, np.where(was, -2, -1)[:, None]), axis=1
+        )
+        last_seed = np.maximum.accumulate(np.where(s, idx, np.where(was, -1, -2)[:, None]), axis=1)
+        masked = o & (last_seed > last_release)
+        for q in np.flatnonzero(masked.any(axis=1)).tolist():
+            out[ii[q], masked[q], jj[q]] |= bits[q, 0]
+        still = last_seed[:, -1] > last_release[:, -1]
+        frames_off = t - 1 - last_on[:, -1]
+        for q in np.flatnonzero(still).tolist():
+            armed[(int(sel[ii[q]]), int(jj[q]), int(keys[q][2]))] = int(frames_off[q])
+        self._armed = armed
+        return out

@@ -30,6 +30,10 @@ __all__ = [
 ]
 
 
+#: Frames per pass of :func:`line_extents` (its temporaries stay in the cache).
+_EXTENT_CHUNK = 1024
+
+
 def rolling_mean(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
     """Mean of the last ``w`` rows (fewer at the start), along axis 0."""
     c = np.cumsum(x, axis=0)
@@ -110,7 +114,8 @@ def carried_shift(
     ends = np.append(starts[1:] - 1, n - 1)
     refs = ref[starts]
     done = np.where((ends >= refs)[:, None], centre[ends] - centre[refs], 0.0)
-    before = np.cumsum(done, axis=0) - done  # what the earlier stretches rolled
+    before = np.zeros_like(done)  # what the earlier stretches rolled, summed in order
+    before[1:] = np.cumsum(done[:-1], axis=0)
     stretch = np.cumsum(np.diff(anchor, prepend=-1) != 0) - 1
     current = np.where((np.arange(n) >= ref)[:, None], centre - centre[ref], 0.0)
     out: NDArray[np.float64] = before[stretch] + current
@@ -164,17 +169,21 @@ def line_extents(
         tapering line, such as a cone's whose width falls to nothing at the
         apex, a shorter length and a centre shifted to its wide end.)
     """
-    _, rows, cols = images.shape
+    n, rows, cols = images.shape
     u = (np.arange(cols) - 0.5 * (cols - 1)) * pitch_mm
     v = (np.arange(rows) - 0.5 * (rows - 1)) * pitch_mm
     t = np.deg2rad(orientation_deg)
     cos, sin = np.cos(t)[:, None, None], np.sin(t)[:, None, None]
-    proj = (u[None, None, :] - centre_mm[:, 0, None, None]) * cos + (
-        v[None, :, None] - centre_mm[:, 1, None, None]
-    ) * sin
-    lo = np.where(images, proj, np.inf).min(axis=(1, 2)) - 0.5 * pitch_mm
-    hi = np.where(images, proj, -np.inf).max(axis=(1, 2)) + 0.5 * pitch_mm
-    return np.stack([lo, hi], axis=-1)
+    out = np.empty((n, 2))
+    for a in range(0, n, _EXTENT_CHUNK):  # chunks that stay in cache
+        b = min(n, a + _EXTENT_CHUNK)
+        along_u = (u[None, None, :] - centre_mm[a:b, 0, None, None]) * cos[a:b]
+        along_v = (v[None, :, None] - centre_mm[a:b, 1, None, None]) * sin[a:b]
+        proj = along_u + along_v
+        on = images[a:b]
+        out[a:b, 0] = np.min(proj, axis=(1, 2), where=on, initial=np.inf) - 0.5 * pitch_mm
+        out[a:b, 1] = np.max(proj, axis=(1, 2), where=on, initial=-np.inf) + 0.5 * pitch_mm
+    return out
 
 
 def pivot_ratios(

@@ -1,0 +1,203 @@
+"""Levels 1-2 of the smart sensor over chunks of frames of many arrays, state carried.
+
+:func:`~taxelkit.smart.recogniser.recognise` runs Levels 1-2 vectorised over
+a whole recording. :class:`ChunkLevels12` runs the same functions over ``T``
+frames of ``N`` arrays at a time (the streaming sensor's mini-batches, the
+sensor bank's pushes), carrying what crosses a chunk's edge: the image
+cleaning's state (:class:`~taxelkit.smart.cleaning_chunks.ChunkCleaner`) and
+the limits' hysteresis (:class:`~taxelkit.smart.contact_limits.LimitState`,
+one per array). Level 1's sums are exact, so a frame's statistics do not
+depend on the chunk it came in.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.smart.cleaning import CleaningConfig
+from taxelkit.smart.cleaning_chunks import GROUP_FRAMES, ChunkCleaner
+from taxelkit.smart.contact_classes import (
+    AREA_MIN_AREA_MM2,
+    ContactClass,
+    ContactNetwork,
+    classify_contacts,
+)
+from taxelkit.smart.contact_limits import ContactLimits, _length_thresholds
+from taxelkit.smart.moments import ImageStats, image_stats
+from taxelkit.smart.track_geometry import line_extents
+
+__all__ = [
+    "DEFAULT_CLEANING",
+    "DEFAULT_LIMITS",
+    "DEFAULT_THRESHOLD_MM",
+    "ChunkLevels12",
+    "half_length",
+]
+
+_LINE, _AREA = int(ContactClass.LINE), int(ContactClass.AREA)
+_POINT, _INDET = int(ContactClass.POINT), int(ContactClass.INDETERMINATE)
+
+#: Default contact threshold, mm: the Bonneville preset's fixed threshold.
+DEFAULT_THRESHOLD_MM = 0.03
+#: Image cleaning used unless switched off (``cleaning=None``: paper 001's pipeline).
+DEFAULT_CLEANING = CleaningConfig()
+#: Level 2 limits in mm and taxels used unless switched off (``limits=None``).
+DEFAULT_LIMITS = ContactLimits()
+
+
+def _schmitt_rows(
+    value: NDArray[np.float64], high: float, low: float, start: NDArray[np.bool_]
+) -> NDArray[np.bool_]:
+    """:func:`~taxelkit.smart.contact_limits.schmitt` along each row, each from its own state."""
+    on = value >= high
+    decisive = on | (value < low)
+    idx = np.maximum.accumulate(np.where(decisive, np.arange(value.shape[1]), -1), axis=1)
+    last = np.take_along_axis(on, np.maximum(idx, 0), axis=1)
+    out: NDArray[np.bool_] = np.where(idx >= 0, last, start[:, None])
+    return out
+
+
+def half_length(stats: ImageStats) -> NDArray[np.float64]:
+    """``sqrt(3 lambda_max)`` of every frame, mm: half the length of a line with its moments."""
+    vx, vy, cxy = stats.var_x_mm2, stats.var_y_mm2, stats.cov_xy_mm2
+    lam = 0.5 * (vx + vy) + np.hypot(0.5 * (vx - vy), cxy)
+    out: NDArray[np.float64] = np.sqrt(3.0 * lam)
+    return out
+
+
+class ChunkLevels12:
+    """Levels 1-2 of ``n_arrays`` arrays of one shape, a chunk of frames at a time.
+
+    Parameters
+    ----------
+    n_arrays : int
+    shape : (rows, cols)
+    pitch_mm : float
+    threshold : float
+        Contact threshold for float frames.
+    network : ContactNetwork
+    confidence : float
+    cleaning : CleaningConfig or None
+    limits : ContactLimits or None
+    """
+
+    def __init__(
+        self,
+        n_arrays: int,
+        shape: tuple[int, int],
+        *,
+        pitch_mm: float,
+        threshold: float,
+        network: ContactNetwork,
+        confidence: float,
+        cleaning: CleaningConfig | None,
+        limits: ContactLimits | None,
+    ) -> None:
+        self.n = int(n_arrays)
+        self.shape = (int(shape[0]), int(shape[1]))
+        self.pitch_mm = float(pitch_mm)
+        self.threshold = float(threshold)
+        self.network = network
+        self.confidence = float(confidence)
+        self.cleaning = cleaning
+        self.limits = limits
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget every stream."""
+        self._cleaner = (
+            None
+            if self.cleaning is None
+            else ChunkCleaner(self.n, self.shape, config=self.cleaning)
+        )
+        self._long = np.zeros(self.n, bool)  # the limits' hysteresis (LimitState), per array
+        self._big = np.zeros(self.n, bool)
+
+    def _levels(
+        self, images: NDArray[np.bool_], t_s: NDArray[np.float64], sel: NDArray[np.intp]
+    ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
+        """Classes ``(m, T)`` and rows ``(m, T, 9)`` of the cleaned frames of arrays ``sel``."""
+        m, t = images.shape[:2]
+        flat = images.reshape(m * t, *self.shape)
+        stats = image_stats(flat, pitch_mm=self.pitch_mm)
+        cls = classify_contacts(stats, self.network, confidence=self.confidence)
+        half = half_length(stats)
+        if self.limits is not None:
+            cls = self._limited(cls.reshape(m, t), stats, half.reshape(m, t), sel).reshape(-1)
+        out = np.empty((m * t, 9))
+        out[:, 0:2] = stats.centre_mm
+        out[:, 2] = stats.orientation_deg
+        out[:, 3] = stats.area_mm2
+        out[:, 4] = stats.elongation
+        out[:, 5] = half
+        out[:, 6:8] = np.nan
+        out[:, 8] = np.asarray(t_s, dtype=np.float64)[sel].reshape(-1)
+        lines = np.flatnonzero(cls == ContactClass.LINE)
+        if lines.size:
+            out[lines, 6:8] = line_extents(
+                flat[lines], stats.centre_mm[lines], stats.orientation_deg[lines], self.pitch_mm
+            )
+        return cls.reshape(m, t), out.reshape(m, t, 9)
+
+    def _limited(
+        self,
+        classes: NDArray[np.int8],
+        stats: ImageStats,
+        half: NDArray[np.float64],
+        sel: NDArray[np.intp],
+    ) -> NDArray[np.int8]:
+        """:func:`~taxelkit.smart.contact_limits.apply_limits` on the arrays ``sel``, ``(m, T)``."""
+        assert self.limits is not None
+        n, t = classes.shape
+        taxels = stats.n_taxels.reshape(n, t)
+        length = np.where(taxels > 0, 2.0 * half, 0.0)
+        high, low = _length_thresholds(self.limits)
+        long = _schmitt_rows(length, high, low, self._long[sel])
+        enter = AREA_MIN_AREA_MM2 * (1.0 + self.limits.area_hysteresis)
+        big = _schmitt_rows(stats.area_mm2.reshape(n, t), enter, AREA_MIN_AREA_MM2, self._big[sel])
+        self._long[sel], self._big[sel] = long[:, -1], big[:, -1]
+        out = classes.copy()
+        out[(out == _LINE) & ~long] = _INDET
+        out[(out == _AREA) & ~big] = _INDET
+        elong = stats.elongation.reshape(n, t)
+        few = (taxels > 0) & (taxels <= self.limits.point_max_taxels) & (elong <= 2.0)
+        out[few & (out != _LINE)] = _POINT
+        return out
+
+    def process(
+        self, frames: NDArray[np.generic], t_s: NDArray[np.float64]
+    ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
+        """Classes and Level 1 rows of frames ``(N, T, rows, cols)`` taken at ``t_s`` ``(N, T)``.
+
+        Returns
+        -------
+        classes : (N, T) int8
+            :class:`~taxelkit.smart.contact_classes.ContactClass` codes.
+        rows : (N, T, 9) float
+            Per frame: centre x, y (mm), orientation (deg), area (mm^2),
+            elongation, half-length (mm), line extent low, high (mm; NaN
+            unless a line), time (s) (:data:`~taxelkit.smart.segment_scan.ROW_COLUMNS`).
+        """
+        n, t = frames.shape[:2]
+        images: NDArray[np.bool_] = (
+            np.asarray(frames, dtype=bool)
+            if frames.dtype == bool
+            else np.asarray(frames, dtype=np.float64) > self.threshold
+        )
+        if self._cleaner is not None:
+            images = self._cleaner.push(images, t_s)
+        classes = np.zeros((n, t), dtype=np.int8)  # NONE
+        rows = np.empty((n, t, 9))  # read only where there is contact
+        sel = np.flatnonzero(images.reshape(n, -1).any(axis=1))  # arrays touched in the chunk
+        quiet = np.ones(n, bool)
+        quiet[sel] = False
+        self._long[quiet] = False  # no contact: no length, no area
+        self._big[quiet] = False
+        if sel.size == 0:
+            return classes, rows
+        group = max(1, GROUP_FRAMES // t)  # arrays per pass: the temporaries stay in cache
+        for a in range(0, sel.size, group):
+            g = sel[a : a + group]
+            classes[g], rows[g] = self._levels(images if g.size == n else images[g], t_s, g)
+        return classes, rows

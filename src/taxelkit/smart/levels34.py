@@ -1,0 +1,234 @@
+"""Levels 3-4 over accepted runs, shared by the batch recogniser, the streaming sensor and the bank.
+
+A contact segment is seen through a small interface (:class:`Segment`): its
+size, first frames, mean axis and motion tactemes. The batch path wraps a
+whole :class:`~taxelkit.smart.tactemes.SegmentTrack` (:class:`TrackSegment`);
+the streaming paths feed a :class:`~taxelkit.smart.segment_scan.SegmentScanner`
+a chunk at a time. The state machine below does not know which.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.elimination import Eliminator, Event, Verdict, explain
+from taxelkit.smart.segment_scan import mean_axis_deg
+from taxelkit.smart.tacteme_table import Tacteme
+from taxelkit.smart.tactemes import (
+    SegmentTrack,
+    TactemeConfig,
+    segment_tactemes,
+    transition_tactemes,
+)
+
+__all__ = ["Levels34", "Recognition", "Segment", "TrackSegment", "finish"]
+
+_BASIC = {
+    int(ContactClass.POINT): Tacteme.PC,
+    int(ContactClass.LINE): Tacteme.LC,
+    int(ContactClass.AREA): Tacteme.AC,
+}
+
+
+class Segment(Protocol):
+    """What Levels 3-4 read of a contact segment (frames seen so far)."""
+
+    size: int
+    first_frame: int
+    last_frame: int
+
+    def frames_for(self, seconds: float, k: int, *, minimum: int | None = None) -> int: ...
+    def frame_at(self, i: int) -> int: ...
+    def mean_axis_deg(self, stop: int | None = None) -> float: ...
+    def tactemes(self) -> list[tuple[Tacteme, int]]: ...
+
+
+class TrackSegment:
+    """A whole segment's track as a :class:`Segment` (the batch path).
+
+    Parameters
+    ----------
+    cls : int
+    track : SegmentTrack
+    config : TactemeConfig
+    """
+
+    def __init__(self, cls: int, track: SegmentTrack, config: TactemeConfig) -> None:
+        self.track = track
+        self.size = int(track.frames.size)
+        self.first_frame = int(track.frames[0])
+        self.last_frame = int(track.frames[-1])
+        self._found = segment_tactemes(cls, track, config)
+
+    def frames_for(self, seconds: float, k: int, *, minimum: int | None = None) -> int:
+        return self.track.frames_for(seconds, k, minimum=minimum)
+
+    def frame_at(self, i: int) -> int:
+        return int(self.track.frames[i])
+
+    def mean_axis_deg(self, stop: int | None = None) -> float:
+        return mean_axis_deg(self.track.orientation_deg[:stop])
+
+    def tactemes(self) -> list[tuple[Tacteme, int]]:
+        return self._found
+
+
+@dataclass(frozen=True, eq=False)
+class Recognition:
+    """What the smart sensor concluded from a recording.
+
+    Attributes
+    ----------
+    classes : (T,) int8
+        Level 2 class of every frame.
+    tactemes : tuple of (str, int)
+        Level 3 tactemes with the frame at which each was seen.
+    events : tuple of Event
+        Everything in order.
+    identified : str or None
+        The object of the last contact, ``"unknown"``, or None if undecided.
+    candidates : tuple of str
+        Objects not yet eliminated for the last contact.
+    verdict : Verdict
+        Why: what ruled out each object of the last contact and, when
+        undecided, which tactemes (motions) would decide.
+    """
+
+    classes: NDArray[np.int8]
+    tactemes: tuple[tuple[str, int], ...]
+    events: tuple[Event, ...]
+    identified: str | None
+    candidates: tuple[str, ...]
+    verdict: Verdict
+
+    def class_names(self) -> list[str]:
+        """Per-frame class names (``"none"``, ``"indeterminate"``, ``"point"``, ...)."""
+        return [ContactClass(int(c)).name.lower() for c in self.classes]
+
+    def to_json(self) -> dict[str, Any]:
+        """``identified``, ``candidates``, ``tactemes`` and ``classes`` as JSON types."""
+        return {
+            "identified": self.identified,
+            "candidates": list(self.candidates),
+            "why": self.verdict.to_json(),
+            "tactemes": [{"name": n, "frame": f} for n, f in self.tactemes],
+            "classes": self.class_names(),
+        }
+
+
+class Levels34:
+    """Levels 3-4 state over accepted runs.
+
+    Parameters
+    ----------
+    config : TactemeConfig
+    """
+
+    def __init__(self, config: TactemeConfig) -> None:
+        self.config = config
+        self.k = int(config.debounce_frames)
+        self.elim = Eliminator()
+        self.history: list[tuple[int, float]] = []
+        self.in_contact = False
+        self.events: list[Event] = []
+        self._open: tuple[int, set[Tacteme]] | None = None  # class, motion tactemes emitted
+        self._last_frame = -1  # last frame of the previous contact segment
+        self._gap = 0  # frames between the previous contact segment and the open one
+        self._len = 0  # frames of the open (then previous) segment
+        self._prev_len = 0
+        self._held = 0
+        self._prev_held = 0
+        self._transitions_done = True
+
+    def open_run(self, cls: int, accept: int, seg: Segment | None) -> None:
+        """A new class was accepted at frame ``accept``; ``seg`` holds its frames so far."""
+        self.close_run()
+        if cls == ContactClass.NONE:
+            if self.in_contact:
+                self.events.append(Event("lifted", accept, self.elim.candidates))
+                self.elim.reset()
+                self.history = []
+                self.in_contact = False
+            return
+        assert seg is not None  # a contact class always has frames
+        self.in_contact = True
+        self.events.append(Event("contact", accept, ContactClass(cls).name.lower()))
+        self.history.append((cls, seg.mean_axis_deg(self.k)))
+        self._gap = seg.first_frame - self._last_frame - 1
+        self._prev_len = self._len
+        self._prev_held = self._held
+        self.events.extend(self.elim.apply(_BASIC[cls], accept))
+        self._open = (cls, set())
+        self._transitions_done = False
+        self.update(seg)
+
+    def update(self, seg: Segment) -> None:
+        """The open segment grew: emit its new motion tactemes (detection is causal)."""
+        if self._open is None:
+            return
+        cls, done = self._open
+        # Transitions need a held edge (2 k frames of line): a round face tipping
+        # onto its rim shrinks through a lens that reads as a line for a moment.
+        held = seg.frames_for(self.config.edge_hold_s, self.k)
+        line_before = self.history[-2][0] == ContactClass.LINE if len(self.history) > 1 else False
+        ready = (
+            seg.size >= held
+            if cls == ContactClass.LINE
+            else (not line_before or self._prev_len >= self._prev_held)
+        )
+        if not self._transitions_done and ready:
+            self._transitions_done = True
+            if cls == ContactClass.LINE:  # the new edge's direction over its held frames
+                self.history[-1] = (cls, seg.mean_axis_deg(held))
+            at = (
+                seg.frame_at(min(seg.size, held) - 1)
+                if cls == ContactClass.LINE
+                else (seg.frame_at(self.k - 1) if seg.size >= self.k else seg.last_frame)
+            )
+            max_gap = max(2 * self.k, seg.frames_for(self.config.transition_gap_s, self.k))
+            found = transition_tactemes(
+                self.history, self.config, gap_frames=self._gap, max_gap_frames=max_gap
+            )
+            for tac in found:
+                self.events.extend(self.elim.apply(tac, at))
+        for tac, frame in seg.tactemes():
+            if tac not in done:
+                done.add(tac)
+                self.events.extend(self.elim.apply(tac, frame))
+        self._len = seg.size
+        self._held = held
+        # a line's direction over all its frames (held still, an edge dominates its tips)
+        self.history[-1] = (cls, seg.mean_axis_deg())
+        self._last_frame = seg.last_frame
+
+    def close_run(self) -> None:
+        """The open segment ended."""
+        self._open = None
+
+
+def finish(classes: NDArray[np.int8], events: list[Event]) -> Recognition:
+    """Summarise: the outcome is that of the current contact, or of the last one lifted."""
+    tactemes = tuple((str(e.value), e.frame) for e in events if e.kind == "tacteme")
+    state = Eliminator()
+    current: tuple[str, ...] | None = None  # candidates of the ongoing contact
+    lifted: tuple[str, ...] | None = None  # candidates when the last contact ended
+    seen: list[tuple[str, int]] = []  # tactemes of the ongoing (or last) contact
+    for e in events:
+        if e.kind == "contact" and current is None:
+            current, seen = state.objects, []
+        elif e.kind == "candidates":
+            current = tuple(e.value)
+        elif e.kind == "lifted":
+            lifted, current = tuple(e.value), None
+        elif e.kind == "tacteme":
+            seen.append((str(e.value), e.frame))
+    final = current if current is not None else lifted
+    state.candidates = state.objects if final is None else final
+    verdict = explain(seen, objects=state.objects)
+    assert verdict.candidates == state.candidates  # the same elimination, told twice
+    return Recognition(classes, tactemes, tuple(events), state.outcome, state.candidates, verdict)

@@ -1,0 +1,304 @@
+"""Levels 3-4 of one array's stream: debounce, the open segment's scanner, elimination.
+
+Shared by :class:`~taxelkit.smart.streaming.SmartSensor` (one array) and
+:class:`~taxelkit.smart.bank.SensorBank` (many). Frames come one at a time
+(:meth:`ArrayStream.push_one`) or as a chunk of Level 2 classes and Level 1
+rows (:meth:`ArrayStream.push_chunk`, one Python step per run of equal
+classes); either way the debounce is that of
+:func:`~taxelkit.smart.tactemes.accepted_runs`, the open segment goes to a
+:class:`~taxelkit.smart.segment_scan.SegmentScanner` and the events are those
+of :func:`~taxelkit.smart.recogniser.recognise`. Memory: the class history is
+kept as runs (one entry per change of class), the open segment as the
+scanner's bounded state.
+"""
+
+from __future__ import annotations
+
+import bisect
+import copy
+import itertools
+from collections.abc import Iterator, Sequence
+from typing import Any, overload
+
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.elimination import Event
+from taxelkit.smart.levels34 import Levels34, Recognition, finish
+from taxelkit.smart.segment_scan import SegmentScanner
+from taxelkit.smart.tactemes import TactemeConfig, debounce_counts
+
+__all__ = ["ArrayStream", "ClassHistory"]
+
+_NONE = int(ContactClass.NONE)
+_INDET = int(ContactClass.INDETERMINATE)
+
+
+class ClassHistory(Sequence[int]):
+    """Level 2 class of every frame so far, stored as runs (memory grows with changes only).
+
+    A read-only sequence of ints: ``len``, indexing (``history[-1]`` is the
+    latest frame's class), iteration; :meth:`to_array` materialises it.
+    """
+
+    def __init__(self) -> None:
+        self._starts: list[int] = []
+        self._codes: list[int] = []
+        self._n = 0
+
+    def append(self, code: int) -> None:
+        """One more frame."""
+        if not self._codes or self._codes[-1] != code:
+            self._starts.append(self._n)
+            self._codes.append(code)
+        self._n += 1
+
+    def extend_array(self, codes: NDArray[np.integer]) -> None:
+        """More frames ``(m,)``, vectorised."""
+        if codes.size == 0:
+            return
+        cut = np.flatnonzero(np.diff(codes)) + 1
+        firsts = np.concatenate([[0], cut])
+        values = codes[firsts].tolist()
+        starts = (firsts + self._n).tolist()
+        if self._codes and self._codes[-1] == values[0]:
+            values, starts = values[1:], starts[1:]
+        self._codes += values
+        self._starts += starts
+        self._n += int(codes.size)
+
+    def extend_constant(self, code: int, m: int) -> None:
+        """``m`` more frames of class ``code``."""
+        if m <= 0:
+            return
+        if not self._codes or self._codes[-1] != code:
+            self._starts.append(self._n)
+            self._codes.append(code)
+        self._n += m
+
+    def __len__(self) -> int:
+        return self._n
+
+    @overload
+    def __getitem__(self, i: int) -> int: ...
+    @overload
+    def __getitem__(self, i: slice) -> list[int]: ...
+    def __getitem__(self, i: int | slice) -> int | list[int]:
+        if isinstance(i, slice):
+            return self.to_array()[i].tolist()  # type: ignore[no-any-return]
+        j = i + self._n if i < 0 else i
+        if not 0 <= j < self._n:
+            raise IndexError(f"frame {i} out of range for {self._n} frames")
+        return self._codes[bisect.bisect_right(self._starts, j) - 1]
+
+    def __iter__(self) -> Iterator[int]:
+        return iter(self.to_array().tolist())
+
+    def runs(self) -> list[tuple[int, int, int]]:
+        """``(class, first_frame, last_frame)`` of every run, in order."""
+        ends = [*self._starts[1:], self._n]
+        return [(c, s, e - 1) for c, s, e in zip(self._codes, self._starts, ends, strict=True)]
+
+    def to_array(self) -> NDArray[np.int8]:
+        """The classes ``(T,)`` int8."""
+        lengths = np.diff(np.asarray([*self._starts, self._n], dtype=np.int64)).tolist()
+        return np.repeat(np.asarray(self._codes, dtype=np.int8), lengths)
+
+    def __array__(self, dtype: Any = None, copy: bool | None = None) -> NDArray[Any]:
+        a = self.to_array()
+        return a if dtype is None else a.astype(dtype)
+
+
+class ArrayStream:
+    """Debounce and Levels 3-4 of one array's stream.
+
+    Parameters
+    ----------
+    config : TactemeConfig
+    evaluate_every : int
+        With frames one at a time, the open segment's scanner is fed every
+        this many frames (and when the segment ends).
+    chunk_every : int
+        With chunks, the scanner is fed once this many frames of the open
+        segment have come (and when it ends): 1, after every chunk.
+    """
+
+    def __init__(
+        self, config: TactemeConfig, evaluate_every: int = 16, chunk_every: int = 1
+    ) -> None:
+        self.config = config
+        self.every = int(evaluate_every)
+        self.chunk_every = int(chunk_every)
+        self.classes = ClassHistory()
+        self.state = Levels34(config)
+        self.frame_index = 0
+        self._accepted = _NONE
+        self._cand: int | None = None
+        self._cand_j: list[NDArray[np.intp]] = []
+        self._cand_rows: list[NDArray[np.float64]] = []
+        self._cand_n = 0
+        self._seg: SegmentScanner | None = None
+        self._pend_j: list[int] = []
+        self._pend_rows: list[tuple[float, ...]] = []
+        self._pend_chunks: list[tuple[NDArray[np.intp], NDArray[np.float64]]] = []
+        self._t_first: float | None = None
+        self._dt: float | None = None
+
+    @property
+    def idle(self) -> bool:
+        """No contact accepted or pending: a chunk of "none" frames changes nothing but counts."""
+        return self._accepted == _NONE and self._cand is None
+
+    def _timing(self, t0: float, t1: float | None) -> None:
+        if self._t_first is None:
+            self._t_first = t0
+            if t1 is not None:
+                self._dt = t1 - t0
+        elif self._dt is None:
+            self._dt = t0 - self._t_first
+
+    # -- one frame --------------------------------------------------------------------------
+    def push_one(self, cls: int, row: tuple[float, ...], t_s: float) -> list[Event]:
+        """One frame's class and row (empty for no contact); the events it caused."""
+        j = self.frame_index
+        self.frame_index += 1
+        self.classes.append(cls)
+        self._timing(t_s, None)
+        if cls == _INDET:
+            return []
+        before = len(self.state.events)
+        if cls == self._accepted:
+            self._drop_candidate()
+            if cls != _NONE:
+                self._pend_j.append(j)
+                self._pend_rows.append(row)
+                if len(self._pend_j) >= self.every:
+                    self._feed(final=False)
+            return self.state.events[before:]
+        if cls != self._cand:
+            self._drop_candidate()
+            self._cand = cls
+        self._cand_j.append(np.array([j], dtype=np.intp))
+        self._cand_rows.append(np.array([row]) if row else np.zeros((1, 9)))
+        self._cand_n += 1
+        k_contact, k_none = debounce_counts(self.config, self._dt)
+        if self._cand_n >= (k_none if cls == _NONE else k_contact):
+            self._accept(cls, j)
+        return self.state.events[before:]
+
+    # -- a chunk --------------------------------------------------------------------------------
+    def push_chunk(
+        self, classes: NDArray[np.int8], rows: NDArray[np.float64], t_s: NDArray[np.float64]
+    ) -> list[Event]:
+        """A chunk's classes ``(m,)``, rows ``(m, 9)`` and times ``(m,)``; the events caused."""
+        m = int(classes.size)
+        if m == 0:
+            return []
+        if self.frame_index == 0 and m > 1:  # the first frame is debounced before dt is known
+            return self.push_chunk(classes[:1], rows[:1], t_s[:1]) + self.push_chunk(
+                classes[1:], rows[1:], t_s[1:]
+            )
+        j0 = self.frame_index
+        self.frame_index += m
+        self.classes.extend_array(classes)
+        self._timing(float(t_s[0]), float(t_s[1]) if m > 1 else None)
+        before = len(self.state.events)
+        idx = np.flatnonzero(classes != _INDET)
+        if idx.size == 0:
+            return []
+        c = classes[idx]
+        cut = np.flatnonzero(np.diff(c)) + 1
+        bounds = np.concatenate([[0], cut, [c.size]]).tolist()
+        k_contact, k_none = debounce_counts(self.config, self._dt)
+        for s, e in itertools.pairwise(bounds):  # one step per run
+            cls = int(c[s])
+            sel = idx[s:e]
+            if cls == self._accepted:
+                self._drop_candidate()
+                if cls != _NONE:
+                    self._pend_chunks.append((j0 + sel, rows[sel]))
+                continue
+            if cls != self._cand:
+                self._drop_candidate()
+                self._cand = cls
+            need = (k_none if cls == _NONE else k_contact) - self._cand_n
+            take = sel[:need]
+            self._cand_j.append(j0 + take)
+            self._cand_rows.append(rows[take])
+            self._cand_n += int(take.size)
+            if take.size < need:
+                continue
+            self._accept(cls, j0 + int(take[-1]))
+            rest = sel[need:]
+            if rest.size and cls != _NONE:
+                self._pend_chunks.append((j0 + rest, rows[rest]))
+        if sum(j.size for j, _ in self._pend_chunks) >= self.chunk_every:
+            self._feed(final=False)
+        return self.state.events[before:]
+
+    def look(self) -> list[Event]:
+        """Feed the open segment what it has waiting; the events caused."""
+        if not (self._pend_j or self._pend_chunks):
+            return []
+        before = len(self.state.events)
+        self._feed(final=False)
+        return self.state.events[before:]
+
+    def push_quiet(self, t_s: NDArray[np.float64]) -> None:
+        """A chunk of "no contact" frames at times ``t_s`` ``(m,)`` while :attr:`idle`."""
+        m = int(t_s.size)
+        if m:
+            self._timing(float(t_s[0]), float(t_s[1]) if m > 1 else None)
+            self.classes.extend_constant(_NONE, m)
+            self.frame_index += m
+
+    # -- shared -----------------------------------------------------------------------------
+    def _drop_candidate(self) -> None:
+        self._cand = None
+        self._cand_j, self._cand_rows, self._cand_n = [], [], 0
+
+    def _accept(self, cls: int, j: int) -> None:
+        self._feed(final=True)  # the open segment ends: its last motion tactemes first
+        self._accepted = cls
+        seg = None
+        if cls != _NONE:
+            seg = SegmentScanner(cls, self.config)
+            seg.extend(np.concatenate(self._cand_j), np.concatenate(self._cand_rows))
+        self._seg = seg
+        self._drop_candidate()
+        self.state.open_run(cls, j, seg)
+
+    def _feed(self, *, final: bool) -> None:
+        seg = self._seg
+        if self._pend_j:
+            self._pend_chunks.append(
+                (np.asarray(self._pend_j, dtype=np.intp), np.asarray(self._pend_rows))
+            )
+            self._pend_j, self._pend_rows = [], []
+        if seg is None:
+            self._pend_chunks = []
+            return
+        grew = bool(self._pend_chunks)
+        if len(self._pend_chunks) == 1:
+            seg.extend(*self._pend_chunks[0])
+        elif self._pend_chunks:
+            seg.extend(
+                np.concatenate([j for j, _ in self._pend_chunks]),
+                np.concatenate([r for _, r in self._pend_chunks]),
+            )
+        self._pend_chunks = []
+        if final:
+            grew |= bool(seg.close())
+        if grew or final:
+            self.state.update(seg)
+
+    def result(self) -> Recognition:
+        """Everything so far (detections waiting for later frames decided as if none came)."""
+        self._feed(final=False)
+        state = self.state
+        if self._seg is not None and self._seg.waiting:
+            state, seg = copy.deepcopy((self.state, self._seg))
+            if seg.close():
+                state.update(seg)
+        return finish(self.classes.to_array(), list(state.events))
