@@ -16,8 +16,9 @@ from __future__ import annotations
 import importlib
 import math
 import re
-from collections.abc import Iterable
-from typing import TYPE_CHECKING, Any
+from collections.abc import Callable, Iterable
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
@@ -57,6 +58,7 @@ __all__ = [
     "NameChoice",
     "Numbers",
     "Seed",
+    "relief_options",
 ]
 
 #: Largest seed: NumPy seeds are unsigned 64-bit; the CLI keeps to signed
@@ -248,3 +250,58 @@ RECALL_RULE = NameChoice("taxelkit.memory.recall_rules:RECALL_RULES")
 SENSOR = NameChoice("taxelkit.sensors.presets:SENSORS")
 #: ``reproduce NAME``: the registered experiments, or ``all``.
 EXPERIMENT = NameChoice("taxelkit.experiments.registry:EXPERIMENTS", extra=("all",))
+
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+#: The options that choose and place a relief (``trace``, ``simulate press``).
+_RELIEF_OPTIONS = (
+    click.option(
+        "--shape", type=SHAPE, default=None, help="A built-in relief shape (or give --specimen)."
+    ),
+    click.option(
+        "--specimen",
+        type=click.Path(path_type=Path),
+        default=None,
+        help="Your own relief: a heightmap .npz (docs/recording-format.md), instead of --shape.",
+    ),
+    click.option(
+        "--rotate-deg",
+        type=ANGLE_DEG,
+        default=0.0,
+        show_default=True,
+        help="Rotation of the --shape (or --specimen, about its raised relief's centroid), "
+        "degrees counter-clockwise (x towards y).",
+    ),
+    click.option(
+        "--offset-mm",
+        type=COORDINATE_MM,
+        default="0,0",
+        show_default=True,
+        help="Centre of the --shape on the plate X,Y, mm (a --specimen is moved by X,Y).",
+    ),
+    click.option(
+        "--diameter-mm",
+        type=LENGTH_MM,
+        default=90.0,
+        show_default=True,
+        help="Size of the --shape (circumscribed circle), mm; a --specimen is scaled so that "
+        "the circle about its raised relief's centroid that holds it has this diameter.",
+    ),
+    click.option(
+        "--step-height-um",
+        type=STEP_HEIGHT_UM,
+        default=200.0,
+        show_default=True,
+        help="Height of the --shape's relief step, um; a --specimen's heights are scaled so "
+        "that its highest is this.",
+    ),
+)
+
+
+def relief_options(command: _F) -> _F:
+    """Add ``--shape``, ``--specimen``, ``--rotate-deg``, ``--offset-mm``, ``--diameter-mm``
+    and ``--step-height-um`` to a command (in that order in its help)."""
+    for option in reversed(_RELIEF_OPTIONS):
+        command = option(command)
+    return command

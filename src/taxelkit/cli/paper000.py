@@ -20,14 +20,11 @@ from taxelkit.cli.common import (
     write_text,
 )
 from taxelkit.cli.options import (
-    ANGLE_DEG,
     COORDINATE_MM,
     EXPERIMENT,
-    LENGTH_MM,
     RECALL_RULE,
     SEED,
-    SHAPE,
-    STEP_HEIGHT_UM,
+    relief_options,
 )
 from taxelkit.cli.view import ViewTarget, view_options, with_view
 from taxelkit.errors import InputError
@@ -212,46 +209,7 @@ def _open_set_fields(
 
 
 @click.command()
-@click.option(
-    "--shape", type=SHAPE, default=None, help="A built-in relief shape (or give --specimen)."
-)
-@click.option(
-    "--specimen",
-    type=click.Path(path_type=Path),
-    default=None,
-    help="Your own relief: a heightmap .npz (docs/recording-format.md), instead of --shape.",
-)
-@click.option(
-    "--rotate-deg",
-    type=ANGLE_DEG,
-    default=0.0,
-    show_default=True,
-    help="Rotation of the --shape (or --specimen, about its raised relief's centroid), degrees "
-    "counter-clockwise (x towards y).",
-)
-@click.option(
-    "--offset-mm",
-    type=COORDINATE_MM,
-    default="0,0",
-    show_default=True,
-    help="Centre of the --shape on the plate X,Y, mm (a --specimen is moved by X,Y).",
-)
-@click.option(
-    "--diameter-mm",
-    type=LENGTH_MM,
-    default=90.0,
-    show_default=True,
-    help="Size of the --shape (circumscribed circle), mm; a --specimen is scaled so that "
-    "the circle about its raised relief's centroid that holds it has this diameter.",
-)
-@click.option(
-    "--step-height-um",
-    type=STEP_HEIGHT_UM,
-    default=200.0,
-    show_default=True,
-    help="Height of the --shape's relief step, um; a --specimen's heights are scaled so "
-    "that its highest is this.",
-)
+@relief_options
 @click.option(
     "--start-mm",
     type=COORDINATE_MM,

@@ -17,14 +17,12 @@ from taxelkit.cli.options import (
     COORDINATE_MM,
     EULER_DEG,
     INDENT_MM,
-    LENGTH_MM,
     RATE_HZ,
     SCALE,
     SEED,
     SENSOR,
-    SHAPE,
     SOLID,
-    STEP_HEIGHT_UM,
+    relief_options,
 )
 from taxelkit.errors import InputError
 from taxelkit.frames import TactileFrames
@@ -117,43 +115,7 @@ def simulate() -> None:
 
 
 @simulate.command("press")
-@click.option(
-    "--shape", type=SHAPE, default=None, help="A built-in relief shape (or give --specimen)."
-)
-@click.option(
-    "--specimen",
-    type=click.Path(path_type=Path),
-    default=None,
-    help="Your own relief: a heightmap .npz (docs/recording-format.md), instead of --shape.",
-)
-@click.option(
-    "--diameter-mm",
-    type=LENGTH_MM,
-    default=90.0,
-    show_default=True,
-    help="Size of the --shape (circumscribed circle), mm.",
-)
-@click.option(
-    "--step-height-um",
-    type=STEP_HEIGHT_UM,
-    default=200.0,
-    show_default=True,
-    help="Height of the --shape's relief step, um.",
-)
-@click.option(
-    "--rotate-deg",
-    type=ANGLE_DEG,
-    default=0.0,
-    show_default=True,
-    help="Rotation of the --shape about its centre, degrees counter-clockwise (x towards y).",
-)
-@click.option(
-    "--offset-mm",
-    type=COORDINATE_MM,
-    default="0,0",
-    show_default=True,
-    help="Centre of the --shape on the plate X,Y, mm.",
-)
+@relief_options
 @click.option(
     "--at",
     "at_mm",
