@@ -197,6 +197,10 @@ class _LiveRun:
         slot = frame % WIRE_HISTORY_FRAMES
         return int(self.wire_index[slot]), float(self.wire_t_s[slot])
 
+    def finish(self) -> list[str]:
+        """The stream has ended: nothing is held back (every batch is processed at once)."""
+        return []
+
     def summary(self, source_stats: str, why: str) -> str:
         """The closing line."""
         outcome = "no frames"
@@ -308,9 +312,10 @@ def recognize_live(
             raise InputError(f"arrays must be in [1, {MAX_ARRAY_ID + 1}], got {arrays!r}")
         if record is not None or target.wanted:
             raise InputError("--record and the viewer take one array; not with --arrays")
-        from taxelkit.cli.live_bank import BankRun
+        from taxelkit.cli.live_bank import BankRun, background
 
-        return _run_live(opener, BankRun(arrays, pitch, threshold), max_frames, idle, echo)
+        bank = BankRun(arrays, pitch, threshold)
+        return _run_live(lambda: background(opener()), bank, max_frames, idle, echo)
     recorder = None
     if record is not None:
         if record.suffix.lower() not in (".h5", ".hdf5"):
@@ -360,11 +365,16 @@ def _run_live(
             why, code = "interrupted", EXIT_INTERRUPTED
         finally:
             recorded = "" if run.recorder is None else f"; {run.recorder.close()}"
+        for line in run.finish():
+            echo(line)
         s = src.stats
         counts = (
             f"damaged packets skipped: {s.corrupted}, frame indices missing: {s.missing}, "
             f"bytes skipped: {s.bytes_skipped}"
         )
+        dropped = int(getattr(src, "dropped", 0))  # a BackgroundReceiver's full queue
+        if dropped:
+            counts += f", datagrams dropped by a full queue: {dropped}"
         echo(run.summary(counts, why) + recorded)
     return code
 

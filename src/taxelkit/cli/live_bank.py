@@ -3,7 +3,8 @@
 A skin or a hand sends the frames of many arrays on one stream, each frame
 tagged with its array (version 2 packets, ``TXK2``, of ``docs/live-protocol.md``).
 :class:`BankRun` sorts every received batch by array, queues each array's
-frames (in its own time order) and, whenever every array has frames waiting,
+frames (in its own time order) and, once every array has
+:data:`BANK_MIN_PUSH_FRAMES` frames waiting (or the stream ends),
 hands the common part to a :class:`~taxelkit.smart.bank.SensorBank`
 (``push_many``: Levels 1-2 vectorised over the arrays and frames, Levels 3-4
 per array), so each array is recognised as a smart sensor of its own would
@@ -12,8 +13,10 @@ recognise it. Events name their array.
 The bank advances all arrays together, so a silent array holds the others
 back: an array more than :data:`BANK_LAG_FRAMES` frames ahead of the slowest
 drops its oldest frames (counted in the summary), which bounds the memory.
-Frames still queued at the end (at most that many per array) are reported
-as waiting, not processed.
+At the end the frames every array has are processed; those some arrays
+have and others lack are reported as waiting, not processed. A UDP source
+is read by a background thread (:func:`background`), so that datagrams keep
+being received while the bank works on a batch.
 """
 
 from __future__ import annotations
@@ -27,16 +30,27 @@ from taxelkit.cli.live import format_event
 from taxelkit.errors import InputError
 from taxelkit.io.datagram_batch import FrameBatch
 from taxelkit.io.frame_protocol import PayloadType
+from taxelkit.io.live_sources import FrameSource, UdpSource
+from taxelkit.io.udp_receiver import BackgroundReceiver
 from taxelkit.smart.bank import SensorBank
 from taxelkit.smart.levels12 import DEFAULT_THRESHOLD_MM
 
-__all__ = ["BANK_LAG_FRAMES", "BANK_WIRE_FRAMES", "BankRun"]
+__all__ = ["BANK_LAG_FRAMES", "BANK_MIN_PUSH_FRAMES", "BANK_WIRE_FRAMES", "BankRun", "background"]
 
 #: Frames an array may run ahead of the slowest before its oldest are dropped
 #: (2.1 s at 240 frames/s; 26 MB of queued 16 x 16 bool frames for 200 arrays).
 BANK_LAG_FRAMES = 512
 #: Frames per array whose sender index and time are kept to print events.
 BANK_WIRE_FRAMES = 2048
+#: Frames every array must have queued before the bank runs (533 ms at 240
+#: frames/s): a push's fixed cost (Levels 3-4 of each touched array) is spread
+#: over this many frames rather than the two or three of one read.
+BANK_MIN_PUSH_FRAMES = 128
+
+
+def background(source: FrameSource) -> FrameSource:
+    """A UDP source read by a background thread (a BackgroundReceiver); others as given."""
+    return BackgroundReceiver(source) if isinstance(source, UdpSource) else source
 
 
 class BankRun:
@@ -87,9 +101,10 @@ class BankRun:
         self.other_array += int(np.count_nonzero(~known))
         pos = np.flatnonzero(known)
         order = pos[np.argsort(ids[pos], kind="stable")]  # by array, in arrival order
-        arrays, starts = np.unique(ids[order], return_index=True)
-        for k, group in zip(arrays.tolist(), np.split(order, starts[1:]), strict=True):
-            self._enqueue(k, batch, group)
+        if order.size:
+            arrays, starts = np.unique(ids[order], return_index=True)
+            for k, group in zip(arrays.tolist(), np.split(order, starts[1:]), strict=True):
+                self._enqueue(k, batch, group)
         lines = self._advance()
         self._bound_lag()
         return lines
@@ -115,9 +130,13 @@ class BankRun:
         self._queued[k] -= m
         return tuple(a[:m] for a in joined)
 
-    def _advance(self) -> list[str]:
+    def finish(self) -> list[str]:
+        """The stream has ended: process the frames every array has queued; the event lines."""
+        return self._advance(BANK_MIN_PUSH_FRAMES)
+
+    def _advance(self, ahead: int = 0) -> list[str]:
         t_n = int(self._queued.min())
-        if t_n == 0 or self.sensor is None:
+        if t_n == 0 or t_n + ahead < BANK_MIN_PUSH_FRAMES or self.sensor is None:
             return []
         taken = [self._take(k, t_n) for k in range(self.n)]
         frames = np.stack([v for v, _, _ in taken])
