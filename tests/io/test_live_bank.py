@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import socket
 import threading
+import time
 from pathlib import Path
 
 import numpy as np
@@ -123,3 +124,20 @@ def test_a_bank_over_udp_on_the_loopback() -> None:
     assert " frames processed from 3 arrays" in lines[-1]
     assert {line.split(":")[0] for line in lines[:-1]} <= {"array 0", "array 1", "array 2"}
     assert any(line.startswith("array ") for line in lines[:-1])
+
+
+def test_background_receiver_counts_what_its_full_queue_drops() -> None:
+    from taxelkit.io.live_sources import UdpSource
+    from taxelkit.io.udp_receiver import BackgroundReceiver
+
+    blank = np.zeros((4, 4), bool)
+    with BackgroundReceiver(UdpSource("127.0.0.1", 0), max_queued=10) as src:
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as out:
+            for j in range(100):
+                out.sendto(encode_frame(blank, index=j, t_s=j * 0.01), src.source.address)
+        got = 0
+        deadline = time.monotonic() + 5.0
+        while got + src.dropped < 100 and time.monotonic() < deadline:
+            got += sum(b.n_frames for b in src.poll_batches(0.05))
+    assert got + src.dropped == 100 and src.dropped > 0
+    assert src.stats.frames == got
