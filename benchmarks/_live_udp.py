@@ -63,11 +63,19 @@ def free_port() -> int:
 
 
 def write_packets(
-    path: Path, frames: np.ndarray, rate_hz: float, n_packets: int, corrupt: float, seed: int = 0
+    path: Path,
+    frames: np.ndarray,
+    rate_hz: float,
+    n_packets: int,
+    corrupt: float,
+    seed: int = 0,
+    arrays: int = 1,
 ) -> int:
     """Write ``n_packets`` packets cycling through ``frames``, a fraction damaged (bad CRC).
 
-    Returns the number damaged.
+    With ``arrays > 1``: version 2 packets, one frame of each array in turn
+    (each at ``rate_hz / arrays``, its own frame count as index), array ``k``
+    playing ``frames`` from its own offset. Returns the number damaged.
     """
     rng = np.random.default_rng(seed)
     bad = np.zeros(n_packets, bool)
@@ -75,7 +83,18 @@ def write_packets(
     with path.open("wb") as out:
         block = bytearray()
         for i in range(n_packets):
-            raw = bytearray(encode_frame(frames[i % len(frames)], index=i, t_s=i / rate_hz))
+            if arrays == 1:
+                raw = bytearray(encode_frame(frames[i % len(frames)], index=i, t_s=i / rate_hz))
+            else:
+                k, j = i % arrays, i // arrays
+                raw = bytearray(
+                    encode_frame(
+                        frames[(j + 997 * k) % len(frames)],
+                        index=j,
+                        t_s=j * arrays / rate_hz,
+                        array_id=k,
+                    )
+                )
             if bad[i]:
                 raw[30] ^= 0xFF  # a payload byte: the CRC no longer matches
             block += raw
@@ -91,9 +110,9 @@ def rss_mb() -> float:
         return int(fh.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
 
 
-def run_live(path: Path, rate_hz: float, shape: tuple[int, int]) -> LiveRun:
+def run_live(path: Path, rate_hz: float, shape: tuple[int, int], arrays: int = 1) -> LiveRun:
     """Send the packets of ``path`` at ``rate_hz`` from a subprocess into ``recognize_live``."""
-    size = packet_size(*shape, 0)
+    size = packet_size(*shape, 0, version=1 if arrays == 1 else 2)
     n = path.stat().st_size // size
     port = free_port()
     lines: list[str] = []
@@ -112,7 +131,13 @@ def run_live(path: Path, rate_hz: float, shape: tuple[int, int]) -> LiveRun:
         text=True,
     )
     try:
-        recognize_live(f"udp:127.0.0.1:{port}", pitch_mm=1.7625, timeout_s=3.0, echo=lines.append)
+        recognize_live(
+            f"udp:127.0.0.1:{port}",
+            pitch_mm=1.7625,
+            timeout_s=3.0,
+            echo=lines.append,
+            arrays=arrays,
+        )
     finally:
         out, _ = sender.communicate(timeout=120)
         done.set()

@@ -17,6 +17,10 @@ printed, ``--record`` and ``--save-view`` files are closed complete, and the
 exit code is 130 or 143. Memory does not grow with the run: the sender's
 frame indices and times are kept for the last :data:`WIRE_HISTORY_FRAMES`
 frames, the per-frame classes for the last batch.
+
+With ``--arrays N`` the stream carries N arrays (version 2 packets, an array
+id per frame): :class:`~taxelkit.cli.live_bank.BankRun` recognises each in a
+sensor bank; events and the summary name the array.
 """
 
 from __future__ import annotations
@@ -29,7 +33,7 @@ import threading
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -37,7 +41,7 @@ from taxelkit.cli.live_record import Recorder
 from taxelkit.cli.view import ViewTarget, with_view
 from taxelkit.errors import InputError, check_positive
 from taxelkit.io.datagram_batch import FrameBatch
-from taxelkit.io.frame_protocol import PayloadType
+from taxelkit.io.frame_protocol import MAX_ARRAY_ID, PayloadType
 from taxelkit.io.live_sources import FrameSource, LiveTimeoutError
 from taxelkit.io.source_plugins import resolve_source
 from taxelkit.smart.elimination import Event
@@ -68,6 +72,9 @@ if hasattr(signal, "SIGTERM"):
     _STOPS[signal.SIGTERM] = ("terminated", EXIT_TERMINATED)
 
 logger = logging.getLogger(__name__)
+
+if TYPE_CHECKING:
+    from taxelkit.cli.live_bank import BankRun
 
 
 def format_event(event: Event, index: int, t_s: float) -> str:
@@ -129,9 +136,16 @@ class _LiveRun:
         self.wire_index = np.full(WIRE_HISTORY_FRAMES, -1, np.int64)  # a ring, by frame
         self.wire_t_s = np.full(WIRE_HISTORY_FRAMES, np.nan)
         self.wrong_shape = 0
+        self.other_array = 0  # frames of array ids other than 0 (a bank: use --arrays)
 
     def push(self, batch: FrameBatch) -> list[str]:
         """Process a batch of frames; the lines of the events it caused."""
+        if batch.array_id is not None and batch.array_id.any():
+            mine = batch.array_id == 0
+            self.other_array += int(np.count_nonzero(~mine))
+            batch = batch.take(mine)
+            if batch.n_frames == 0:
+                return []
         if self.sensor is None:
             if batch.payload_type == PayloadType.UINT16 and self.threshold is None:
                 raise InputError(
@@ -174,7 +188,7 @@ class _LiveRun:
         self.out_of_order += int(np.count_nonzero(~keep))
         if keep.any():
             self.t_last = float(t[keep][-1])
-        return FrameBatch(batch.index[keep], t[keep], batch.values[keep], batch.payload_type)
+        return batch.take(keep)
 
     def _wire(self, frame: int) -> tuple[int, float]:
         """The sender's index and time of a processed frame (-1, nan if forgotten)."""
@@ -182,6 +196,10 @@ class _LiveRun:
             return -1, math.nan
         slot = frame % WIRE_HISTORY_FRAMES
         return int(self.wire_index[slot]), float(self.wire_t_s[slot])
+
+    def finish(self) -> list[str]:
+        """The stream has ended: nothing is held back (every batch is processed at once)."""
+        return []
 
     def summary(self, source_stats: str, why: str) -> str:
         """The closing line."""
@@ -193,6 +211,8 @@ class _LiveRun:
             else:
                 outcome = f"candidates {','.join(result.candidates) or '-'}"
         shape = f", {self.wrong_shape} of another shape" if self.wrong_shape else ""
+        if self.other_array:
+            shape += f", {self.other_array} of array ids > 0 (use --arrays)"
         if self.out_of_order:
             shape += f", {self.out_of_order} out of time order"
         return f"{why}: {self.frames} frames processed{shape}, {source_stats}; {outcome}"
@@ -211,6 +231,7 @@ def recognize_live(
     force: bool = False,
     spawn_view: bool = False,
     view_url: str | None = None,
+    arrays: int = 1,
 ) -> int:
     """Run the streaming smart sensor on a live source, printing one line per event.
 
@@ -247,6 +268,12 @@ def recognize_live(
         Also show the run in a rerun viewer on this machine, as it happens.
     view_url : str, optional
         Also stream the run to the rerun viewer at this address.
+    arrays : int, optional
+        Arrays carried by the stream (version 2 packets name theirs): above
+        1, a :class:`~taxelkit.cli.live_bank.BankRun` recognises each array
+        in a :class:`~taxelkit.smart.bank.SensorBank` and events name their
+        array. Not with ``record`` or a view. With 1 (default), frames of
+        other arrays are skipped and counted.
 
     Returns
     -------
@@ -265,8 +292,8 @@ def recognize_live(
     LiveTimeoutError
         If no frame arrives within ``timeout_s`` of starting.
     InputError
-        On a bad ``pitch_mm``, ``threshold``, ``max_frames``, ``timeout_s`` or
-        ``record`` name, or uint16 frames without a threshold.
+        On a bad ``pitch_mm``, ``threshold``, ``max_frames``, ``timeout_s``,
+        ``arrays`` or ``record`` name, or uint16 frames without a threshold.
     OutputExistsError
         If ``record`` exists and ``force`` is false.
     """
@@ -279,6 +306,16 @@ def recognize_live(
     idle = None if timeout_s is None else check_positive("timeout_s", timeout_s)
     if threshold is not None and not math.isfinite(threshold):
         raise InputError(f"threshold must be a finite number, got {threshold!r}")
+    target = ViewTarget(spawn_view, view_url, save_view)
+    if arrays != 1:
+        if not 1 <= arrays <= MAX_ARRAY_ID + 1:
+            raise InputError(f"arrays must be in [1, {MAX_ARRAY_ID + 1}], got {arrays!r}")
+        if record is not None or target.wanted:
+            raise InputError("--record and the viewer take one array; not with --arrays")
+        from taxelkit.cli.live_bank import BankRun, background
+
+        bank = BankRun(arrays, pitch, threshold)
+        return _run_live(lambda: background(opener()), bank, max_frames, idle, echo)
     recorder = None
     if record is not None:
         if record.suffix.lower() not in (".h5", ".hdf5"):
@@ -288,7 +325,6 @@ def recognize_live(
 
             raise OutputExistsError(f"{record}: exists; pass --force to replace it")
         recorder = Recorder(record, pitch, force)
-    target = ViewTarget(spawn_view, view_url, save_view)
     if not target.wanted:
         return _run_live(opener, _LiveRun(pitch, threshold, None, recorder), max_frames, idle, echo)
     from taxelkit.viewer.rerun_view import RerunView
@@ -315,7 +351,7 @@ def recognize_live(
 
 def _run_live(
     opener: Callable[[], FrameSource],
-    run: _LiveRun,
+    run: _LiveRun | BankRun,
     max_frames: int | None,
     idle: float | None,
     echo: Callable[[str], None],
@@ -329,18 +365,23 @@ def _run_live(
             why, code = "interrupted", EXIT_INTERRUPTED
         finally:
             recorded = "" if run.recorder is None else f"; {run.recorder.close()}"
+        for line in run.finish():
+            echo(line)
         s = src.stats
         counts = (
             f"damaged packets skipped: {s.corrupted}, frame indices missing: {s.missing}, "
             f"bytes skipped: {s.bytes_skipped}"
         )
+        dropped = int(getattr(src, "dropped", 0))  # a BackgroundReceiver's full queue
+        if dropped:
+            counts += f", datagrams dropped by a full queue: {dropped}"
         echo(run.summary(counts, why) + recorded)
     return code
 
 
 def _receive(
     src: FrameSource,
-    run: _LiveRun,
+    run: _LiveRun | BankRun,
     max_frames: int | None,
     idle: float | None,
     echo: Callable[[str], None],
@@ -368,9 +409,7 @@ def _receive(
         for batch in batches:
             if max_frames is not None and run.frames + batch.n_frames >= max_frames:
                 keep = max_frames - run.frames
-                batch = FrameBatch(
-                    batch.index[:keep], batch.t_s[:keep], batch.values[:keep], batch.payload_type
-                )
+                batch = batch.take(np.arange(keep))
                 for line in run.push(batch):
                     echo(line)
                 return f"stopped after {max_frames} frames", EXIT_OK

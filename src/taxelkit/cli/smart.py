@@ -79,6 +79,14 @@ __all__ = ["recognize", "roll"]
     help="With --json: also list the class of every frame ('classes'); by default classes "
     "come as run-length 'class_segments'.",
 )
+@click.option(
+    "--arrays",
+    type=click.IntRange(1, 65536),
+    default=1,
+    show_default=True,
+    help="With --live: the stream carries this many arrays (version 2 packets name each "
+    "frame's array); each is recognised in a sensor bank and events name their array.",
+)
 @click.option("--force", is_flag=True, help="Overwrite existing --save-view and --record files.")
 @view_options
 def recognize(
@@ -93,6 +101,7 @@ def recognize(
     faithful: bool,
     record: Path | None,
     per_frame: bool,
+    arrays: int,
     force: bool,
     view: ViewTarget,
 ) -> int:
@@ -122,12 +131,15 @@ def recognize(
             force=force,
             spawn_view=view.spawn,
             view_url=view.url,
+            arrays=arrays,
         )
         return code
     if file is None:
         raise InputError("give a recording FILE or --live SOURCE")
     if record is not None:
         raise InputError("--record applies to --live streams; a FILE is already recorded")
+    if arrays != 1:
+        raise InputError("--arrays applies to --live streams")
     options: dict[str, Any] = {"threshold": threshold}
     if faithful:
         from taxelkit.smart.tactemes import PAPER_LEVEL3

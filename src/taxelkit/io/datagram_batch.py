@@ -12,6 +12,7 @@ by one, and the frames come out in arrival order.
 
 from __future__ import annotations
 
+import struct
 import zlib
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -20,15 +21,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit.io.frame_packet import _MAGICS, _WIRE_DTYPE, CRC_SIZE, MAGIC, MAGIC_V2
 from taxelkit.io.frame_protocol import (
-    _HEADER,
-    _WIRE_DTYPE,
-    CRC_SIZE,
-    HEADER_SIZE,
-    MAGIC,
     DecodedFrame,
     FrameDecoder,
     PayloadType,
+    _header_at,
     packet_size,
 )
 
@@ -49,12 +47,29 @@ class FrameBatch:
         The taxel values.
     payload_type : PayloadType
         How they were sent.
+    array_id : (n,) int64, optional
+        The array of each frame (version 2 packets); None: all array 0.
     """
 
     index: NDArray[np.int64]
     t_s: NDArray[np.float64]
     values: NDArray[Any]
     payload_type: PayloadType
+    array_id: NDArray[np.int64] | None = None
+
+    @property
+    def array_ids(self) -> NDArray[np.int64]:
+        """``(n,)`` int64: the array of each frame (0 for version 1 packets)."""
+        if self.array_id is None:
+            return np.zeros(self.index.size, np.int64)
+        return self.array_id
+
+    def take(self, keep: NDArray[Any]) -> FrameBatch:
+        """The frames selected by ``keep`` (a boolean mask or indices), as a batch."""
+        ids = None if self.array_id is None else self.array_id[keep]
+        return FrameBatch(
+            self.index[keep], self.t_s[keep], self.values[keep], self.payload_type, ids
+        )
 
     @property
     def n_frames(self) -> int:
@@ -84,25 +99,29 @@ def batches_from_frames(frames: Sequence[DecodedFrame]) -> list[FrameBatch]:
             if a.shape == b.shape and a.payload_type == b.payload_type:
                 continue
         run = frames[start:k]
+        ids = np.array([f.array_id for f in run], dtype=np.int64)
         out.append(
             FrameBatch(
                 np.array([f.index for f in run], dtype=np.int64),
                 np.array([f.t_s for f in run], dtype=np.float64),
                 np.stack([f.values for f in run]),
                 run[0].payload_type,
+                ids if ids.any() else None,
             )
         )
         start = k
     return out
 
 
-def _record_dtype(rows: int, cols: int, ptype: PayloadType) -> np.dtype[Any]:
+def _record_dtype(rows: int, cols: int, ptype: PayloadType, version: int) -> np.dtype[Any]:
     """One packet as a packed structured dtype (field offsets as in the protocol)."""
+    array_id = [("array_id", "<u2")] if version == 2 else []
     return np.dtype(
         [
             ("magic", "S4"),
             ("index", "<u4"),
             ("t_s", "<f8"),
+            *array_id,
             ("rows", "<u2"),
             ("cols", "<u2"),
             ("code", "u1"),
@@ -114,13 +133,16 @@ def _record_dtype(rows: int, cols: int, ptype: PayloadType) -> np.dtype[Any]:
 
 def _common_header(
     decoder: FrameDecoder, datagrams: Sequence[bytes]
-) -> tuple[int, int, int] | None:
-    """``(rows, cols, code)`` of the first datagram with a valid header, if any."""
+) -> tuple[int, int, int, int] | None:
+    """``(version, rows, cols, code)`` of the first datagram with a valid header, if any."""
     for raw in datagrams:
-        if len(raw) >= HEADER_SIZE:
-            magic, _, t_s, rows, cols, code = _HEADER.unpack_from(raw, 0)
-            if magic == MAGIC and decoder._header_ok(t_s, rows, cols, code):
-                return int(rows), int(cols), int(code)
+        if len(raw) >= len(MAGIC) and raw[: len(MAGIC)] in _MAGICS:
+            try:
+                version, _, t_s, _, rows, cols, code, _ = _header_at(raw, 0)
+            except struct.error:  # shorter than its header
+                continue
+            if decoder._header_ok(t_s, rows, cols, code):
+                return version, int(rows), int(cols), int(code)
     return None
 
 
@@ -146,13 +168,13 @@ def decode_datagrams(decoder: FrameDecoder, datagrams: Sequence[bytes]) -> list[
     if header is None:
         frames = [decoder.decode_datagram(raw) for raw in datagrams]
         return batches_from_frames([f for f in frames if f is not None])
-    rows, cols, code = header
+    version, rows, cols, code = header
     ptype = PayloadType(code)
-    size = packet_size(rows, cols, code)
+    size = packet_size(rows, cols, code, version=version)
     fast = np.fromiter((len(raw) == size for raw in datagrams), bool, len(datagrams))
     picked = [raw for raw, ok in zip(datagrams, fast.tolist(), strict=True) if ok]
     buf = b"".join(picked)
-    records = np.frombuffer(buf, dtype=_record_dtype(rows, cols, ptype))
+    records = np.frombuffer(buf, dtype=_record_dtype(rows, cols, ptype, version))
     view = memoryview(buf)
     crc = np.fromiter(
         (
@@ -163,7 +185,7 @@ def decode_datagrams(decoder: FrameDecoder, datagrams: Sequence[bytes]) -> list[
         len(picked),
     )
     good = (
-        (records["magic"] == MAGIC)
+        (records["magic"] == (MAGIC_V2 if version == 2 else MAGIC))
         & (records["rows"] == rows)
         & (records["cols"] == cols)
         & (records["code"] == code)
@@ -191,7 +213,8 @@ def decode_datagrams(decoder: FrameDecoder, datagrams: Sequence[bytes]) -> list[
         pending_odd = []
         run = records[slot[k] : slot[stop - 1] + 1]
         index = run["index"].astype(np.int64)
-        decoder.record_frames(index, (stop - k) * size)
+        ids = run["array_id"].astype(np.int64) if version == 2 else None
+        decoder.record_frames(index, (stop - k) * size, ids)
         values = run["payload"].copy()
         out.append(
             FrameBatch(
@@ -199,6 +222,7 @@ def decode_datagrams(decoder: FrameDecoder, datagrams: Sequence[bytes]) -> list[
                 run["t_s"].astype(np.float64),
                 values != 0 if ptype == PayloadType.BOOL else values,
                 ptype,
+                ids,
             )
         )
         k = stop
@@ -212,11 +236,15 @@ def _merged(batches: list[FrameBatch]) -> list[FrameBatch]:
     for b in batches:
         last = out[-1] if out else None
         if last is not None and last.shape == b.shape and last.payload_type == b.payload_type:
+            ids = None
+            if last.array_id is not None or b.array_id is not None:
+                ids = np.concatenate([last.array_ids, b.array_ids])
             out[-1] = FrameBatch(
                 np.concatenate([last.index, b.index]),
                 np.concatenate([last.t_s, b.t_s]),
                 np.concatenate([last.values, b.values]),
                 b.payload_type,
+                ids,
             )
         else:
             out.append(b)

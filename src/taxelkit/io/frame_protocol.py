@@ -1,47 +1,63 @@
-"""The binary frame protocol of live tactile streams: packets, encoder, decoder.
+"""The decoder of the live frame protocol: bytes or datagrams in, frames out.
 
-One packet carries one frame. All numbers are little-endian::
-
-    offset  size  field
-    0       4     magic b"TXK1"
-    4       4     frame index, uint32
-    8       8     timestamp, float64, s
-    16      2     rows, uint16
-    18      2     cols, uint16
-    20      1     payload type, uint8 (0 bool, 1 uint16 counts, 2 float32 mm)
-    21      N     payload: rows * cols values, row-major
-    21 + N  4     CRC-32 (zlib.crc32) of bytes 4 .. 21 + N, uint32
-
-On a byte stream (serial) packets follow each other and the magic delimits
-them; on UDP one datagram holds exactly one packet. The full specification,
-for people wiring real hardware, is ``docs/live-protocol.md``.
+The packet layout (versions 1 ``TXK1`` and 2 ``TXK2``, the latter with an
+array id per frame) and the encoder are in :mod:`taxelkit.io.frame_packet`,
+re-exported here. On a byte stream (serial) packets follow each other and the
+magic delimits them; on UDP one datagram holds exactly one packet. Both
+versions may be mixed on one stream; a version 1 packet is array 0. The full
+specification, for people wiring real hardware, is ``docs/live-protocol.md``.
 
 :class:`FrameDecoder` never raises on bad bytes: a damaged packet (bad header,
 bad CRC, truncated) is counted and skipped, and decoding resumes at the next
 magic, so every intact packet after the damage is recovered. It keeps a read
 position into its buffer and compacts it only when at least half is consumed,
 so decoding costs O(n) in the number of bytes however the stream is chunked.
+Missing frames are counted from the index gaps of each array.
 """
 
 from __future__ import annotations
 
 import math
-import struct
 import zlib
 from dataclasses import dataclass
-from enum import IntEnum
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
-from taxelkit.errors import InputError, check_finite_array
+from taxelkit.errors import InputError
+from taxelkit.io.frame_packet import (
+    _HEADER,
+    _HEADER_V2,
+    _INDEX_MODULUS,
+    _ITEMSIZE,
+    _MAGIC_STEM,
+    _MAGICS,
+    _MAX_SIDE,
+    _TRAILER,
+    _WIRE_DTYPE,
+    CRC_SIZE,
+    DEFAULT_MAX_TAXELS,
+    HEADER_SIZE,
+    HEADER_SIZE_V2,
+    MAGIC,
+    MAGIC_V2,
+    MAX_ARRAY_ID,
+    MAX_DATAGRAM_BYTES,
+    PayloadType,
+    encode_frame,
+    packet_size,
+    to_wire,
+)
 
 __all__ = [
     "CRC_SIZE",
     "DEFAULT_MAX_TAXELS",
     "HEADER_SIZE",
+    "HEADER_SIZE_V2",
     "MAGIC",
+    "MAGIC_V2",
+    "MAX_ARRAY_ID",
     "MAX_DATAGRAM_BYTES",
     "DecodedFrame",
     "DecoderStats",
@@ -52,48 +68,17 @@ __all__ = [
     "to_wire",
 ]
 
-#: First four bytes of every packet.
-MAGIC = b"TXK1"
-#: Magic, index, timestamp, rows, cols, payload type: 4 + 4 + 8 + 2 + 2 + 1 bytes.
-_HEADER = struct.Struct("<4sIdHHB")
-#: Bytes before the payload, magic included.
-HEADER_SIZE = _HEADER.size
-#: The CRC-32 trailer.
-_TRAILER = struct.Struct("<I")
-#: Bytes after the payload.
-CRC_SIZE = _TRAILER.size
-#: Largest rows * cols the decoder accepts by default: a 256 x 256 array. It
-#: bounds how many bytes a damaged header can make the decoder wait for before
-#: its CRC is checked (at most 262,169 bytes, a float32 packet of that size).
-DEFAULT_MAX_TAXELS = 65_536
-#: Largest UDP payload over IPv4 (65,535 - 8 UDP - 20 IP header bytes); a
-#: packet sent over UDP must fit in one datagram.
-MAX_DATAGRAM_BYTES = 65_507
-#: Frame indices are uint32 and wrap around.
-_INDEX_MODULUS = 2**32
-#: Largest rows or cols (uint16).
-_MAX_SIDE = 2**16 - 1
+#: A parsed header: version, index, t_s, array id, rows, cols, payload code, header bytes.
+_Header = tuple[int, int, float, int, int, int, int, int]
 
 
-class PayloadType(IntEnum):
-    """What the payload values are (the header's payload type byte)."""
-
-    #: One byte per taxel: 0 no contact, 1 contact (any nonzero byte reads as contact).
-    BOOL = 0
-    #: Two bytes per taxel: raw sensor counts, uint16.
-    UINT16 = 1
-    #: Four bytes per taxel: deflection in mm, float32.
-    FLOAT32 = 2
-
-
-#: Wire dtype of each payload type.
-_WIRE_DTYPE: dict[PayloadType, np.dtype[Any]] = {
-    PayloadType.BOOL: np.dtype("u1"),
-    PayloadType.UINT16: np.dtype("<u2"),
-    PayloadType.FLOAT32: np.dtype("<f4"),
-}
-#: Bytes per taxel, indexed by payload type code.
-_ITEMSIZE = {int(k): v.itemsize for k, v in _WIRE_DTYPE.items()}
+def _header_at(data: bytes | bytearray, pos: int) -> _Header:
+    """The header of the packet at ``pos`` (its magic known to be one of :data:`_MAGICS`)."""
+    if data[pos + 3 : pos + 4] == MAGIC_V2[3:]:
+        _, index, t_s, array_id, rows, cols, code = _HEADER_V2.unpack_from(data, pos)
+        return 2, index, t_s, array_id, rows, cols, code, HEADER_SIZE_V2
+    _, index, t_s, rows, cols, code = _HEADER.unpack_from(data, pos)
+    return 1, index, t_s, 0, rows, cols, code, HEADER_SIZE
 
 
 @dataclass(frozen=True, eq=False)
@@ -110,12 +95,15 @@ class DecodedFrame:
         The taxel values, read-only: contact, raw counts, or mm.
     payload_type : PayloadType
         How ``values`` were sent.
+    array_id : int
+        The array it comes from (a version 2 packet); 0 for version 1.
     """
 
     index: int
     t_s: float
     values: NDArray[Any]
     payload_type: PayloadType
+    array_id: int = 0
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -145,8 +133,9 @@ class DecoderStats:
     bytes_skipped : int
         Bytes discarded as noise or damaged packets.
     missing : int
-        Frame indices skipped between consecutive decoded frames (lost or
-        damaged packets; a jump backwards, e.g. a sender restart, counts none).
+        Frame indices skipped between consecutive decoded frames of one array
+        (lost or damaged packets; a jump backwards, e.g. a sender restart,
+        counts none).
     """
 
     bytes_received: int = 0
@@ -161,134 +150,6 @@ class DecoderStats:
     def corrupted(self) -> int:
         """Damaged packets seen: ``bad_header + bad_crc + truncated``."""
         return self.bad_header + self.bad_crc + self.truncated
-
-
-def packet_size(rows: int, cols: int, payload_type: PayloadType | int) -> int:
-    """Bytes in one packet of a ``rows x cols`` frame, header and CRC included.
-
-    Examples
-    --------
-    >>> packet_size(16, 16, PayloadType.BOOL)
-    281
-    """
-    return HEADER_SIZE + int(rows) * int(cols) * _ITEMSIZE[int(payload_type)] + CRC_SIZE
-
-
-def _payload_type_for(values: NDArray[Any], payload_type: PayloadType | int | None) -> PayloadType:
-    if payload_type is None:
-        kind = values.dtype.kind
-        if kind == "b":
-            return PayloadType.BOOL
-        if kind in "ui":
-            return PayloadType.UINT16
-        if kind == "f":
-            return PayloadType.FLOAT32
-        raise InputError(f"values must be bool, integer or float, got dtype {values.dtype}")
-    try:
-        return PayloadType(int(payload_type))
-    except ValueError:
-        known = ", ".join(f"{p.value} ({p.name.lower()})" for p in PayloadType)
-        raise InputError(f"payload_type must be one of {known}, got {payload_type!r}") from None
-
-
-def to_wire(
-    values: ArrayLike, payload_type: PayloadType | int | None = None
-) -> tuple[NDArray[Any], PayloadType]:
-    """Values as the protocol carries them, checked to be representable.
-
-    Parameters
-    ----------
-    values : array of bool, integer or float, any shape
-    payload_type : PayloadType or int, optional
-        Default from the dtype: bool -> ``BOOL``, integer -> ``UINT16``,
-        float -> ``FLOAT32``.
-
-    Returns
-    -------
-    wire : array, same shape
-        uint8 (0/1), little-endian uint16 or little-endian float32.
-    payload_type : PayloadType
-
-    Raises
-    ------
-    InputError
-        If the dtype is not numeric, integers fall outside ``[0, 1]`` (bool)
-        or ``[0, 65535]`` (uint16), or floats are not finite as float32.
-    """
-    arr = np.asarray(values)
-    if arr.dtype.kind not in "buif":
-        raise InputError(f"values must be bool, integer or float, got dtype {arr.dtype}")
-    ptype = _payload_type_for(arr, payload_type)
-    if ptype == PayloadType.FLOAT32:
-        check_finite_array("values", arr)
-        with np.errstate(over="ignore"):  # overflow becomes inf, refused just below
-            out = arr.astype(_WIRE_DTYPE[ptype])
-        check_finite_array("values (as float32)", out)
-        return out, ptype
-    if arr.dtype.kind == "f":
-        raise InputError(f"values must be bool or integer for payload type {ptype.name}, got float")
-    high = 1 if ptype == PayloadType.BOOL else 2**16 - 1
-    if arr.size and (int(arr.min()) < 0 or int(arr.max()) > high):
-        raise InputError(
-            f"values must lie in [0, {high}] for payload type {ptype.name}, "
-            f"got [{arr.min()}, {arr.max()}]"
-        )
-    return arr.astype(_WIRE_DTYPE[ptype]), ptype
-
-
-def encode_frame(
-    values: ArrayLike,
-    *,
-    index: int,
-    t_s: float,
-    payload_type: PayloadType | int | None = None,
-) -> bytes:
-    """One frame as a packet of the live protocol.
-
-    Parameters
-    ----------
-    values : (rows, cols) bool, integer or float
-        The frame; ``1 <= rows, cols <= 65535``.
-    index : int
-        Frame index, ``0 <= index < 2**32`` (wrap it yourself on long runs).
-    t_s : float
-        Timestamp, s; finite.
-    payload_type : PayloadType or int, optional
-        Default from the dtype: bool -> ``BOOL``, integer -> ``UINT16``
-        (values in [0, 65535]), float -> ``FLOAT32`` (finite, in mm).
-
-    Returns
-    -------
-    bytes
-        ``packet_size(rows, cols, payload_type)`` bytes.
-
-    Raises
-    ------
-    InputError
-        On a wrong shape, an index or timestamp out of range, or values that
-        the payload type cannot carry.
-
-    Examples
-    --------
-    >>> packet = encode_frame(np.eye(2, dtype=bool), index=7, t_s=0.5)
-    >>> packet[:4], len(packet)
-    (b'TXK1', 29)
-    """
-    arr = np.asarray(values)
-    if arr.ndim != 2 or not (1 <= arr.shape[0] <= _MAX_SIDE and 1 <= arr.shape[1] <= _MAX_SIDE):
-        raise InputError(
-            f"values must have shape (rows, cols) with 1..{_MAX_SIDE} each, got shape {arr.shape}"
-        )
-    wire, ptype = to_wire(arr, payload_type)
-    if not (isinstance(index, int | np.integer) and 0 <= int(index) < _INDEX_MODULUS):
-        raise InputError(f"index must be an integer in [0, 2**32), got {index!r}")
-    t = float(t_s)
-    if not math.isfinite(t):
-        raise InputError(f"t_s must be finite, got {t_s!r}")
-    payload = np.ascontiguousarray(wire).tobytes()
-    header = _HEADER.pack(MAGIC, int(index), t, arr.shape[0], arr.shape[1], int(ptype))
-    crc = zlib.crc32(payload, zlib.crc32(header[len(MAGIC) :]))
-    return b"".join((header, payload, _TRAILER.pack(crc)))
 
 
 class FrameDecoder:
@@ -335,7 +196,7 @@ class FrameDecoder:
         self.max_taxels = int(max_taxels)
         self._buf = bytearray()
         self._pos = 0
-        self._last_index: int | None = None
+        self._last_index: dict[int, int] = {}  # per array id
         self._counts = {name: 0 for name in DecoderStats.__dataclass_fields__}
 
     @property
@@ -367,7 +228,7 @@ class FrameDecoder:
         buf, pos, counts = self._buf, self._pos, self._counts
         out: list[DecodedFrame] = []
         while True:
-            start = buf.find(MAGIC, pos)
+            start = buf.find(_MAGIC_STEM, pos)
             if start < 0:
                 end = len(buf) if final else len(buf) - _magic_prefix_len(buf, pos)
                 counts["bytes_skipped"] += end - pos
@@ -375,6 +236,12 @@ class FrameDecoder:
                 break
             counts["bytes_skipped"] += start - pos
             pos = start
+            if len(buf) - pos < len(MAGIC) and not final:  # which version: wait and see
+                break
+            if bytes(buf[pos : pos + len(MAGIC)]) not in _MAGICS:  # noise that looks like one
+                counts["bytes_skipped"] += 1
+                pos += 1
+                continue
             result = self._parse_at(pos, final=final)
             if result is None:  # incomplete: wait for more bytes
                 break
@@ -400,15 +267,17 @@ class FrameDecoder:
         """
         buf = self._buf
         available = len(buf) - pos
-        if available < HEADER_SIZE:
+        need = HEADER_SIZE_V2 if buf[pos + 3 : pos + 4] == MAGIC_V2[3:] else HEADER_SIZE
+        if available < need:
             return "truncated" if final else None
-        _, index, t_s, rows, cols, code = _HEADER.unpack_from(buf, pos)
+        header = _header_at(buf, pos)
+        version, _, t_s, _, rows, cols, code, _ = header
         if not self._header_ok(t_s, rows, cols, code):
             return "bad_header"
-        size = packet_size(rows, cols, code)
+        size = packet_size(rows, cols, code, version=version)
         if available < size:
             return "truncated" if final else None
-        frame = self._check_and_decode(buf, pos, size, index, t_s, rows, cols, code)
+        frame = self._check_and_decode(buf, pos, size, header)
         return "bad_crc" if frame is None else (frame, size)
 
     def _header_ok(self, t_s: float, rows: int, cols: int, code: int) -> bool:
@@ -426,14 +295,11 @@ class FrameDecoder:
         data: bytes | bytearray,
         pos: int,
         size: int,
-        index: int,
-        t_s: float,
-        rows: int,
-        cols: int,
-        code: int,
+        header: _Header,
     ) -> DecodedFrame | None:
         """The frame of a complete packet with a valid header, or None on a CRC mismatch."""
-        payload_start, payload_end = pos + HEADER_SIZE, pos + size - CRC_SIZE
+        _, index, t_s, array_id, rows, cols, code, header_size = header
+        payload_start, payload_end = pos + header_size, pos + size - CRC_SIZE
         payload = bytes(data[payload_start:payload_end])
         crc = zlib.crc32(payload, zlib.crc32(data[pos + len(MAGIC) : payload_start]))
         if crc != _TRAILER.unpack_from(data, payload_end)[0]:
@@ -443,10 +309,15 @@ class FrameDecoder:
         if ptype == PayloadType.BOOL:
             values = values != 0
             values.setflags(write=False)
-        self._count_frame(index)
-        return DecodedFrame(int(index), float(t_s), values, ptype)
+        self._count_frame(index, array_id)
+        return DecodedFrame(int(index), float(t_s), values, ptype, int(array_id))
 
-    def record_frames(self, indices: NDArray[np.int64], n_bytes: int) -> None:
+    def record_frames(
+        self,
+        indices: NDArray[np.int64],
+        n_bytes: int,
+        array_ids: NDArray[np.int64] | None = None,
+    ) -> None:
         """Count frames decoded outside this object (a batch of datagrams), in order.
 
         Parameters
@@ -455,26 +326,37 @@ class FrameDecoder:
             Their frame indices, in arrival order.
         n_bytes : int
             Datagram bytes they took.
+        array_ids : (n,) int, optional
+            Their arrays (default: all array 0); gaps are counted per array.
         """
         counts = self._counts
         counts["bytes_received"] += int(n_bytes)
         if indices.size == 0:
             return
         counts["frames"] += int(indices.size)
-        first = indices[:1] if self._last_index is None else np.array([self._last_index])
-        steps = np.mod(np.diff(np.concatenate([first, indices]).astype(np.int64)), _INDEX_MODULUS)
+        ids = np.zeros(indices.size, np.int64) if array_ids is None else array_ids
+        order = np.argsort(ids, kind="stable")  # each array's frames together, in order
+        a, x = ids[order].astype(np.int64), indices[order].astype(np.int64)
+        starts = np.flatnonzero(np.concatenate([[True], a[1:] != a[:-1]]))
+        prev = np.concatenate([x[:1], x[:-1]])
+        last = self._last_index
+        heads = zip(a[starts].tolist(), x[starts].tolist(), strict=True)
+        prev[starts] = [last.get(k, i) for k, i in heads]  # each array's frame before
+        steps = np.mod(x - prev, _INDEX_MODULUS)
         gaps = (steps > 1) & (steps < _INDEX_MODULUS // 2)
         counts["missing"] += int(np.sum(steps[gaps] - 1))
-        self._last_index = int(indices[-1])
+        ends = np.append(starts[1:], a.size) - 1
+        last.update(zip(a[ends].tolist(), x[ends].tolist(), strict=True))
 
-    def _count_frame(self, index: int) -> None:
+    def _count_frame(self, index: int, array_id: int = 0) -> None:
         counts = self._counts
         counts["frames"] += 1
-        if self._last_index is not None:
-            step = (index - self._last_index) % _INDEX_MODULUS
+        before = self._last_index.get(array_id)
+        if before is not None:
+            step = (index - before) % _INDEX_MODULUS
             if 1 < step < _INDEX_MODULUS // 2:
                 counts["missing"] += step - 1
-        self._last_index = index
+        self._last_index[array_id] = index
 
     # -- datagrams ------------------------------------------------------------------------
     def decode_datagram(self, data: bytes | bytearray | memoryview) -> DecodedFrame | None:
@@ -483,20 +365,25 @@ class FrameDecoder:
         counts = self._counts
         counts["bytes_received"] += len(raw)
         blame: str
-        if len(raw) < HEADER_SIZE:
-            blame = "truncated" if raw[: len(MAGIC)] == MAGIC[: len(raw)] else "bad_header"
+        magic = raw[: len(MAGIC)]
+        if len(raw) < (HEADER_SIZE_V2 if magic == MAGIC_V2 else HEADER_SIZE):
+            prefix = any(m[: len(magic)] == magic for m in _MAGICS)
+            blame = "truncated" if prefix else "bad_header"
+        elif magic not in _MAGICS:
+            blame = "bad_header"
         else:
-            magic, index, t_s, rows, cols, code = _HEADER.unpack_from(raw, 0)
-            if magic != MAGIC or not self._header_ok(t_s, rows, cols, code):
+            header = _header_at(raw, 0)
+            version, _, t_s, _, rows, cols, code, _ = header
+            if not self._header_ok(t_s, rows, cols, code):
                 blame = "bad_header"
             else:
-                size = packet_size(rows, cols, code)
+                size = packet_size(rows, cols, code, version=version)
                 if len(raw) < size:
                     blame = "truncated"
                 elif len(raw) > size:
                     blame = "bad_header"
                 else:
-                    frame = self._check_and_decode(raw, 0, size, index, t_s, rows, cols, code)
+                    frame = self._check_and_decode(raw, 0, size, header)
                     if frame is not None:
                         return frame
                     blame = "bad_crc"
@@ -506,8 +393,8 @@ class FrameDecoder:
 
 
 def _magic_prefix_len(buf: bytearray, pos: int) -> int:
-    """Length of the longest proper prefix of the magic that ``buf[pos:]`` ends with."""
-    for k in range(len(MAGIC) - 1, 0, -1):
-        if len(buf) - pos >= k and buf.endswith(MAGIC[:k]):
+    """Length of the longest proper prefix of the magics' stem that ``buf[pos:]`` ends with."""
+    for k in range(len(_MAGIC_STEM) - 1, 0, -1):
+        if len(buf) - pos >= k and buf.endswith(_MAGIC_STEM[:k]):
             return k
     return 0

@@ -238,6 +238,22 @@ class SensorBank:
             out += [(i, e) for e in stream.push_chunk(classes[i], rows[i], t[i])]
         return out
 
+    def forget_history(self, *, events_kept: int = 1024) -> None:
+        """Bound memory on endless streams: drop the per-frame class runs, and old contacts' events.
+
+        The class history (:meth:`classes`) starts afresh; an array holding
+        more than ``events_kept`` events forgets those before its last two
+        lifts (the verdict looks at the last contact only). Call it between
+        pushes; the events still to come are unchanged.
+        """
+        for stream in self._streams:
+            stream.classes = ClassHistory()
+            events = stream.state.events
+            if len(events) > events_kept:
+                lifts = [k for k, e in enumerate(events) if e.kind == "lifted"]
+                if len(lifts) >= 2:
+                    del events[: lifts[-2] + 1]
+
     def result(self, i: int) -> Recognition:
         """Everything array ``i`` has seen, as a :class:`Recognition` (buffered frames included)."""
         self.flush()

@@ -28,7 +28,6 @@ from taxelkit.errors import InputError
 from taxelkit.smart.cleaning import (
     CleaningConfig,
     _backend,
-    _bits_of,
     _bridged,
     _crowded,
     _dilate3,
@@ -98,7 +97,10 @@ class ChunkCleaner:
         self._n_release = np.full(n, release_frames_for(None, self.config), dtype=np.int64)
         self._since = ~blank  # all on: the AND of no frames
         self._iso_hist = np.zeros((n, 0, *blank.shape[1:]), blank.dtype)
-        self._armed: dict[tuple[int, int, int], int] = {}  # (array, word, bit) -> frames off
+        # armed (stuck) taxels: array, word, bit, frames read off since last on
+        self._armed: tuple[NDArray[np.int64], ...] = tuple(
+            np.zeros(0, dtype=np.int64) for _ in range(4)
+        )
         self._prev = blank
         self._busy = np.ones(n, bool)  # some state that a clear chunk would change
 
@@ -161,7 +163,7 @@ class ChunkCleaner:
         last = a3[:, -1]
         self._prev[sel] = last
         armed = np.zeros(self.n, bool)  # after _stuck: this chunk's armed taxels
-        armed[[i for i, _, _ in self._armed]] = True
+        armed[self._armed[0]] = True
         flat = self._iso_hist[sel].reshape(n, -1)
         self._busy[sel] = (
             np.any(last.reshape(n, -1), axis=1)
@@ -217,38 +219,42 @@ class ChunkCleaner:
     def _release(
         self, on3: NDArray[Any], seed: NDArray[Any], sel: NDArray[np.intp]
     ) -> NDArray[Any]:
-        """Masked bits: seeded, until read off ``n_release`` frames (per taxel, few taxels)."""
+        """Masked bits: seeded, until read off ``n_release`` frames (per taxel, all at once)."""
         n, t = on3.shape[:2]
-        out = np.zeros_like(on3).reshape(n, t, -1)
         on_f = on3.reshape(n, t, -1)
         seed_f = seed.reshape(n, t, -1)
+        out = np.zeros_like(on_f)
+        n_words, n_bits = on_f.shape[2], 8 * on_f.dtype.itemsize
+        # the taxels armed before this chunk, numbered within sel
+        local = np.full(self.n, -1, dtype=np.int64)
+        local[sel] = np.arange(sel.size)
+        li = local[self._armed[0]]
+        inside = li >= 0  # all of them: an armed array is busy, hence in sel
+        outside = tuple(a[~inside] for a in self._armed)
+        arm_i, arm_j, arm_b, arm_off = li[inside], *(a[inside] for a in self._armed[1:])
+        # the taxels seeded in this chunk, one (array, word, bit) each
         any_seed = np.bitwise_or.reduce(seed_f, axis=1)  # (n, words)
-        local = {int(g): k for k, g in enumerate(sel.tolist())}
-        armed: dict[tuple[int, int, int], int] = {}
-        todo: dict[tuple[int, int, int], int | None] = {}
-        for (g, j, bit), frames_off in self._armed.items():
-            if g in local:
-                todo[(local[g], j, bit)] = frames_off
-            else:  # not in this chunk (cannot happen: an armed array is busy)
-                armed[(g, j, bit)] = frames_off
-        for i, j in zip(*np.nonzero(any_seed), strict=True):
-            for bit in _bits_of(int(any_seed[i, j]), on_f.dtype):
-                todo.setdefault((int(i), int(j), int(bit)), None)
-        if not todo:
-            self._armed = armed
-            return out
-        keys = list(todo)
-        ii = np.array([k[0] for k in keys])
-        jj = np.array([k[1] for k in keys])
-        bits = np.array([k[2] for k in keys]).astype(on_f.dtype)[:, None]
-        offs = [todo[k] for k in keys]
-        was = np.array([o is not None for o in offs])
-        off = np.array([10**9 if o is None else o for o in offs])
+        si, sj = np.nonzero(any_seed)
+        shifts = np.arange(n_bits, dtype=np.uint64)
+        q, sb = np.nonzero((any_seed[si, sj].astype(np.uint64)[:, None] >> shifts) & np.uint64(1))
+        si, sj = si[q], sj[q]
+        fresh = ~np.isin(
+            (si * n_words + sj) * n_bits + sb, (arm_i * n_words + arm_j) * n_bits + arm_b
+        )
+        ii = np.concatenate([arm_i, si[fresh]])
+        if ii.size == 0:
+            self._armed = outside
+            return out.reshape(on3.shape)
+        jj = np.concatenate([arm_j, sj[fresh]])
+        bit_no = np.concatenate([arm_b, sb[fresh]])
+        was = np.arange(ii.size) < arm_i.size
+        off = np.concatenate([arm_off, np.full(int(fresh.sum()), 10**9, dtype=np.int64)])
+        bits = np.left_shift(np.ones(ii.size, on_f.dtype), bit_no.astype(on_f.dtype))
         n_release = self._n_release[sel][ii][:, None]
         idx = np.arange(t)[None, :]
         # all the taxels at once, (K, T): the batch's per-taxel rule, carried over
-        o = (on_f[ii, :, jj] & bits) != 0
-        s = (seed_f[ii, :, jj] & bits) != 0
+        o = (on_f[ii, :, jj] & bits[:, None]) != 0
+        s = (seed_f[ii, :, jj] & bits[:, None]) != 0
         last_on = np.maximum.accumulate(np.where(o, idx, (-1 - off)[:, None]), axis=1)
         released = (idx - last_on) >= n_release
         last_release = np.maximum.accumulate(
@@ -256,11 +262,10 @@ class ChunkCleaner:
         )
         last_seed = np.maximum.accumulate(np.where(s, idx, np.where(was, -1, -2)[:, None]), axis=1)
         masked = o & (last_seed > last_release)
-        for q in np.flatnonzero(masked.any(axis=1)).tolist():
-            out[ii[q], masked[q], jj[q]] |= bits[q, 0]
+        mq, mt = np.nonzero(masked)
+        np.bitwise_or.at(out, (ii[mq], mt, jj[mq]), bits[mq])
         still = last_seed[:, -1] > last_release[:, -1]
-        frames_off = t - 1 - last_on[:, -1]
-        for q in np.flatnonzero(still).tolist():
-            armed[(int(sel[ii[q]]), int(jj[q]), int(keys[q][2]))] = int(frames_off[q])
-        self._armed = armed
-        return out
+        frames_off = (t - 1 - last_on[:, -1]).astype(np.int64)
+        kept = (sel[ii[still]].astype(np.int64), jj[still], bit_no[still], frames_off[still])
+        self._armed = tuple(np.concatenate([a, b]) for a, b in zip(outside, kept, strict=True))
+        return out.reshape(on3.shape)
