@@ -221,6 +221,9 @@ class MultiObjectResult:
     engines : tuple of str
     counts : tuple of int
     n_trials : int
+        Scenes per object count with the kinematic engine.
+    mujoco_trials : int
+        Scenes per object count with the MuJoCo engine.
     skipped : dict of str to str
         Engines that could not run, with the reason.
     """
@@ -229,6 +232,7 @@ class MultiObjectResult:
     engines: tuple[str, ...]
     counts: tuple[int, ...]
     n_trials: int
+    mujoco_trials: int
     skipped: dict[str, str]
 
     def summary(self, engine: str, n_objects: int) -> dict[str, Any]:
@@ -260,6 +264,7 @@ class MultiObjectResult:
         return {
             "experiment": "multi-object",
             "n_trials": self.n_trials,
+            "mujoco_trials": self.mujoco_trials,
             "rate_hz": RATE_HZ,
             "engines": list(self.engines),
             "skipped": dict(self.skipped),
@@ -307,6 +312,7 @@ def run_multi_object(
     seed: int = 0,
     n_trials: int = 100,
     engines: Sequence[str] | None = None,
+    mujoco_trials: int | None = None,
     counts: Sequence[int] = OBJECT_COUNTS,
     workers: int | None = None,
     scheduler: str | None = None,
@@ -320,7 +326,11 @@ def run_multi_object(
         Seed of every scene: the same seed gives the same result wherever the
         units run.
     n_trials : int
-        Scenes per engine and object count.
+        Scenes per object count with the kinematic engine.
+    mujoco_trials : int, optional
+        Scenes per object count with the MuJoCo engine (default a fifth of
+        ``n_trials``, at least 1: a physics scene costs about 30 times a
+        kinematic one).
     engines : sequence of str, optional
         Default: both, MuJoCo skipped (and listed) when not installed.
     counts : sequence of int
@@ -342,11 +352,12 @@ def run_multi_object(
         if not 1 <= int(c) <= len(OBJECTS):
             raise InputError(f"counts must lie in 1..{len(OBJECTS)}, got {c!r}")
     chosen, skipped = _choose_engines(engines)
+    n_mujoco = max(1, int(n_trials) // 5) if mujoco_trials is None else int(mujoco_trials)
     units = []
     for engine in chosen:
         e_key = int.from_bytes(engine.encode()[:8], "little")
         for n in counts:
-            for trial in range(int(n_trials)):
+            for trial in range(n_mujoco if engine == "mujoco" else int(n_trials)):
                 ent = np.random.SeedSequence([int(seed), e_key, int(n), trial]).generate_state(1)
                 units.append(_Unit(engine, int(n), trial, int(ent[0])))
     n_workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
@@ -361,5 +372,6 @@ def run_multi_object(
         engines=tuple(chosen),
         counts=tuple(int(c) for c in counts),
         n_trials=int(n_trials),
+        mujoco_trials=n_mujoco,
         skipped=skipped,
     )
