@@ -252,7 +252,9 @@ class MultiObjectResult:
             "mixed_wrong": sum(s.mixed_wrong for s in rows),
             "tracks": len(purities),
             "mean_purity": float(np.mean(purities)) if purities else float("nan"),
-            "pure_tracks": float(np.mean(np.asarray(purities) == 1.0)) if purities else float("nan"),
+            "pure_tracks": float(np.mean(np.asarray(purities) == 1.0))
+            if purities
+            else float("nan"),
             "merges": sum(s.merges for s in rows),
             "splits": sum(s.splits for s in rows),
         }

@@ -324,8 +324,7 @@ def multi_object_markdown(doc: dict[str, Any]) -> str:
         "",
         "Acceptance, two objects: >= 95 % identified "
         f"{'holds' if acc['two_objects_identified_ge_95'] else 'fails'}; no wrong identity from "
-        f"a mixed-up track {'holds' if acc['two_objects_no_mixed_wrong'] else 'fails'}."
-        + skipped,
+        f"a mixed-up track {'holds' if acc['two_objects_no_mixed_wrong'] else 'fails'}." + skipped,
     ]
     return "\n".join(lines)
 

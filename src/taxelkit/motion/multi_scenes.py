@@ -65,7 +65,10 @@ def tiled_sensor(sensor: Sensor, n_tiles: int) -> Sensor:
         raise InputError(f"n_tiles must be >= 1, got {n_tiles!r}")
     a = sensor.array
     array = TaxelArray(
-        rows=a.rows, cols=a.cols * int(n_tiles), pitch_mm=a.pitch_mm, element_size_mm=a.element_size_mm
+        rows=a.rows,
+        cols=a.cols * int(n_tiles),
+        pitch_mm=a.pitch_mm,
+        element_size_mm=a.element_size_mm,
     )
     return dataclasses.replace(sensor, name=f"{sensor.name}-x{int(n_tiles)}", array=array)
 
@@ -144,7 +147,7 @@ def multi_scene(
         sc = scenario_from_engine(engine, name, rng=seed, rate_hz=rate_hz, sensor=sensor)
         shift = np.array([(k - 0.5 * (n - 1)) * width_mm, 0.0])
         scenarios.append(dataclasses.replace(sc, positions_mm=sc.positions_mm + shift))
-        delays.append(int(round(float(gen.uniform(0.0, max_delay_s)) * rate_hz)))
+        delays.append(round(float(gen.uniform(0.0, max_delay_s)) * rate_hz))
     total = max(d + s.n_frames for d, s in zip(delays, scenarios, strict=True))
     t_s = np.arange(total, dtype=np.float64) / float(rate_hz)
     return MultiScene(tuple(scenarios), tuple(delays), big, t_s)

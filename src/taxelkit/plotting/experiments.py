@@ -12,9 +12,9 @@ __all__ = ["plot_experiment"]
 
 
 def _plotters() -> dict[str, Callable[[Any], Figure]]:
+    from taxelkit.plotting.multi_object import plot_multi_object
     from taxelkit.plotting.paper000 import plot_fig7, plot_fig8, plot_fig9, plot_recall_vs_s
     from taxelkit.plotting.paper001 import plot_cylinder, plot_smart_sensor, plot_tacteme_table
-    from taxelkit.plotting.multi_object import plot_multi_object
     from taxelkit.plotting.robustness import plot_robustness
     from taxelkit.plotting.trace_robustness import plot_trace_robustness
 

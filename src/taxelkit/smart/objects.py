@@ -44,7 +44,7 @@ from taxelkit.smart.levels12 import DEFAULT_CLEANING, DEFAULT_LIMITS, DEFAULT_TH
 from taxelkit.smart.recognise_chunks import ChunkRecogniser
 from taxelkit.smart.regions import RegionConfig, segment_frames
 from taxelkit.smart.tactemes import TactemeConfig, debounce_counts
-from taxelkit.smart.tracks import RegionTracker, TrackerConfig, TrackEvent
+from taxelkit.smart.tracks import RegionTracker, TrackerConfig
 
 __all__ = [
     "ObjectRecogniser",
@@ -53,7 +53,6 @@ __all__ = [
     "TrackedEvent",
     "recognise_objects",
 ]
-
 
 
 @dataclass(frozen=True)
@@ -425,9 +424,7 @@ class ObjectRecogniser:
         track_map = None
         if self.keep_map:
             track_map = (
-                np.concatenate(self._maps)
-                if self._maps
-                else np.empty((0, *self.shape), np.int16)
+                np.concatenate(self._maps) if self._maps else np.empty((0, *self.shape), np.int16)
             )
         return ObjectRecognition(tuple(objects), tuple(events), self._n, track_map)
 

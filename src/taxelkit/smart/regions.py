@@ -121,7 +121,7 @@ def disc_offsets(radius: float) -> NDArray[np.bool_]:
     (2 r + 1, 2 r + 1) bool
         With ``r = floor(radius)``.
     """
-    r = int(math.floor(radius + 1e-9))
+    r = math.floor(radius + 1e-9)
     y, x = np.mgrid[-r : r + 1, -r : r + 1]
     out: NDArray[np.bool_] = (x * x + y * y) <= radius * radius + 1e-9
     return out

@@ -244,11 +244,7 @@ def step(
         if got[i] < 0:
             if tr.unseen == 0 and tr.merged_into is None:
                 host = next(
-                    (
-                        tracks[k].track
-                        for k in range(n)
-                        if got[k] >= 0 and touch[i, int(got[k])]
-                    ),
+                    (tracks[k].track for k in range(n) if got[k] >= 0 and touch[i, int(got[k])]),
                     None,
                 )
                 if host is not None:
