@@ -52,7 +52,9 @@ def test_batch_equals_frame_by_frame_and_translation_moves_the_centroid() -> Non
         idx = whole.in_frame(t)
         np.testing.assert_array_equal(one.n_taxels, whole.n_taxels[idx])
         np.testing.assert_allclose(one.centre_mm, whole.centre_mm[idx])
-    shifted = segment_frames(np.roll(img[:1], 1, axis=2) & ~np.roll(img[:1], 1, axis=2), pitch_mm=2.0)
+    shifted = segment_frames(
+        np.roll(img[:1], 1, axis=2) & ~np.roll(img[:1], 1, axis=2), pitch_mm=2.0
+    )
     assert shifted.n_regions == 0
     blob = np.zeros((1, 12, 12), bool)
     blob[0, 3:5, 2:6] = True

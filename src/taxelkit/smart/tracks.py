@@ -11,8 +11,7 @@ Rules (:class:`TrackerConfig` holds the numbers)
        is the distance from the track's last centroid to the region's
        centroid and ``A`` the areas in mm^2. A pair is never made when the
        region's nearest taxel is more than ``gate_pitches`` pitches from the
-       track's last taxels (its *reach*, a distance transform of its last
-       region). The gate is on the taxels, not the centroids, because a
+       nearest of the track's last taxels. The gate is on the taxels, not the centroids, because a
        contact moves continuously while its centroid can jump: a cube tipping
        from a face onto an edge, a cone laid down from its rim onto its side
        (the line starts where the point was).
@@ -45,7 +44,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import ndimage
 from scipy.optimize import linear_sum_assignment
 
 from taxelkit.errors import InputError, check_positive
@@ -71,9 +69,31 @@ AREA_WEIGHT = 0.5
 _FORBIDDEN = 1e12
 
 
-def _reach(off: NDArray[np.bool_]) -> NDArray[np.float64]:
-    """Distance of every taxel to the nearest taxel of a region, pitches (``off``: not in it)."""
-    out: NDArray[np.float64] = ndimage.distance_transform_edt(off)
+def _region_taxels(
+    labels: NDArray[np.int32], region_ids: NDArray[np.intp]
+) -> list[NDArray[np.float64]]:
+    """(row, column) of the taxels of each region, in the order of ``region_ids``."""
+    on = np.flatnonzero(labels)
+    if on.size == 0:
+        return [np.empty((0, 2)) for _ in region_ids]
+    lab = labels.reshape(-1)[on]
+    order = np.argsort(lab, kind="stable")
+    rc = np.column_stack(np.unravel_index(on[order], labels.shape)).astype(np.float64)
+    ids, starts = np.unique(lab[order], return_index=True)
+    groups = np.split(rc, starts[1:])
+    where = np.searchsorted(ids, region_ids)
+    return [groups[k] for k in where.tolist()]
+
+
+def _nearest(tracks: list[LiveTrack], taxels: list[NDArray[np.float64]]) -> NDArray[np.float64]:
+    """``(n, m)``: distance from each track's last taxels to each region's nearest, pitches."""
+    sizes = np.array([t.shape[0] for t in taxels])
+    every = np.concatenate(taxels)
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    out = np.empty((len(tracks), len(taxels)))
+    for i, tr in enumerate(tracks):
+        d2 = ((tr.taxels[:, None, :] - every[None, :, :]) ** 2).sum(axis=2).min(axis=0)
+        out[i] = np.sqrt(np.minimum.reduceat(d2, starts))
     return out
 
 
@@ -134,7 +154,7 @@ class LiveTrack:
     track: int
     centre_mm: NDArray[np.float64]
     area_mm2: float
-    reach_pitches: NDArray[np.float64]
+    taxels: NDArray[np.float64]  # (k, 2) row, column of its last region's taxels
     last_frame: int
     unseen: int = 0
     merged_into: int | None = None
@@ -189,10 +209,10 @@ def step(
     m, n = int(region_ids.size), len(tracks)
     track_of = np.full(m, -1, np.intp)
     got = np.full(n, -1, np.intp)  # region taken by each track
-    near = np.full((n, m), np.inf)  # region's nearest taxel to each track's last taxels
+    taxels = _region_taxels(labels, region_ids)
+    near = np.full((n, m), np.inf)  # region's nearest taxel to each track's last taxels, pitches
     if m and n:
-        for i, tr in enumerate(tracks):
-            near[i] = ndimage.minimum(tr.reach_pitches, labels, index=region_ids)
+        near = _nearest(tracks, taxels)
         prev = np.array([tr.centre_mm for tr in tracks])
         d = np.hypot(*(prev[:, None, :] - centre_mm[None, :, :]).transpose(2, 0, 1))
         root = np.sqrt(np.array([tr.area_mm2 for tr in tracks]))
@@ -214,7 +234,7 @@ def step(
             tr.merged_into = None
         tr.centre_mm = centre_mm[j].copy()
         tr.area_mm2 = float(area_mm2[j])
-        tr.reach_pitches = _reach(labels != region_ids[j])
+        tr.taxels = taxels[j]
         tr.last_frame = frame
         tr.unseen = 0
         tr.frames_seen += 1
@@ -234,7 +254,7 @@ def step(
                 tid,
                 centre_mm[j].copy(),
                 float(area_mm2[j]),
-                _reach(labels != region_ids[j]),
+                taxels[j],
                 frame,
             )
         )
