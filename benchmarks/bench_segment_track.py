@@ -122,7 +122,8 @@ def track_stream(images: np.ndarray, t_s: np.ndarray, lost: int) -> int:
 def skimage_per_frame(images: np.ndarray) -> int:
     n = 0
     for frame in images:
-        for r in regionprops(label(frame, connectivity=2)):
+        labelled = label(frame, connectivity=2)  # type: ignore[no-untyped-call]
+        for r in regionprops(labelled):  # type: ignore[no-untyped-call]
             _ = (r.area, r.centroid)
             n += 1
     return n

@@ -81,6 +81,7 @@ def test_a_jump_beyond_the_gate_is_a_new_track() -> None:
     img[:2, 4:6, 2:4] = True
     img[2:, 4:6, 12:14] = True  # ten taxels away in one frame
     ids, events = track(img, lost_frames=5)
+    assert [e.kind for e in events] == ["birth", "birth"]
     assert ids[2] == [1]
     wide = TrackerConfig(gate_pitches=12.0)
     reg = segment_frames(img, pitch_mm=1.0)

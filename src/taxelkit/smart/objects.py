@@ -358,8 +358,8 @@ class ObjectRecogniser:
             seen = np.flatnonzero((pix[a : b + 1] == tid).reshape(b + 1 - a, -1).any(axis=1))
             if seen.size:
                 live.last = n0 + a + int(seen[-1])
-            events = live.recogniser.push(pix[a : b + 1] == tid, t[a : b + 1])
-            new = [self._tracked(tid, live, e) for e in events]
+            emitted = live.recogniser.push(pix[a : b + 1] == tid, t[a : b + 1])
+            new = [self._tracked(tid, live, e) for e in emitted]
             live.events.extend(new)
             found.extend(new)
             if tid in ends:

@@ -204,6 +204,6 @@ def segment_frames(
         frame=frame,
         n_taxels=count.astype(np.intp),
         centre_mm=centre,
-        area_mm2=count * pitch * pitch,
+        area_mm2=count.astype(np.float64) * (pitch * pitch),
         pitch_mm=pitch,
     )
