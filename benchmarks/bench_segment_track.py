@@ -106,7 +106,15 @@ def track_batch(images: np.ndarray, t_s: np.ndarray, lost: int) -> int:
     tracker = RegionTracker(pitch_mm=PITCH_MM, lost_frames=lost)
     for t in range(images.shape[0]):
         i = reg.in_frame(t)
-        tracker.push(t, float(t_s[t]), reg.labels[t], i + 1, reg.centre_mm[i], reg.area_mm2[i])
+        tracker.push(
+            t,
+            float(t_s[t]),
+            reg.labels[t],
+            i + 1,
+            reg.centre_mm[i],
+            reg.area_mm2[i],
+            reg.taxels_of(i),
+        )
     return tracker.next_id
 
 
@@ -115,7 +123,9 @@ def track_stream(images: np.ndarray, t_s: np.ndarray, lost: int) -> int:
     for t in range(images.shape[0]):
         reg = segment_frames(images[t : t + 1], pitch_mm=PITCH_MM)
         i = np.arange(reg.n_regions)
-        tracker.push(t, float(t_s[t]), reg.labels[0], i + 1, reg.centre_mm, reg.area_mm2)
+        tracker.push(
+            t, float(t_s[t]), reg.labels[0], i + 1, reg.centre_mm, reg.area_mm2, reg.taxels_of(i)
+        )
     return tracker.next_id
 
 

@@ -334,6 +334,7 @@ class ObjectRecogniser:
                 idx + 1,
                 reg.centre_mm[idx],
                 reg.area_mm2[idx],
+                reg.taxels_of(idx),
             )
             lut[idx + 1] = ids
             for tid in ids.tolist():

@@ -88,6 +88,10 @@ class Regions:
     area_mm2 : (n,) float, mm^2
         ``n_taxels * pitch_mm ** 2``.
     pitch_mm : float
+    taxel_rc : (K, 2) float
+        (row, column) of every contact taxel, grouped by region.
+    taxel_start : (n + 1,) int
+        Region ``k``'s taxels are ``taxel_rc[taxel_start[k]:taxel_start[k + 1]]``.
     """
 
     labels: NDArray[np.int32]
@@ -96,11 +100,18 @@ class Regions:
     centre_mm: NDArray[np.float64]
     area_mm2: NDArray[np.float64]
     pitch_mm: float
+    taxel_rc: NDArray[np.float64]
+    taxel_start: NDArray[np.intp]
 
     @property
     def n_regions(self) -> int:
         """Number of regions ``n``."""
         return int(self.frame.size)
+
+    def taxels_of(self, idx: NDArray[np.intp]) -> list[NDArray[np.float64]]:
+        """(row, column) of the taxels of the regions ``idx`` (views)."""
+        s = self.taxel_start
+        return [self.taxel_rc[s[k] : s[k + 1]] for k in idx.tolist()]
 
     def in_frame(self, t: int) -> NDArray[np.intp]:
         """Indices of the regions of frame ``t``."""
@@ -199,6 +210,9 @@ def segment_frames(
     frame[ids] = tt  # every taxel of a region is in one frame
     with np.errstate(invalid="ignore", divide="ignore"):
         centre = np.column_stack([sx, sy]) / np.maximum(count, 1)[:, None] * pitch
+    order = np.argsort(ids, kind="stable")
+    taxel_rc = np.column_stack([rr[order], cc[order]]).astype(np.float64)
+    taxel_start = np.concatenate([[0], np.cumsum(count)]).astype(np.intp)
     return Regions(
         labels=lab,
         frame=frame,
@@ -206,4 +220,6 @@ def segment_frames(
         centre_mm=centre,
         area_mm2=count.astype(np.float64) * (pitch * pitch),
         pitch_mm=pitch,
+        taxel_rc=taxel_rc,
+        taxel_start=taxel_start,
     )

@@ -87,13 +87,13 @@ def _region_taxels(
 
 def _nearest(tracks: list[LiveTrack], taxels: list[NDArray[np.float64]]) -> NDArray[np.float64]:
     """``(n, m)``: distance from each track's last taxels to each region's nearest, pitches."""
-    sizes = np.array([t.shape[0] for t in taxels])
+    mine = np.concatenate([tr.taxels for tr in tracks])
     every = np.concatenate(taxels)
-    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-    out = np.empty((len(tracks), len(taxels)))
-    for i, tr in enumerate(tracks):
-        d2 = ((tr.taxels[:, None, :] - every[None, :, :]) ** 2).sum(axis=2).min(axis=0)
-        out[i] = np.sqrt(np.minimum.reduceat(d2, starts))
+    d2 = ((mine[:, None, :] - every[None, :, :]) ** 2).sum(axis=2)
+    t_starts = np.cumsum([0] + [tr.taxels.shape[0] for tr in tracks[:-1]])
+    r_starts = np.cumsum([0] + [t.shape[0] for t in taxels[:-1]])
+    per_track = np.minimum.reduceat(d2, t_starts, axis=0)
+    out: NDArray[np.float64] = np.sqrt(np.minimum.reduceat(per_track, r_starts, axis=1))
     return out
 
 
@@ -175,6 +175,7 @@ def step(
     area_weight: float,
     lost_frames: int,
     next_id: int,
+    taxels: list[NDArray[np.float64]] | None = None,
 ) -> tuple[list[LiveTrack], NDArray[np.intp], list[TrackEvent], int]:
     """Link the regions of one frame to the live tracks (rules in the module docstring).
 
@@ -196,6 +197,9 @@ def step(
         Unseen frames at which a track dies.
     next_id : int
         Number of the next new track.
+    taxels : list of (k, 2) float, optional
+        (row, column) of each region's taxels, if known
+        (:meth:`~taxelkit.smart.regions.Regions.taxels_of`); else read off ``labels``.
 
     Returns
     -------
@@ -207,9 +211,12 @@ def step(
     next_id : int
     """
     m, n = int(region_ids.size), len(tracks)
+    if m == 0 and n == 0:  # nothing on the array, nothing tracked
+        return tracks, np.empty(0, np.intp), [], next_id
     track_of = np.full(m, -1, np.intp)
     got = np.full(n, -1, np.intp)  # region taken by each track
-    taxels = _region_taxels(labels, region_ids)
+    if taxels is None:
+        taxels = _region_taxels(labels, region_ids) if m else []
     near = np.full((n, m), np.inf)  # region's nearest taxel to each track's last taxels, pitches
     if m and n:
         near = _nearest(tracks, taxels)
@@ -218,7 +225,10 @@ def step(
         root = np.sqrt(np.array([tr.area_mm2 for tr in tracks]))
         cost = d + area_weight * np.abs(root[:, None] - np.sqrt(area_mm2)[None, :])
         cost[near > gate_pitches] = _FORBIDDEN
-        rows, cols = linear_sum_assignment(cost)
+        if m == 1 and n == 1:  # the usual case: one contact, one track
+            rows, cols = np.zeros(1, np.intp), np.zeros(1, np.intp)
+        else:
+            rows, cols = linear_sum_assignment(cost)
         ok = cost[rows, cols] < _FORBIDDEN
         got[rows[ok]] = cols[ok]
         track_of[cols[ok]] = rows[ok]
@@ -310,6 +320,7 @@ class RegionTracker:
         region_ids: NDArray[np.intp],
         centre_mm: NDArray[np.float64],
         area_mm2: NDArray[np.float64],
+        taxels: list[NDArray[np.float64]] | None = None,
     ) -> tuple[NDArray[np.intp], list[TrackEvent]]:
         """Link one frame's regions; return the track of each region and the events."""
         self.tracks, ids, events, self.next_id = step(
@@ -325,6 +336,7 @@ class RegionTracker:
             area_weight=self.config.area_weight,
             lost_frames=self.lost_frames,
             next_id=self.next_id,
+            taxels=taxels,
         )
         return ids, events
 
