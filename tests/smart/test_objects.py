@@ -51,6 +51,17 @@ def test_one_object_on_the_sensor_gives_todays_result(name: str) -> None:
     assert_summary_agrees_with_events(res)
 
 
+@pytest.mark.parametrize("fault", ["dead", "stuck"])
+def test_one_object_seen_through_dead_or_stuck_taxels_gives_todays_events(fault: str) -> None:
+    from taxelkit.sensors.faults import fault_model
+
+    rec = fault_model(fault).apply(roll("cube", 1), threshold=0.03, rng=np.random.default_rng(1))
+    today = recognise(rec)
+    res = recognise_objects(rec)
+    assert recogniser_events(res) == [(e.kind, e.frame, e.value) for e in today.events]
+    assert [o.identified for o in res.objects if o.accepted] == [today.identified]
+
+
 def test_each_contact_of_an_object_lifted_and_put_down_is_its_own_track() -> None:
     rec = roll("cylinder", 3)
     res = recognise_objects(rec, threshold=0.3)  # light: the roll is seen as three contacts

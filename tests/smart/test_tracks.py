@@ -101,3 +101,4 @@ def test_bad_settings_are_refused() -> None:
         TrackerConfig(gate_pitches=0.0)
     with pytest.raises(InputError, match="area_weight"):
         TrackerConfig(area_weight=-1.0)
+    assert TrackerConfig(gate_pitches=3.0).gate_mm(1.5) == 4.5

@@ -123,6 +123,10 @@ class TrackerConfig:
         if not (math.isfinite(self.area_weight) and self.area_weight >= 0.0):
             raise InputError(f"area_weight must be >= 0, got {self.area_weight!r}")
 
+    def gate_mm(self, pitch_mm: float) -> float:
+        """The gate in mm on an array of pitch ``pitch_mm``."""
+        return float(self.gate_pitches) * check_positive("pitch_mm", pitch_mm)
+
 
 @dataclass(frozen=True)
 class TrackEvent:
