@@ -21,6 +21,7 @@ from taxelkit.cli.view import ViewTarget, view_options, with_view
 from taxelkit.errors import InputError
 
 if TYPE_CHECKING:
+    from taxelkit.smart.objects import ObjectRecogniser, ObjectRecognition
     from taxelkit.smart.recognise_chunks import ChunkRecognition
 
 __all__ = ["recognize", "roll"]
@@ -146,39 +147,64 @@ def recognize(
 
         options.update(cleaning=None, limits=None, config=PAPER_LEVEL3)
     if not view.wanted and topic is None and file.suffix.lower() in (".h5", ".hdf5", ".npz"):
-        result = _recognise_in_chunks(file, pitch_mm, per_frame, options)
+        result, objects = _recognise_in_chunks(file, pitch_mm, per_frame, options)
     else:
-        result = _recognise_whole(file, pitch_mm, topic, view, force, options)
+        result, objects = _recognise_whole(file, pitch_mm, topic, view, force, options)
     if as_json:
-        click.echo(json.dumps(result.to_json(per_frame=per_frame)))
+        doc = result.to_json(per_frame=per_frame)
+        doc.update(objects.to_json())
+        click.echo(json.dumps(doc))
         return 0
-    for e in result.events:
-        value = ", ".join(e.value) if isinstance(e.value, tuple) else e.value
-        click.echo(f"frame {e.frame:6d}  {e.kind:11s} {value}")
-    verdict = result.identified or f"undecided among {', '.join(result.candidates)}"
-    click.echo(f"identified: {verdict}")
-    click.echo(f"why: {result.verdict.sentence()}")
+    _echo_objects(objects)
     return 0
+
+
+def _echo_objects(objects: ObjectRecognition) -> None:
+    """Every track's events, then one line per track and the verdicts (they never disagree)."""
+    for e in objects.events:
+        value = ", ".join(e.value) if isinstance(e.value, tuple) else e.value
+        value = "" if value is None else f"object {value}" if isinstance(value, int) else value
+        click.echo(f"frame {e.frame:6d}  {e.t_s:9.3f} s  object {e.track:<3d} {e.kind:11s} {value}")
+    accepted = [o for o in objects.objects if o.accepted]
+    for o in objects.objects:
+        click.echo(o.summary())
+        if o.accepted:
+            click.echo(f"  why: {o.verdict.sentence()}")
+    if not accepted:
+        click.echo("identified: nothing (no contact accepted)")
+        return
+    verdicts = [o.identified or f"undecided among {', '.join(o.candidates)}" for o in accepted]
+    if len(accepted) == 1:
+        click.echo(f"identified: {verdicts[0]}")
+    else:
+        listed = "; ".join(
+            f"{v} (object {o.track})" for v, o in zip(verdicts, accepted, strict=True)
+        )
+        click.echo(f"identified: {listed}")
 
 
 def _recognise_in_chunks(
     file: Path, pitch_mm: float | None, per_frame: bool, options: dict[str, Any]
-) -> ChunkRecognition:
+) -> tuple[ChunkRecognition, ObjectRecognition]:
     """Read and recognise a recording a chunk at a time (memory bounded by the chunk)."""
     from taxelkit.io.chunked_read import open_chunks
+    from taxelkit.smart.objects import ObjectRecogniser
     from taxelkit.smart.recognise_chunks import ChunkRecogniser
 
     with open_chunks(file, pitch_mm=pitch_mm) as opened:
         recogniser: ChunkRecogniser | None = None
+        tracks: ObjectRecogniser | None = None
         for chunk in opened.chunks():
-            if recogniser is None:
+            if recogniser is None or tracks is None:
                 shape = (chunk.shape[1], chunk.shape[2])
                 recogniser = ChunkRecogniser(
                     shape, pitch_mm=chunk.pitch_mm, per_frame=per_frame, **options
                 )
+                tracks = ObjectRecogniser(shape, pitch_mm=chunk.pitch_mm, **options)
             recogniser.push(chunk.frames, chunk.t_s)
-    assert recogniser is not None  # open_chunks refuses a recording of zero frames
-    return recogniser.result()
+            tracks.push(chunk.frames, chunk.t_s)
+    assert recogniser is not None and tracks is not None  # open_chunks refuses zero frames
+    return recogniser.result(), tracks.result()
 
 
 def _recognise_whole(
@@ -188,9 +214,10 @@ def _recognise_whole(
     view: ViewTarget,
     force: bool,
     options: dict[str, Any],
-) -> ChunkRecognition:
+) -> tuple[ChunkRecognition, ObjectRecognition]:
     """Read a whole recording (bags, CSV, a rerun view) and recognise it in memory."""
     from taxelkit.io.recordings import read_recording
+    from taxelkit.smart.objects import recognise_objects
     from taxelkit.smart.recognise_chunks import ChunkRecognition, class_segments
     from taxelkit.smart.recogniser import recognise
 
@@ -213,7 +240,7 @@ def _recognise_whole(
         result.candidates,
         result.verdict,
         result.classes,
-    )
+    ), recognise_objects(rec, **options)
 
 
 @click.command("roll")

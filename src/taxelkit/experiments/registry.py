@@ -118,6 +118,12 @@ def _contact_classes(**kw: Any) -> ExperimentResult:
     return run_contact_classes(**kw)
 
 
+def _multi_object(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.multi_object import run_multi_object
+
+    return run_multi_object(**kw)
+
+
 def _robustness(**kw: Any) -> ExperimentResult:
     from taxelkit.experiments.robustness import run_robustness
 
@@ -187,6 +193,15 @@ EXPERIMENTS: dict[str, Experiment] = {
             _robustness,
             "motion",
             trials=50,
+            workers=True,
+            scheduler=True,
+        ),
+        Experiment(
+            "multi-object",
+            "Smart sensor: two and three objects on the array at once, one verdict per track",
+            _multi_object,
+            "scene",
+            trials=100,
             workers=True,
             scheduler=True,
         ),

@@ -22,6 +22,7 @@ __all__ = [
     "BLOCKS",
     "fig9_markdown",
     "fig9_readings_markdown",
+    "multi_object_markdown",
     "open_set_markdown",
     "paper001_markdown",
     "recall_vs_s_markdown",
@@ -297,6 +298,37 @@ def paper001_markdown(docs: dict[str, dict[str, Any]]) -> str:
     return "\n".join(rows)
 
 
+def multi_object_markdown(doc: dict[str, Any]) -> str:
+    """The ``multi-object`` experiment: accuracy per object and track purity, per engine."""
+    lines = [
+        f"Scenes of two and three distinct objects of the six at 20 frames/s, each object in "
+        f"its own 16 x 16 tile of one array, staggered starts, noise on "
+        f"({doc['n_trials']} kinematic and {doc['mujoco_trials']} MuJoCo scenes per count). "
+        "Purity: fraction of a track's frames owned by one object (ground truth, scoring only).",
+        "",
+        "| engine | objects | identified | wrong (mixed-up) | unknown | undecided | missed "
+        "| tracks | mean purity | pure tracks | merges / splits |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for s in doc["summaries"]:
+        lines.append(
+            f"| {s['engine']} | {s['n_objects']} | {s['identified']}/{s['objects']} "
+            f"({100 * s['identified_rate']:.1f} %) | {s['wrong']} ({s['mixed_wrong']}) "
+            f"| {s['unknown']} | {s['undecided']} | {s['missed']} | {s['tracks']} "
+            f"| {s['mean_purity']:.3f} | {100 * s['pure_tracks']:.1f} % "
+            f"| {s['merges']} / {s['splits']} |"
+        )
+    acc = doc["acceptance"]
+    skipped = "".join(f" Skipped: {k} ({v})." for k, v in doc["skipped"].items())
+    lines += [
+        "",
+        "Acceptance, two objects: >= 95 % identified "
+        f"{'holds' if acc['two_objects_identified_ge_95'] else 'fails'}; no wrong identity from "
+        f"a mixed-up track {'holds' if acc['two_objects_no_mixed_wrong'] else 'fails'}." + skipped,
+    ]
+    return "\n".join(lines)
+
+
 #: Blocks of the README rendered from results: name -> (experiments it needs, renderer).
 BLOCKS: dict[str, tuple[tuple[str, ...], Callable[[dict[str, dict[str, Any]]], str]]] = {
     "fig9": (("fig9",), lambda docs: fig9_markdown(docs["fig9"])),
@@ -307,6 +339,10 @@ BLOCKS: dict[str, tuple[tuple[str, ...], Callable[[dict[str, dict[str, Any]]], s
         lambda docs: fig9_readings_markdown(docs["fig9-readings"]),
     ),
     "robustness": (("robustness",), lambda docs: robustness_markdown(docs["robustness"])),
+    "multi-object": (
+        ("multi-object",),
+        lambda docs: multi_object_markdown(docs["multi-object"]),
+    ),
     "trace-robustness": (
         ("trace-robustness",),
         lambda docs: trace_robustness_markdown(docs["trace-robustness"]),

@@ -12,6 +12,7 @@ __all__ = ["plot_experiment"]
 
 
 def _plotters() -> dict[str, Callable[[Any], Figure]]:
+    from taxelkit.plotting.multi_object import plot_multi_object
     from taxelkit.plotting.paper000 import plot_fig7, plot_fig8, plot_fig9, plot_recall_vs_s
     from taxelkit.plotting.paper001 import plot_cylinder, plot_smart_sensor, plot_tacteme_table
     from taxelkit.plotting.robustness import plot_robustness
@@ -27,6 +28,7 @@ def _plotters() -> dict[str, Callable[[Any], Figure]]:
         "fig9": plot_fig9,
         "fig9-readings": _plot_fig9_readings,
         "open-set": _plot_open_set,
+        "multi-object": plot_multi_object,
         "recall-vs-s": plot_recall_vs_s,
         "robustness": plot_robustness,
         "trace-robustness": plot_trace_robustness,

@@ -1,0 +1,96 @@
+"""The multi-object experiment: scoring from ground truth, Dask equals the pool, CLI output."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from taxelkit.cli import run
+from taxelkit.errors import InputError
+from taxelkit.experiments.multi_object import run_multi_object, score_scene
+from taxelkit.experiments.report import render_block
+from taxelkit.smart.elimination import explain
+from taxelkit.smart.objects import ObjectRecognition, ObjectVerdict
+
+
+def verdict(track: int, identified: str | None) -> ObjectVerdict:
+    return ObjectVerdict(track, 0, 1, 0.0, 0.05, identified, (), explain([]), (), True)
+
+
+def test_scoring_names_wrong_and_mixed_up_tracks() -> None:
+    owner = np.full((4, 2, 4), -1, np.int8)
+    owner[:, :, :2] = 0
+    owner[:, :, 2:] = 1
+    tmap = np.full((4, 2, 4), -1, np.int16)
+    tmap[:, :, :2] = 0  # track 0: object 0 throughout
+    tmap[:2, :, 2:] = 1  # track 1: object 1 for two frames...
+    tmap[2:, :, :1] = 1  # ...then part of object 0's taxels (object 0 keeps the other column)
+    tmap[2:, :, 1:2] = 0
+    res = ObjectRecognition((verdict(0, "cube"), verdict(1, "cube")), (), 4, tmap)
+    outcomes, purities, mixed = score_scene(res, owner, ("cube", "cone"))
+    assert purities == (1.0, 0.5)
+    # track 1's true object is a tie broken to the first: object 0, named right
+    assert outcomes == ("identified", "missed") and mixed == 0
+    res = ObjectRecognition((verdict(0, "cube"), verdict(1, "sphere")), (), 4, tmap)
+    outcomes, _, mixed = score_scene(res, owner, ("cube", "cone"))
+    assert outcomes == ("wrong", "missed") and mixed == 1
+    with pytest.raises(InputError, match="track map"):
+        score_scene(ObjectRecognition((), (), 4), owner, ("cube", "cone"))
+
+
+def test_a_tiny_run_is_reproducible_and_the_same_on_dask() -> None:
+    here = run_multi_object(seed=1, n_trials=2, engines=["kinematic"], workers=1)
+    again = run_multi_object(seed=1, n_trials=2, engines=["kinematic"], workers=2)
+    assert here.scenes == again.scenes
+    assert [s.n_objects for s in here.scenes] == [2, 2, 3, 3]
+    doc = here.to_json()
+    assert doc["summaries"][0]["objects"] == 4 and doc["summaries"][1]["objects"] == 6
+    assert "| kinematic | 2 |" in render_block("multi-object", {"multi-object": doc})
+    distributed = pytest.importorskip("distributed", reason="needs the dask extra")
+    with distributed.LocalCluster(
+        n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None
+    ) as cluster:
+        there = run_multi_object(
+            seed=1, n_trials=2, engines=["kinematic"], scheduler=cluster.scheduler_address
+        )
+    assert there.scenes == here.scenes
+
+
+def test_bad_settings_are_refused() -> None:
+    with pytest.raises(InputError, match="n_trials"):
+        run_multi_object(n_trials=0)
+    with pytest.raises(InputError, match="unknown engine"):
+        run_multi_object(engines=["bullet"], n_trials=1)
+    with pytest.raises(InputError, match="counts"):
+        run_multi_object(counts=[7], n_trials=1)
+
+
+@pytest.mark.slow
+def test_reproduce_writes_json_and_png(tmp_path: Path) -> None:
+    args = ["reproduce", "multi-object", "--out", str(tmp_path), "--trials", "1"]
+    assert run([*args, "--workers", "1"]) == 0
+    doc = json.loads((tmp_path / "multi-object.json").read_text())
+    assert doc["experiment"] == "multi-object" and doc["scenes"]
+    assert (tmp_path / "multi-object.png").stat().st_size > 10_000
+
+
+def test_recognize_reports_one_verdict_per_object(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from taxelkit.io.recordings import write_recording
+    from taxelkit.motion.multi_scenes import frames_from_multi_scene, multi_scene
+
+    scene = multi_scene(["cube", "cone"], rng=4)
+    write_recording(frames_from_multi_scene(scene, rng=4).recording, tmp_path / "two.h5")
+    capsys.readouterr()
+    assert run(["recognize", str(tmp_path / "two.h5"), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert sorted(o["identified"] for o in out["objects"] if o["accepted"]) == ["cone", "cube"]
+    assert {e["kind"] for e in out["track_events"]} >= {"birth", "death", "identified"}
+    assert run(["recognize", str(tmp_path / "two.h5")]) == 0
+    text = capsys.readouterr().out
+    assert "identified: cone (object 0); cube (object 1)" in text
+    assert "object 1: frames" in text and "identified cube" in text
