@@ -74,3 +74,35 @@ def test_reproduce_robustness_writes_json_and_heat_map(tmp_path: Path) -> None:
     assert doc["experiment"] == "robustness"
     assert {c["fault"] for c in doc["cells"]} == {*FAULTS, LIFT_OFF}
     assert (tmp_path / "robustness.png").stat().st_size > 10_000
+
+
+def test_the_held_out_sweep_is_the_sweep_on_another_seed_marked_as_such() -> None:
+    from taxelkit.experiments.robustness_heldout import HELD_OUT_OFFSET, run_robustness_heldout
+
+    held = run_robustness_heldout(
+        seed=3,
+        n_trials=1,
+        engines=["kinematic"],
+        rates_hz=[20.0],
+        arrays=[],
+        workers=1,
+    )
+    same = run_robustness(
+        seed=3 + HELD_OUT_OFFSET,
+        n_trials=1,
+        engines=["kinematic"],
+        rates_hz=[20.0],
+        arrays=[],
+        workers=1,
+    )
+    assert held.result.outcomes == same.outcomes
+    doc = held.to_json()
+    assert doc["experiment"] == "robustness-heldout"
+    assert (doc["tuned_on_seed"], doc["held_out_seed"]) == (3, 3 + HELD_OUT_OFFSET)
+    assert doc["cells"] == same.to_json()["cells"]
+    # the README block puts both seeds side by side, one row per engine and object
+    from taxelkit.experiments.report import robustness_heldout_markdown
+
+    text = robustness_heldout_markdown({"robustness": same.to_json(), "robustness-heldout": doc})
+    assert "| kinematic | cone |" in text and "held out" in text
+    assert text.count("\n| kinematic |") == 6

@@ -130,6 +130,12 @@ def _robustness(**kw: Any) -> ExperimentResult:
     return run_robustness(**kw)
 
 
+def _robustness_heldout(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.robustness_heldout import run_robustness_heldout
+
+    return run_robustness_heldout(**kw)
+
+
 #: All registered experiments, in the order ``reproduce all`` runs them.
 EXPERIMENTS: dict[str, Experiment] = {
     e.name: e
@@ -193,6 +199,15 @@ EXPERIMENTS: dict[str, Experiment] = {
             _robustness,
             "motion",
             trials=50,
+            workers=True,
+            scheduler=True,
+        ),
+        Experiment(
+            "robustness-heldout",
+            "Smart sensor: the robustness sweep on a seed its thresholds were not set on",
+            _robustness_heldout,
+            "motion",
+            trials=30,
             workers=True,
             scheduler=True,
         ),

@@ -31,6 +31,7 @@ def _plotters() -> dict[str, Callable[[Any], Figure]]:
         "multi-object": plot_multi_object,
         "recall-vs-s": plot_recall_vs_s,
         "robustness": plot_robustness,
+        "robustness-heldout": plot_robustness,
         "trace-robustness": plot_trace_robustness,
     }
 

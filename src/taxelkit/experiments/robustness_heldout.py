@@ -1,0 +1,113 @@
+"""The ``robustness-heldout`` experiment: the robustness sweep on motions nobody tuned to.
+
+The Level 3 thresholds that the :mod:`~taxelkit.experiments.robustness`
+matrix exercises hardest (the cone / truncated-cone pivot band, the pivot
+hold, the hysteresis of the contact limits) were chosen while looking at the
+trials of ``reproduce robustness --seed S`` (the committed ``S = 0``). The
+same sweep on motions, noise and imperfections drawn from another seed,
+``S + HELD_OUT_OFFSET``, measures what those choices are worth on trials
+they were not chosen on. Nothing else differs: the engines, rates,
+imperfections, objects and arrays are the main sweep's.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from taxelkit.experiments.robustness import (
+    OTHER_ARRAYS,
+    RATES_HZ,
+    RobustnessResult,
+    run_robustness,
+)
+
+__all__ = ["HELD_OUT_OFFSET", "HeldOutRobustness", "held_out_json", "run_robustness_heldout"]
+
+#: Offset of the held-out seed from the seed the thresholds were set on.
+HELD_OUT_OFFSET = 11
+
+
+def held_out_json(doc: dict[str, Any], seed: int) -> dict[str, Any]:
+    """A robustness document marked as the held-out sweep of ``seed``.
+
+    Parameters
+    ----------
+    doc : dict
+        :meth:`RobustnessResult.to_json` of the sweep run on ``seed + HELD_OUT_OFFSET``.
+    seed : int
+        The seed the thresholds were set on (the CLI's ``--seed``).
+
+    Returns
+    -------
+    dict
+        ``doc`` with ``experiment`` set to ``"robustness-heldout"``, and
+        ``tuned_on_seed`` and ``held_out_seed``.
+    """
+    return {
+        **doc,
+        "experiment": "robustness-heldout",
+        "tuned_on_seed": int(seed),
+        "held_out_seed": int(seed) + HELD_OUT_OFFSET,
+    }
+
+
+@dataclass(frozen=True, eq=False)
+class HeldOutRobustness:
+    """The robustness sweep on the held-out seed.
+
+    Attributes
+    ----------
+    result : RobustnessResult
+    seed : int
+        The seed the thresholds were set on; the sweep ran on ``seed + HELD_OUT_OFFSET``.
+    """
+
+    result: RobustnessResult
+    seed: int
+
+    def to_json(self) -> dict[str, Any]:
+        """The robustness document of the held-out sweep (:func:`held_out_json`)."""
+        return held_out_json(self.result.to_json(), self.seed)
+
+
+def run_robustness_heldout(
+    *,
+    seed: int = 0,
+    n_trials: int = 30,
+    engines: Sequence[str] | None = None,
+    rates_hz: Sequence[float] = RATES_HZ,
+    arrays: Sequence[tuple[int, float]] = OTHER_ARRAYS,
+    array_trials: int | None = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> HeldOutRobustness:
+    """Run :func:`~taxelkit.experiments.robustness.run_robustness` on ``seed + HELD_OUT_OFFSET``.
+
+    Parameters
+    ----------
+    seed : int
+        The seed the thresholds were set on.
+    n_trials : int
+        Randomised motions per cell (the issue's minimum, 30, by default).
+    engines, rates_hz, arrays, array_trials, workers, scheduler, progress
+        As :func:`~taxelkit.experiments.robustness.run_robustness`.
+
+    Returns
+    -------
+    HeldOutRobustness
+    """
+    result = run_robustness(
+        seed=int(seed) + HELD_OUT_OFFSET,
+        n_trials=n_trials,
+        engines=engines,
+        rates_hz=rates_hz,
+        arrays=arrays,
+        array_trials=array_trials,
+        workers=workers,
+        scheduler=scheduler,
+        progress=progress,
+    )
+    return HeldOutRobustness(result, int(seed))
