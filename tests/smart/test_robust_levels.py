@@ -85,6 +85,31 @@ def test_a_two_by_two_point_is_a_point_at_a_coarse_pitch() -> None:
     assert recognise(rec, cleaning=None, limits=None).classes[4] != POINT
 
 
+def test_a_ball_disc_on_a_fine_array_is_a_point_in_every_path() -> None:
+    # a 4 x 4 block at 1 mm (16 mm^2, elongation 1): more than four taxels, less than a face
+    frames = np.zeros((12, 32, 32), bool)
+    frames[1:11, 14:18, 14:18] = True
+    t_s = np.arange(12) / 20.0
+    rec = TactileFrames(frames, t_s=t_s, pitch_mm=1.0)
+    robust = recognise(rec, cleaning=None).classes
+    assert robust[5] == POINT
+    off = ContactLimits(point_max_area_mm2=None)
+    assert recognise(rec, cleaning=None, limits=off).classes[5] != POINT
+    # the streaming sensor (one frame at a time) and the bank's chunked Levels 1-2 agree
+    sensor = SmartSensor((32, 32), pitch_mm=1.0, cleaning=None)
+    sensor.push_many(frames, t_s)
+    np.testing.assert_array_equal(sensor.result().classes, robust)
+    from taxelkit.smart.contact_classes import DEFAULT_CONFIDENCE, HAND_SET
+    from taxelkit.smart.levels12 import DEFAULT_LIMITS, ChunkLevels12
+
+    chunk = ChunkLevels12(
+        1, (32, 32), pitch_mm=1.0, threshold=0.5, network=HAND_SET,
+        confidence=DEFAULT_CONFIDENCE, cleaning=None, limits=DEFAULT_LIMITS,
+    )  # fmt: skip
+    classes, _ = chunk.process(frames[None], t_s[None])
+    np.testing.assert_array_equal(classes[0], robust)
+
+
 def test_debounce_counts_are_time_based_but_never_under_k_frames() -> None:
     cfg = TactemeConfig()
     assert debounce_counts(cfg, 1 / 20) == (3, 4)

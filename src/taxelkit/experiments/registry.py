@@ -207,7 +207,7 @@ EXPERIMENTS: dict[str, Experiment] = {
             "Smart sensor: the robustness sweep on a seed its thresholds were not set on",
             _robustness_heldout,
             "motion",
-            trials=30,
+            trials=50,
             workers=True,
             scheduler=True,
         ),

@@ -26,8 +26,17 @@ Two things go wrong on other arrays and imperfect sensors:
   than a taxel still lights the 2 x 2 block it straddles: at 2.5 mm pitch
   that block is 25 mm^2, an "area" for the network. A compact contact of at
   most ``point_max_taxels`` taxels (elongation at most 2) is a point.
+* **A ball's disc is a point at any pitch.** On fine arrays the same disc
+  lights many taxels: 10-20 at 1 mm pitch, between the network's point
+  region (up to 14.4 mm^2) and its areas. Without a rule those frames are
+  indeterminate and a rolling ball gives no "PC moves": on 32 x 32 at 1 mm
+  the clean rolls of the six objects were 92 % (kinematic) and 88 % (MuJoCo)
+  identified, 100 % with the rule (16 rolls per object, seed 0 of the
+  robustness sweep). A compact contact (elongation at most 2) that is
+  neither a line nor an area by the rules above and covers at most
+  ``point_max_area_mm2`` (the network's smallest area, 20 mm^2) is a point.
 
-Both rules are off in the faithful pipeline (``limits=None``).
+These rules are off in the faithful pipeline (``limits=None``).
 """
 
 from __future__ import annotations
@@ -65,18 +74,27 @@ class ContactLimits:
         A compact contact (elongation <= 2) of at most this many taxels is a point.
     area_hysteresis : float
         An area must first reach ``(1 + area_hysteresis) x AREA_MIN_AREA_MM2``.
+    point_max_area_mm2 : float or None
+        A compact contact (elongation <= 2) that is neither a line nor an
+        area by the rules above, and covers at most this many mm^2, is a
+        point (on fine arrays a ball's disc lights 10-20 taxels, more than
+        ``point_max_taxels``). Default: the network's smallest area, 20 mm^2.
+        None: off.
     """
 
     line_min_length_mm: float = 6.0
     hysteresis: float = 0.15
     point_max_taxels: int = 4
     area_hysteresis: float = 0.3
+    point_max_area_mm2: float | None = AREA_MIN_AREA_MM2
 
     def __post_init__(self) -> None:
         check_positive("line_min_length_mm", self.line_min_length_mm)
         check_in_range("hysteresis", self.hysteresis, 0.0, 0.9)
         check_positive("point_max_taxels", self.point_max_taxels)
         check_in_range("area_hysteresis", self.area_hysteresis, 0.0, 2.0)
+        if self.point_max_area_mm2 is not None:
+            check_positive("point_max_area_mm2", self.point_max_area_mm2)
 
 
 def schmitt(
@@ -166,6 +184,9 @@ def apply_limits(
         if state is not None and big.size:
             state.big = bool(big[-1])
         out[(out == _AREA) & ~big] = _INDET
+        if limits.point_max_area_mm2 is not None:
+            compact = (n_taxels > 0) & (elongation <= 2.0) & (area_mm2 <= limits.point_max_area_mm2)
+            out[compact & (out == _INDET)] = _POINT
     few = (n_taxels > 0) & (n_taxels <= limits.point_max_taxels) & (elongation <= 2.0)
     out[few & (out != _LINE)] = _POINT
     return out
@@ -208,6 +229,9 @@ def limit_one(
         cls = _INDET
     if cls == _AREA and not state.big:
         cls = _INDET
+    cap = limits.point_max_area_mm2
+    if cls == _INDET and cap is not None and n_taxels > 0 and elongation <= 2.0 and area_mm2 <= cap:
+        cls = _POINT
     if 0 < n_taxels <= limits.point_max_taxels and elongation <= 2.0 and cls != _LINE:
         cls = _POINT
     return cls

@@ -161,6 +161,10 @@ class ChunkLevels12:
         out[(out == _LINE) & ~long] = _INDET
         out[(out == _AREA) & ~big] = _INDET
         elong = stats.elongation.reshape(n, t)
+        cap = self.limits.point_max_area_mm2
+        if cap is not None:
+            compact = (taxels > 0) & (elong <= 2.0) & (stats.area_mm2.reshape(n, t) <= cap)
+            out[compact & (out == _INDET)] = _POINT
         few = (taxels > 0) & (taxels <= self.limits.point_max_taxels) & (elong <= 2.0)
         out[few & (out != _LINE)] = _POINT
         return out
