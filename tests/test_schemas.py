@@ -261,6 +261,15 @@ def test_committed_results_and_timings_match_their_schemas() -> None:
             assert doc["experiment"] == path.stem
 
 
+def test_benchmark_records_match_their_schema() -> None:
+    records = sorted((RESULTS / "bench").glob("*.json"))
+    assert records
+    for path in records:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+        assert_valid("bench-record", doc)
+        assert doc["script"] == f"{path.stem}.py"
+
+
 # ------------------------------------------------------------------ the schemas themselves
 
 ALL = sorted(p.name.removesuffix(".schema.json") for p in SCHEMAS.glob("*.schema.json"))
