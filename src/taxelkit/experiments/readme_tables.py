@@ -64,9 +64,7 @@ def bench_markdown(docs: Sequence[Mapping[str, Any]]) -> str:
     for doc in sorted(docs, key=_order):
         if doc.get("generated"):
             m = doc["machine"]
-            when = (
-                f" [{doc['date']}, {m['cpus']} CPUs, load average {m['load_average_1min']:g}]"
-            )
+            when = f" [{doc['date']}, {m['cpus']} CPUs, load average {m['load_average_1min']:g}]"
         else:
             when = " [copied by hand from an earlier run]"
         lines.append(f"| `{doc['script']}` | {doc['figure']}{when} | {doc['ratio']} |")
