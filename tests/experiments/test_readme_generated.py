@@ -52,7 +52,7 @@ def test_bench_rows_say_whether_they_were_generated() -> None:
 
 def test_timings_and_block_replacement() -> None:
     text = timings_markdown({"a": 600.0, "b": 60.0, "c": 30.0, "d": 1.0}, longest=2)
-    assert "4 experiments) took 12 min" in text and "`a` 10 min, `b` 1 min." in text
+    assert text.startswith("The 4 experiments took 12 min") and "`a` 10 min, `b` 1 min)" in text
     src = "x <!-- generated:t -->\nold\n<!-- /generated:t --> y"
     assert (
         replace_generated_block(src, "t", "new")
@@ -60,3 +60,15 @@ def test_timings_and_block_replacement() -> None:
     )
     with pytest.raises(InputError, match="generated:u"):
         replace_generated_block(src, "u", "new")
+
+
+def test_reproduce_readme_rewrites_the_timings_block(tmp_path: Path) -> None:
+    from taxelkit.cli import run
+
+    readme = tmp_path / "README.md"
+    readme.write_text("a\n<!-- generated:timings -->\nold\n<!-- /generated:timings -->\n")
+    (tmp_path / "junk.timing.json").write_text("not json")  # skipped, not fatal
+    assert run(["reproduce", "cylinder", "--out", str(tmp_path), "--readme", str(readme)]) == 0
+    text = readme.read_text()
+    assert "old" not in text and "The 1 experiment took 0 min" in text
+    assert "`cylinder` 0 min" in text

@@ -11,7 +11,8 @@ committed README matches them.
   figures it measured. A record with ``"generated": false`` holds a row copied
   by hand from an earlier run of a script not yet converted; it is marked so.
 - ``timings``: the wall-clock time of the committed ``reproduce`` run, from
-  ``docs/results/NAME.timing.json``.
+  ``docs/results/NAME.timing.json``; ``taxelkit reproduce ... --readme``
+  rewrites it too (:func:`update_timings`).
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from typing import Any
 
 from taxelkit.errors import InputError
 
-__all__ = ["bench_markdown", "replace_generated_block", "timings_markdown"]
+__all__ = ["bench_markdown", "replace_generated_block", "timings_markdown", "update_timings"]
 
 #: Order of the benchmark rows (scripts not listed follow, by name).
 BENCH_ORDER: tuple[str, ...] = (
@@ -84,10 +85,11 @@ def timings_markdown(seconds: Mapping[str, float], *, longest: int = 3) -> str:
     total_min = sum(seconds.values()) / 60.0
     top = sorted(seconds.items(), key=lambda kv: -kv[1])[:longest]
     named = ", ".join(f"`{n}` {s / 60.0:.0f} min" for n, s in top)
+    n = len(seconds)
     return (
-        f"The committed run (`docs/results/`, {len(seconds)} experiments) took "
-        f"{total_min:.0f} min of wall-clock time in all on a shared 2-core machine; the longest: "
-        f"{named}. Each experiment's time is in `docs/results/NAME.timing.json`."
+        f"The {n} experiment{'s' if n != 1 else ''} took {total_min:.0f} min of wall-clock time "
+        f"in all in the run whose results are committed (longest: {named}); each one's time is "
+        "in `NAME.timing.json` beside its results."
     )
 
 
@@ -105,3 +107,10 @@ def replace_generated_block(text: str, name: str, body: str) -> str:
     pattern = re.compile(re.escape(start) + r".*?" + re.escape(end), re.DOTALL)
     block = f"{start}\n{body}\n{end}"
     return pattern.sub(lambda _m: block, text, count=1)
+
+
+def update_timings(text: str, seconds: Mapping[str, float]) -> str:
+    """``text`` with its ``timings`` block rendered from ``seconds``; unchanged without one."""
+    if "<!-- generated:timings -->" not in text or not seconds:
+        return text
+    return replace_generated_block(text, "timings", timings_markdown(seconds))
