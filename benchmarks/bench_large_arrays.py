@@ -34,6 +34,7 @@ from typing import Any  # noqa: E402
 import numpy as np  # noqa: E402
 
 from _baselines import numpy_moments, skimage_moments  # noqa: E402
+from _record import add_record_option, record  # noqa: E402
 from taxelkit.smart import classify_contacts, image_stats  # noqa: E402
 from taxelkit.smart.cleaning import clean_images  # noqa: E402
 
@@ -73,6 +74,7 @@ def main() -> None:
     ap.add_argument("--taxels", type=int, default=50_000_000, help="taxels per size")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--skimage-frames", type=int, default=2_000)
+    add_record_option(ap)
     args = ap.parse_args()
     rows = []
     for size in SIZES:
@@ -108,6 +110,29 @@ def main() -> None:
         )
     worst = max(r[2] for r in rows) / base12
     print(f"Levels 1-2 worst cost per taxel / 16 x 16: {worst:.2f}x (target <= 2x)")
+    if args.record:
+        sizes = ", ".join(f"{r[2]:.2f}{' ns' if k == 0 else ''} ({r[0]} x {r[0]})"
+                          for k, r in enumerate(rows))  # fmt: skip
+        cleaning = ", ".join(f"{r[3]:.1f}" for r in rows)
+        vs_np = [r[4] / r[2] for r in rows]
+        last = rows[-1]
+        record(
+            __file__,
+            figure=f"Levels 1-2 per taxel: {sizes}; cleaning {cleaning} ns",
+            ratio=f"{min(vs_np):.1f}x-{max(vs_np):.1f}x batched NumPy moments; "
+            f"{last[0]} x {last[0]} costs {last[2] / base12:.2f}x (cleaning "
+            f"{last[3] / base_clean:.2f}x) of 16 x 16 per taxel (target <= 2x)",
+            measured={
+                f"{r[0]}x{r[0]}": {
+                    "frames": r[1],
+                    "levels12_ns": r[2],
+                    "cleaning_ns": r[3],
+                    "numpy_ns": r[4],
+                    "skimage_ns": r[5],
+                }
+                for r in rows
+            },
+        )
 
 
 if __name__ == "__main__":

@@ -118,24 +118,6 @@ def test_bad_paper000_input_is_one_line_exit_2(
     assert len(lines) == 1 and needle in lines[0]
 
 
-def test_reproduce_fig7_and_fig8_meet_their_targets(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
-    for name in ("fig7", "fig8"):
-        code, _, err = _run(capsys, "reproduce", name, "--out", str(tmp_path))
-        assert code == 0, err
-        assert (tmp_path / f"{name}.png").read_bytes()[:4] == b"\x89PNG"
-    fig7 = json.loads((tmp_path / "fig7.json").read_text())
-    assert fig7["theta_deg"] == [0, 15, 30, 45, 60, 75, 90]
-    assert fig7["abs_r"][0] is None and fig7["abs_r"][-1] is None  # undefined on the axes
-    assert all(r >= 0.96 for r in fig7["abs_r"][1:-1])
-    assert all(e <= 3.0 for e in fig7["direction_error_deg"])
-    fig8 = json.loads((tmp_path / "fig8.json").read_text())
-    for shape, row in fig8["tracing_error_mm"].items():
-        assert row["closed"], shape
-        assert row["mean"] <= 1.5, shape
-
-
 def test_reproduce_recall_vs_s_small_run_has_the_documented_keys(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -13,6 +14,7 @@ __all__ = [
     "check_figure_suffix",
     "check_outputs",
     "progress_bar",
+    "read_timings",
     "save_figure",
     "specimen_from_options",
     "write_text",
@@ -168,3 +170,15 @@ def progress_bar(description: str, unit: str) -> Iterator[Callable[[int, int], N
     finally:
         for bar in bars:
             bar.close()
+
+
+def read_timings(folder: Path) -> dict[str, float]:
+    """Wall-clock seconds of every experiment whose NAME.timing.json is in ``folder``."""
+    out = {}
+    for path in sorted(folder.glob("*.timing.json")):
+        try:
+            doc = json.loads(path.read_text(encoding="utf-8"))
+            out[str(doc["experiment"])] = float(doc["seconds"])
+        except (OSError, ValueError, KeyError, TypeError):
+            continue  # not ours, or damaged: the block is about the runs it can read
+    return out

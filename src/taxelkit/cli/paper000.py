@@ -15,6 +15,7 @@ from taxelkit.cli.common import (
     check_figure_suffix,
     check_outputs,
     progress_bar,
+    read_timings,
     save_figure,
     specimen_from_options,
     write_text,
@@ -143,10 +144,11 @@ def reproduce(
         click.echo(f"{n}: wrote {out / n}.json, .timing.json and .png in {seconds:.1f} s")
         docs[n] = doc
     if readme is not None:
+        from taxelkit.experiments.readme_tables import update_timings
         from taxelkit.experiments.report import update_blocks
 
         before = readme.read_text(encoding="utf-8")
-        after = update_blocks(before, docs)
+        after = update_timings(update_blocks(before, docs), read_timings(out))
         if after != before:
             write_text(readme, after, True)  # the README is rewritten in place by request
         click.echo(f"{readme}: results blocks {'rewritten' if after != before else 'unchanged'}")

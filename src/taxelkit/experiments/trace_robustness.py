@@ -27,14 +27,14 @@ number of workers or their order.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Iterator
-from concurrent.futures import ProcessPoolExecutor
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
 from taxelkit.errors import InputError
+from taxelkit.experiments._parallel import run_units
 from taxelkit.experiments.paper000_common import IMPROVED, SHAPE_DIAMETER_MM, reference_memory
 from taxelkit.memory.contour_recall import recall_curve
 from taxelkit.motion.probe import ScanConfig, SimulatedProbe
@@ -327,14 +327,6 @@ def _units(
     return out
 
 
-def _local(units: list[Any], workers: int) -> Iterator[list[TraceOutcome]]:
-    if workers == 1:
-        yield from map(_run_unit, units)
-        return
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        yield from pool.map(_run_unit, units)
-
-
 def run_trace_robustness(
     *,
     seed: int = 0,
@@ -377,9 +369,9 @@ def run_trace_robustness(
         raise InputError(f"conditions must be taken from CONDITIONS, got {unknown}")
     units = _units(conditions, int(n_trials), int(seed), shapes)
     n_workers = min(4, os.cpu_count() or 1) if workers is None else max(1, int(workers))
-    outcomes: list[TraceOutcome] = []
-    for done, res in enumerate(_local(units, n_workers), start=1):
-        outcomes.extend(res)
+    results: list[list[TraceOutcome]] = [[] for _ in units]
+    for done, (i, res) in enumerate(run_units(_run_unit, units, workers=n_workers), start=1):
+        results[i] = res
         if progress is not None:
             progress(done, len(units))
-    return TraceRobustnessResult(tuple(outcomes), int(n_trials))
+    return TraceRobustnessResult(tuple(o for res in results for o in res), int(n_trials))

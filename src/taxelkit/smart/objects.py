@@ -49,6 +49,7 @@ from taxelkit.smart.object_results import (
 )
 from taxelkit.smart.recognise_chunks import ChunkRecogniser
 from taxelkit.smart.regions import RegionConfig, segment_frames
+from taxelkit.smart.stream_state import check_chunk
 from taxelkit.smart.tactemes import TactemeConfig, debounce_counts
 from taxelkit.smart.tracks import RegionTracker, TrackerConfig
 
@@ -157,20 +158,9 @@ class ObjectRecogniser:
         list of TrackedEvent
             The events found in this chunk, in order.
         """
-        f = np.asarray(frames)
-        t = np.asarray(t_s, dtype=np.float64)
-        if f.ndim != 3 or f.shape[1:] != self.shape:
-            raise InputError(
-                f"frames must have shape (n, {self.shape[0]}, {self.shape[1]}), got {f.shape}"
-            )
-        if t.shape != (f.shape[0],):
-            raise InputError(f"t_s must have shape ({f.shape[0]},), got {t.shape}")
+        f, t = check_chunk(frames, t_s, self.shape, self._t_last)
         if f.shape[0] == 0:
             return []
-        if not t[0] > self._t_last:
-            raise InputError(
-                f"t_s must increase across chunks, got {float(t[0])!r} after {self._t_last!r}"
-            )
         self._t_last = float(t[-1])
         images = f.astype(bool) if f.dtype == bool else f.astype(np.float64) > self.threshold
         if self._cleaner is not None:

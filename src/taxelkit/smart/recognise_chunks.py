@@ -38,7 +38,7 @@ from taxelkit.smart.levels12 import (
     DEFAULT_THRESHOLD_MM,
     ChunkLevels12,
 )
-from taxelkit.smart.stream_state import ArrayStream, ClassHistory
+from taxelkit.smart.stream_state import ArrayStream, ClassHistory, check_chunk
 from taxelkit.smart.tactemes import TactemeConfig
 
 __all__ = [
@@ -142,20 +142,9 @@ class ChunkRecogniser:
         InputError
             If the shape does not match or the timestamps go back.
         """
-        f = np.asarray(frames)
-        t = np.asarray(t_s, dtype=np.float64)
-        if f.ndim != 3 or f.shape[1:] != self.shape:
-            raise InputError(
-                f"frames must have shape (n, {self.shape[0]}, {self.shape[1]}), got {f.shape}"
-            )
-        if t.shape != (f.shape[0],):
-            raise InputError(f"t_s must have shape ({f.shape[0]},), got {t.shape}")
+        f, t = check_chunk(frames, t_s, self.shape, self._t_last)
         if f.shape[0] == 0:
             return []
-        if not t[0] > self._t_last:
-            raise InputError(
-                f"t_s must increase across chunks, got {float(t[0])!r} after {self._t_last!r}"
-            )
         self._t_last = float(t[-1])
         classes_nt, rows = self._levels12.process(f[None], t[None])
         classes = classes_nt[0]

@@ -21,17 +21,55 @@ from collections.abc import Iterator, Sequence
 from typing import Any, overload
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
+from taxelkit.errors import InputError
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Event
 from taxelkit.smart.levels34 import Levels34, Recognition, finish
 from taxelkit.smart.segment_scan import SegmentScanner
 from taxelkit.smart.tactemes import TactemeConfig, debounce_counts
 
-__all__ = ["ArrayStream", "ClassHistory"]
+__all__ = ["ArrayStream", "ClassHistory", "check_chunk"]
 
 _NONE = int(ContactClass.NONE)
+
+
+def check_chunk(
+    frames: ArrayLike, t_s: ArrayLike, shape: tuple[int, int], t_last_s: float
+) -> tuple[NDArray[Any], NDArray[np.float64]]:
+    """A chunk of frames fed to a chunked recogniser, checked.
+
+    Parameters
+    ----------
+    frames : (n, rows, cols) bool or float
+    t_s : (n,) float, s
+    shape : (rows, cols)
+        The recogniser's frame shape.
+    t_last_s : float, s
+        Timestamp of the previous chunk's last frame (``-inf`` before the first).
+
+    Returns
+    -------
+    frames : (n, rows, cols) ndarray
+    t_s : (n,) float64, s
+
+    Raises
+    ------
+    InputError
+        If the shapes do not match or the timestamps do not increase across chunks.
+    """
+    f = np.asarray(frames)
+    t = np.asarray(t_s, dtype=np.float64)
+    if f.ndim != 3 or f.shape[1:] != tuple(shape):
+        raise InputError(f"frames must have shape (n, {shape[0]}, {shape[1]}), got {f.shape}")
+    if t.shape != (f.shape[0],):
+        raise InputError(f"t_s must have shape ({f.shape[0]},), got {t.shape}")
+    if f.shape[0] and not t[0] > t_last_s:
+        raise InputError(f"t_s must increase across chunks, got {float(t[0])!r} after {t_last_s!r}")
+    return f, t
+
+
 _INDET = int(ContactClass.INDETERMINATE)
 
 

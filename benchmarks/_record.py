@@ -1,0 +1,52 @@
+"""Write a benchmark's README row as JSON: ``docs/results/bench/SCRIPT.json``.
+
+A script called with ``--record`` formats its row from the figures it has just
+measured and writes it here; ``python benchmarks/render_readme.py`` renders the
+README's benchmark table from these files (never by hand), and a test checks
+that the README matches them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import os
+import platform
+from pathlib import Path
+from typing import Any
+
+BENCH_DIR = Path(__file__).resolve().parents[1] / "docs" / "results" / "bench"
+
+
+def add_record_option(ap: argparse.ArgumentParser) -> None:
+    """``--record``: write the README row to docs/results/bench/SCRIPT.json."""
+    ap.add_argument(
+        "--record",
+        action="store_true",
+        help="write this run's README row to docs/results/bench/SCRIPT.json",
+    )
+
+
+def record(script: str, *, figure: str, ratio: str, measured: dict[str, Any]) -> Path:
+    """Write the row of ``script`` (its ``__file__``) with the figures it measured."""
+    doc = {
+        "script": Path(script).name,
+        "generated": True,
+        "figure": figure,
+        "ratio": ratio,
+        "measured": measured,
+        "date": datetime.date.today().isoformat(),
+        "machine": {
+            "cpus": os.cpu_count(),
+            "load_average_1min": round(os.getloadavg()[0], 1),
+            "python": platform.python_version(),
+        },
+    }
+    BENCH_DIR.mkdir(parents=True, exist_ok=True)
+    path = BENCH_DIR / f"{Path(script).stem}.json"
+    tmp = path.with_suffix(".json.tmp")
+    tmp.write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
+    tmp.replace(path)
+    print(f"recorded {path}")
+    return path
