@@ -1,0 +1,434 @@
+"""The ``slip`` experiment: slip detected from the frames, against the slip of the simulated body.
+
+Three kinds of trial, per engine and object, at 20 frames/s on the
+Bonneville array with its noise (clean otherwise):
+
+``roll``
+    The rolling scripts of :mod:`taxelkit.motion.scenarios` (no slip
+    scripted): false alarms.
+``partial``
+    A roll with one slipping phase
+    (:func:`~taxelkit.motion.slip_scenarios.make_partial_slip_scenario`;
+    kinematic engine only): detection, and recognition under partial slip.
+``slide``
+    The sliding script (a face dragged and/or spun): detection, and the
+    object must never be identified.
+
+Ground truth (for scoring only): a *slip phase* is a run of steps in which
+the material contact points move faster than :data:`GT_SLIP_MM_S` along the
+plane (:meth:`~taxelkit.motion.rolling.Scenario.slip_mm`: rolling without
+slip gives about 0, tipping up to 2 mm/s), runs less than
+:data:`GT_MERGE_S` apart merged, phases shorter than :data:`GT_MIN_S`
+ignored. Its kind is the body's contact at the time (``area``, ``line``,
+``point``), ``area spin`` when the engine labels most of it as spinning.
+
+Scoring
+    * A phase is *detected* by the earliest slip of the recogniser decided
+      between :data:`EARLY_S` before its start and :data:`LATE_S` after its
+      end; *latency* is the decision time less the phase's start (0 if
+      earlier); *in time* is a latency of at most :data:`LATENCY_S`.
+    * A detected slip matching no phase is a *false alarm*.
+    * The verdict of each trial is also taken without slip detection
+      (``TactemeConfig(slip=None)``, the table's sliding rows eliminating
+      everything as before) for comparison.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.errors import InputError
+from taxelkit.motion.engines.registry import scenario_from_engine
+from taxelkit.motion.rolling import Scenario, frames_from_scenario
+from taxelkit.motion.slip_scenarios import make_partial_slip_scenario
+from taxelkit.sensors.presets import BONNEVILLE_16X16
+from taxelkit.smart.recogniser import recognise
+from taxelkit.smart.tacteme_table import OBJECTS
+from taxelkit.smart.tactemes import TactemeConfig
+
+__all__ = [
+    "GT_SLIP_MM_S",
+    "LATENCY_S",
+    "TRIAL_KINDS",
+    "SlipResult",
+    "SlipTrial",
+    "run_slip",
+    "slip_phases",
+]
+
+#: Kinds of trial.
+TRIAL_KINDS: tuple[str, ...] = ("roll", "partial", "slide")
+#: Frame rate, Hz.
+RATE_HZ = 20.0
+#: Ground truth: contact points moving faster than this along the plane slip, mm/s.
+GT_SLIP_MM_S = 2.5
+#: Ground-truth runs closer than this are one phase, s.
+GT_MERGE_S = 0.1
+#: Ground-truth phases shorter than this are ignored, s.
+GT_MIN_S = 0.1
+#: Acceptance: a phase detected within this time of its start, s.
+LATENCY_S = 0.2
+#: A detection may precede a phase's start by this much (the onset is estimated), s.
+EARLY_S = 0.1
+#: ... or follow its end by this much (a slip too slow to decide at once), s.
+LATE_S = 0.3
+
+
+def slip_phases(scenario: Scenario) -> list[tuple[int, int, str]]:
+    """Ground-truth slip phases ``(first_frame, last_frame, kind)`` of a scenario.
+
+    ``first_frame`` is the frame at which the slip starts (the first slipping
+    step leaves it), ``last_frame`` the one at which it stops.
+    """
+    t = np.asarray(scenario.t_s)
+    speed = scenario.slip_mm() / np.diff(t)
+    slipping = np.nan_to_num(speed, nan=0.0) > GT_SLIP_MM_S
+    idx = np.flatnonzero(slipping)
+    if idx.size == 0:
+        return []
+    runs: list[list[int]] = [[int(idx[0]), int(idx[0]) + 1]]
+    for i in idx[1:].tolist():
+        if t[i] - t[runs[-1][1]] <= GT_MERGE_S:
+            runs[-1][1] = i + 1
+        else:
+            runs.append([i, i + 1])
+    out = []
+    for a, b in runs:
+        if t[b] - t[a] < GT_MIN_S:
+            continue
+        contact = [c for c in scenario.contact[a : b + 1] if c != "none"]
+        kind = max(set(contact), key=contact.count) if contact else "none"
+        labels = scenario.phase[a + 1 : b + 1]
+        if kind == "area" and labels.count("spinning") > len(labels) / 2:
+            kind = "area spin"
+        out.append((a, b, kind))
+    return out
+
+
+@dataclass(frozen=True)
+class SlipTrial:
+    """One trial.
+
+    Attributes
+    ----------
+    engine, kind, obj : str
+        Engine, trial kind (:data:`TRIAL_KINDS`) and the object (ground truth).
+    trial : int
+    identified : str or None
+        The verdict with slip detection.
+    reason : str or None
+        Why not identified (``"slid"``, ``"ruled out"``, ``"undecided"``).
+    identified_without : str or None
+        The verdict without slip detection.
+    phases : tuple of (kind, latency_s or None)
+        Every ground-truth phase and its detection latency (None: missed).
+    false_alarms : int
+        Detected slips matching no phase.
+    contact_s : float
+        Time in contact, s.
+    """
+
+    engine: str
+    kind: str
+    obj: str
+    trial: int
+    identified: str | None
+    reason: str | None
+    identified_without: str | None
+    phases: tuple[tuple[str, float | None], ...]
+    false_alarms: int
+    contact_s: float
+
+
+def score_trial(
+    t_s: NDArray[np.float64],
+    phases: list[tuple[int, int, str]],
+    detected: list[int],
+) -> tuple[list[tuple[str, float | None]], int]:
+    """Match detections (decision frames) to phases; the latencies and the false alarms."""
+    used: set[int] = set()
+    out: list[tuple[str, float | None]] = []
+    for a, b, kind in phases:
+        start, end = float(t_s[a]), float(t_s[b])
+        hits = [
+            j
+            for j, f in enumerate(detected)
+            if start - EARLY_S <= float(t_s[f]) <= end + LATE_S and j not in used
+        ]
+        if hits:
+            used.update(hits)
+            out.append((kind, max(0.0, float(t_s[detected[hits[0]]]) - start)))
+        else:
+            out.append((kind, None))
+    return out, len(detected) - len(used)
+
+
+@dataclass(frozen=True)
+class _Unit:
+    engine: str
+    kind: str
+    obj: str
+    trial: int
+    entropy: int
+
+
+def _scenario(unit: _Unit, rng: np.random.Generator) -> Scenario:
+    if unit.kind == "partial":
+        return make_partial_slip_scenario(unit.obj, rng=rng, rate_hz=RATE_HZ)
+    name = "sliding" if unit.kind == "slide" else unit.obj
+    return scenario_from_engine(unit.engine, name, rng=rng, rate_hz=RATE_HZ)
+
+
+def _run_unit(unit: _Unit) -> SlipTrial:
+    rng = np.random.default_rng(np.random.SeedSequence(unit.entropy))
+    sc = _scenario(unit, rng)
+    rec = frames_from_scenario(BONNEVILLE_16X16, sc, rng=rng)
+    res = recognise(rec, threshold=BONNEVILLE_16X16.contact_threshold_mm)
+    without = recognise(
+        rec, threshold=BONNEVILLE_16X16.contact_threshold_mm, config=TactemeConfig(slip=None)
+    )
+    t = np.asarray(sc.t_s)
+    phases, false_alarms = score_trial(
+        t, slip_phases(sc), [s.detected_frame for s in res.slips]
+    )
+    dt = float(np.median(np.diff(t)))
+    return SlipTrial(
+        engine=unit.engine,
+        kind=unit.kind,
+        obj=sc.object_name,
+        trial=unit.trial,
+        identified=res.identified,
+        reason=res.verdict.reason,
+        identified_without=without.identified,
+        phases=tuple(phases),
+        false_alarms=false_alarms,
+        contact_s=float(np.count_nonzero(sc.in_contact)) * dt,
+    )
+
+
+def _local(units: list[_Unit], workers: int) -> Iterator[tuple[int, SlipTrial]]:
+    if workers == 1:
+        for i, u in enumerate(units):
+            yield i, _run_unit(u)
+        return
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = {pool.submit(_run_unit, u): i for i, u in enumerate(units)}
+        for f in as_completed(futures):
+            yield futures[f], f.result()
+
+
+#: Slip kinds a binary footprint can show (see :mod:`taxelkit.smart.slip`).
+DETECTABLE: tuple[str, ...] = ("area", "line")
+
+
+def _phase_stats(trials: Sequence[SlipTrial], kinds: Sequence[str] | None) -> dict[str, Any]:
+    lat = [x for t in trials for k, x in t.phases if kinds is None or k in kinds]
+    found = [x for x in lat if x is not None]
+    in_time = sum(x <= LATENCY_S + 1e-9 for x in found)
+    return {
+        "phases": len(lat),
+        "detected": len(found),
+        "in_time": in_time,
+        "in_time_rate": in_time / len(lat) if lat else float("nan"),
+        "median_latency_s": float(np.median(found)) if found else float("nan"),
+    }
+
+
+def _verdicts(trials: Sequence[SlipTrial], *, without: bool = False) -> dict[str, int]:
+    said = [(t.identified_without if without else t.identified, t.obj) for t in trials]
+    return {
+        "identified": sum(v == o for v, o in said),
+        "wrong": sum(v in OBJECTS and v != o for v, o in said),
+        "not_identified": sum(v not in OBJECTS for v, _ in said),
+    }
+
+
+@dataclass(frozen=True, eq=False)
+class SlipResult:
+    """Every trial of the ``slip`` experiment.
+
+    Attributes
+    ----------
+    trials : tuple of SlipTrial
+        Sorted by engine, kind, object, trial.
+    engines : tuple of str
+    n_trials : int
+        Kinematic trials per kind and object (``slide``: per object slid).
+    mujoco_trials : int
+        MuJoCo trials per kind and object.
+    skipped : dict of str to str
+    """
+
+    trials: tuple[SlipTrial, ...]
+    engines: tuple[str, ...]
+    n_trials: int
+    mujoco_trials: int
+    skipped: dict[str, str]
+
+    def summary(self, engine: str, kind: str) -> dict[str, Any]:
+        """Figures of one engine and kind of trial."""
+        rows = [t for t in self.trials if t.engine == engine and t.kind == kind]
+        contact_s = sum(t.contact_s for t in rows)
+        fa = sum(t.false_alarms for t in rows)
+        by_kind = sorted({k for t in rows for k, _ in t.phases})
+        return {
+            "engine": engine,
+            "kind": kind,
+            "trials": len(rows),
+            "detectable": _phase_stats(rows, DETECTABLE),
+            "by_slip_kind": {k: _phase_stats(rows, [k]) for k in by_kind},
+            "false_alarms": fa,
+            "trials_with_false_alarm": sum(t.false_alarms > 0 for t in rows),
+            "false_alarm_trial_rate": (
+                sum(t.false_alarms > 0 for t in rows) / len(rows) if rows else float("nan")
+            ),
+            "false_alarms_per_s": fa / contact_s if contact_s else float("nan"),
+            "verdicts": _verdicts(rows),
+            "verdicts_without_slip": _verdicts(rows, without=True),
+            "slid": sum(t.reason == "slid" for t in rows),
+            "per_object": {
+                o: {
+                    "trials": len(mine),
+                    **_verdicts(mine),
+                    "without_slip": _verdicts(mine, without=True)["identified"],
+                    "slid": sum(t.reason == "slid" for t in mine),
+                    "in_time": _phase_stats(mine, DETECTABLE)["in_time"],
+                    "phases": _phase_stats(mine, DETECTABLE)["phases"],
+                    "false_alarms": sum(t.false_alarms for t in mine),
+                }
+                for o in sorted({t.obj for t in rows})
+                for mine in [[t for t in rows if t.obj == o]]
+            },
+        }
+
+    def to_json(self) -> dict[str, Any]:
+        """Summaries per engine and kind, the acceptance checks, and every trial."""
+        summaries = [
+            self.summary(e, k)
+            for e in self.engines
+            for k in TRIAL_KINDS
+            if any(t.engine == e and t.kind == k for t in self.trials)
+        ]
+        slipping = [t for t in self.trials if t.kind != "roll"]
+        rolling = [t for t in self.trials if t.kind == "roll"]
+        sliding = [t for t in self.trials if t.kind == "slide"]
+        det = _phase_stats(slipping, DETECTABLE)
+        fa_rate = sum(t.false_alarms > 0 for t in rolling) / len(rolling) if rolling else 0.0
+        return {
+            "experiment": "slip",
+            "n_trials": self.n_trials,
+            "mujoco_trials": self.mujoco_trials,
+            "rate_hz": RATE_HZ,
+            "gt_slip_mm_s": GT_SLIP_MM_S,
+            "latency_s": LATENCY_S,
+            "engines": list(self.engines),
+            "skipped": dict(self.skipped),
+            "detectable_kinds": list(DETECTABLE),
+            "overall": {
+                "detectable": det,
+                "all_kinds": _phase_stats(slipping, None),
+                "roll_false_alarm_trial_rate": fa_rate,
+                "sliding_identified": sum(t.identified in OBJECTS for t in sliding),
+            },
+            "summaries": summaries,
+            "acceptance": {
+                "detectable_in_time_ge_95": bool(det["in_time_rate"] >= 0.95),
+                "roll_false_alarms_le_2": bool(fa_rate <= 0.02),
+                "sliding_never_identified": all(t.identified not in OBJECTS for t in sliding),
+            },
+            "trials": [
+                {
+                    "engine": t.engine,
+                    "kind": t.kind,
+                    "object": t.obj,
+                    "trial": t.trial,
+                    "identified": t.identified,
+                    "reason": t.reason,
+                    "identified_without_slip": t.identified_without,
+                    "phases": [{"kind": k, "latency_s": x} for k, x in t.phases],
+                    "false_alarms": t.false_alarms,
+                }
+                for t in self.trials
+            ],
+        }
+
+
+def _engines(engines: Sequence[str] | None) -> tuple[list[str], dict[str, str]]:
+    wanted = ["kinematic", "mujoco"] if engines is None else [str(e) for e in engines]
+    chosen, skipped = [], {}
+    for e in wanted:
+        if e not in ("kinematic", "mujoco"):
+            raise InputError(f"unknown engine {e!r}; known: kinematic, mujoco")
+        if e == "mujoco" and importlib.util.find_spec("mujoco") is None:
+            skipped[e] = 'not installed (pip install "taxelkit[mujoco]")'
+            continue
+        chosen.append(e)
+    if not chosen:
+        raise InputError("no engine available")
+    return chosen, skipped
+
+
+def run_slip(
+    *,
+    seed: int = 0,
+    n_trials: int = 30,
+    mujoco_trials: int | None = None,
+    engines: Sequence[str] | None = None,
+    workers: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> SlipResult:
+    """Run the slip experiment.
+
+    Parameters
+    ----------
+    seed : int
+        Seed of every trial (the same seed, the same result).
+    n_trials : int
+        Kinematic trials per kind and object (the ``slide`` kind: ``6 x
+        n_trials`` trials, the object drawn by the script).
+    mujoco_trials : int, optional
+        MuJoCo trials per kind and object (default ``n_trials``); MuJoCo runs
+        the ``roll`` and ``slide`` kinds (no partial-slip script).
+    engines : sequence of str, optional
+        Default both, MuJoCo skipped (and listed) when not installed.
+    workers : int, optional
+        Local worker processes (default: the CPU count).
+    progress : callable, optional
+        ``progress(done, total)`` after each trial.
+
+    Returns
+    -------
+    SlipResult
+    """
+    if int(n_trials) < 1:
+        raise InputError(f"n_trials must be >= 1, got {n_trials!r}")
+    chosen, skipped = _engines(engines)
+    n_mj = int(n_trials) if mujoco_trials is None else int(mujoco_trials)
+    units = []
+    for engine in chosen:
+        e_key = int.from_bytes(engine.encode()[:8], "little")
+        kinds = TRIAL_KINDS if engine == "kinematic" else ("roll", "slide")
+        for k_i, kind in enumerate(kinds):
+            for o_i, obj in enumerate(OBJECTS):
+                for trial in range(n_mj if engine == "mujoco" else int(n_trials)):
+                    key = [int(seed), e_key, k_i, o_i, trial]
+                    ent = np.random.SeedSequence(key).generate_state(1)
+                    units.append(_Unit(engine, kind, obj, trial, int(ent[0])))
+    n_workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
+    results: list[SlipTrial | None] = [None] * len(units)
+    for done, (i, res) in enumerate(_local(units, n_workers), start=1):
+        results[i] = res
+        if progress is not None:
+            progress(done, len(units))
+    trials = [r for r in results if r is not None]
+    # a sliding trial's object is drawn by the script: its unit's object only seeds it
+    trials = [replace(t, trial=j) for j, t in enumerate(trials)]
+    return SlipResult(tuple(trials), tuple(chosen), int(n_trials), n_mj, skipped)

@@ -1,0 +1,430 @@
+"""Slip from the frames alone: the contact footprint moving in a way rolling cannot move it.
+
+Beyond paper 001 (its conclusion names slip detection as future work). A
+contact segment of one accepted class (:mod:`taxelkit.smart.tactemes`) is
+watched frame by frame; what rolling of that class allows decides what is
+slip (thresholds in :class:`SlipConfig`, in mm and s):
+
+area (a face)
+    A face cannot roll: any translation of the footprint, or a turn of an
+    elongated footprint, is slip. The *motion* is the distance between the
+    mean centre of the last ``current_s`` and the mean centre of the
+    ``reference_s`` before them; for a footprint of elongation at least
+    ``min_elongation`` in both windows, also the turn of its axis times its
+    half-length (how far its ends moved).
+line (an edge or a generator)
+    A rolling line moves across itself (a cylinder), or turns about a point
+    at or beyond its end (a cone, a truncated cone); it never moves along
+    itself. The motion is how far its two drawn ends moved along it.
+point
+    Nothing: a sphere rolling and a sphere skidding leave the same footprint,
+    as do a vertex dragged and a rim rolling. Slip of a point contact cannot
+    be told from binary frames (a shear-sensing skin could); it is not
+    reported.
+
+Also invisible to these moments: a line sliding across itself (its footprint
+moves exactly as when it rolls, so a cylinder that skids is seen rolling) and
+a face spinning in place whose second moments are isotropic (a disc, a square,
+an equilateral triangle: orientation is undefined for them).
+
+A face's motion counts only where both sides of it moved: its centre's
+shift less half the change of its length along the shift (from its second
+moments), so a footprint that grows or shrinks on one side (a face landing,
+a contact pressed in) is not sliding. A line's motion is that of the nearer
+of its two drawn ends along the mean axis of the two windows (the bisector:
+the turn of a cone's line about its apex then moves its ends across, not
+along), zero unless both moved the same way.
+
+Onset: the motion exceeds ``slip_mm`` (a line: ``line_slip_mm``) on
+``max(1 frame, hold_s)`` frames in a row, the reference a full
+``reference_s`` after the segment's start (or the last re-anchor); the
+slip is dated from the first frame of the current window
+(:attr:`Slip.first_frame`) and reported when decided
+(:attr:`Slip.detected_frame`). End: the mean centre of the last ``end_s``
+and of the ``end_s`` before moved less than ``still_mm`` (the same motion
+measure); the slip is dated to end ``end_s`` earlier. The reference then
+restarts after the slip. A relative change of the mean area above
+``area_step`` between the windows (placing, lifting, tipping) restarts the
+reference and decides nothing (and ends a slip going on). The windows'
+means come from the rows themselves, so a frame's decision does not depend
+on how the segment was chunked (:class:`SlipScanner` is fed by the batch and streaming paths alike).
+
+What a frame rate allows: a slide at 3 mm/s moves 0.6 mm in 0.2 s, a
+third of a taxel; at 20 frames/s that is 4 frames, and the mean centre of a
+small face jitters by 0.2-0.4 mm from frame to frame (taxels at its edge
+flicker), so the slowest slides are found in 0.2 s only at higher rates.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.errors import check_positive
+from taxelkit.smart.contact_classes import ContactClass
+
+__all__ = ["SLIP_KINDS", "Slip", "SlipConfig", "SlipScanner", "slip_to_json"]
+
+_LINE, _AREA = int(ContactClass.LINE), int(ContactClass.AREA)
+
+#: What slipped: a face (translated or turned) or a line along itself.
+SLIP_KINDS: dict[int, str] = {_AREA: "area slides", _LINE: "line slides along itself"}
+
+# Feature columns averaged over the windows (from the rows of segment_scan.ROW_COLUMNS).
+_CX, _CY, _AREA_COL, _C2, _S2, _HALF, _ELONG = range(7)
+_END1, _END2 = slice(7, 9), slice(9, 11)  # a line's two ends, x y (mm), in a consistent order
+_COV = slice(11, 14)  # second central moments xx, yy, xy, mm^2
+_N_FEATURES = 14
+
+
+@dataclass(frozen=True)
+class SlipConfig:
+    """Thresholds of the slip detector, with units.
+
+    Set on kinematic trials of seed 777 (the ``slip`` experiment's scenes at
+    20 and 100 frames/s, not its committed seed) as a compromise between
+    false alarms on rolling and latency; see the experiment for what they
+    give.
+
+    Parameters
+    ----------
+    slip_mm : float
+        Motion of a face's footprint that counts as slip, mm (a fifth of a
+        Bonneville pitch, 1.76 mm: the mean centre of a face of tens of
+        taxels moves by sub-taxel steps; a still face's mean centre moved
+        less than 0.38 mm in 99 % of frames at 20 frames/s).
+    line_slip_mm : float
+        The same for a line's two ends, mm (a rolling line's drawn ends
+        jitter by about half a pitch as it crosses the rows).
+    still_mm : float
+        A slip ends when the footprint moved less than this between two
+        windows of ``end_s``, mm (a slide at 3 mm/s moves 0.6 mm in 0.2 s).
+    current_s : float
+        Current window, s (at least 2 frames).
+    reference_s : float
+        Reference window before the current one, s (at least 2 frames); it
+        must lie wholly after the segment's start, the last slip's end and
+        the last change of area, so a face that has just landed is not judged.
+    end_s : float
+        Window of the end test, s (at least 2 frames).
+    hold_s : float
+        The motion must exceed the limit this long (at least one frame), s.
+    area_step : float
+        Relative change of the mean area between the windows that restarts
+        the reference (a contact placed, lifted or tipping, not sliding).
+    min_elongation : float
+        A face's turn is measured only above this elongation in both windows.
+    """
+
+    slip_mm: float = 0.35
+    line_slip_mm: float = 0.8
+    still_mm: float = 0.3
+    current_s: float = 0.05
+    reference_s: float = 0.3
+    end_s: float = 0.2
+    hold_s: float = 0.03
+    area_step: float = 0.15
+    min_elongation: float = 1.6
+
+    def __post_init__(self) -> None:
+        for name in (
+            "slip_mm",
+            "still_mm",
+            "current_s",
+            "reference_s",
+            "end_s",
+            "area_step",
+            "min_elongation",
+            "line_slip_mm",
+        ):
+            check_positive(name, getattr(self, name))
+        check_positive("hold_s", self.hold_s, allow_zero=True)
+
+
+@dataclass(frozen=True)
+class Slip:
+    """One slip phase of a contact segment (frames count from the recording's start).
+
+    Attributes
+    ----------
+    kind : str
+        One of :data:`SLIP_KINDS`' values.
+    first_frame : int
+        Estimated first frame of the slip.
+    detected_frame : int
+        Frame at which it was decided (``detected_frame - first_frame`` is
+        the latency in frames).
+    last_frame : int or None
+        Estimated last frame; None while it goes on.
+    end_frame : int or None
+        Frame at which its end was decided (the segment's last frame when the
+        contact changed first); None while it goes on.
+    """
+
+    kind: str
+    first_frame: int
+    detected_frame: int
+    last_frame: int | None = None
+    end_frame: int | None = None
+
+
+def slip_to_json(slip: Slip, t_of: Callable[[int], float] | None = None) -> dict[str, Any]:
+    """A slip as JSON types; with ``t_of`` (frame -> s) also its times, s.
+
+    Keys: ``kind``, ``first_frame``, ``last_frame`` (null while it goes on),
+    ``detected_frame``; with times ``t_start_s``, ``t_end_s``, ``t_detected_s``.
+    """
+    out: dict[str, Any] = {
+        "kind": slip.kind,
+        "first_frame": slip.first_frame,
+        "last_frame": slip.last_frame,
+        "detected_frame": slip.detected_frame,
+    }
+    if t_of is not None:
+        out["t_start_s"] = t_of(slip.first_frame)
+        out["t_end_s"] = None if slip.last_frame is None else t_of(slip.last_frame)
+        out["t_detected_s"] = t_of(slip.detected_frame)
+    return out
+
+
+def _window_means(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
+    """Mean of each ``w`` consecutive rows ``(n - w + 1, F)``; empty when ``n < w``."""
+    n = x.shape[0] - w + 1
+    if n <= 0:
+        return np.zeros((0, x.shape[1]))
+    out = x[:n].copy()
+    for j in range(1, w):  # in a fixed order: the same floats whatever the chunking
+        out += x[j : j + n]
+    out /= w
+    return out
+
+
+class SlipScanner:
+    """Slip phases of one contact segment, fed a chunk of frames at a time.
+
+    Parameters
+    ----------
+    cls : int
+        The segment's :class:`~taxelkit.smart.contact_classes.ContactClass`
+        (points and other classes report nothing).
+    config : SlipConfig
+    k : int
+        Frames whose median interval fixes the frame rate (the debounce ``k``).
+
+    Notes
+    -----
+    Keeps the last ``reference + current + end`` frames' features and a few
+    numbers; a scalar step per frame after vectorised window means (a
+    16 x 16 stream is at most 240 frames/s).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> scan = SlipScanner(int(ContactClass.AREA), SlipConfig(), k=2)
+    >>> rows = np.zeros((40, 9)); rows[:, 3] = 50.0; rows[:, 4] = 1.0
+    >>> rows[:, 8] = np.arange(40) / 20; rows[20:, 0] = np.arange(20) * 0.25  # 5 mm/s from 0.95 s
+    >>> [(s.first_frame, s.detected_frame) for s in scan.extend(np.arange(40), rows)]
+    [(20, 21)]
+    """
+
+    def __init__(self, cls: int, config: SlipConfig, *, k: int = 2) -> None:
+        self.cls = int(cls)
+        self.config = config
+        self.k = max(2, int(k))
+        self.slips: list[Slip] = []
+        self._active = self.cls in SLIP_KINDS
+        self._t_head: list[float] = []
+        self._ready = False
+        self._buf = np.zeros((0, _N_FEATURES))
+        self._u_last: NDArray[np.float64] | None = None  # the last line's axis, oriented
+        self._buf_frames = np.zeros(0, np.intp)
+        self._n = 0  # frames seen
+        self._anchor = 0  # segment index where the reference may start
+        self._count = 0  # frames in a row above slip_mm
+        self._open: Slip | None = None
+
+    # -- set-up ------------------------------------------------------------------------------
+    def _start(self) -> None:
+        steps = sorted(b - a for a, b in zip(self._t_head, self._t_head[1:], strict=False))
+        mid = len(steps) // 2
+        dt = steps[mid] if len(steps) % 2 else 0.5 * (steps[mid - 1] + steps[mid])
+        cfg = self.config
+
+        def frames(seconds: float, least: int) -> int:
+            return max(least, math.ceil(seconds / dt - 1e-9)) if dt > 0 else least
+
+        self.cur = frames(cfg.current_s, 2)
+        self.ref = frames(cfg.reference_s, 2)
+        self.end = frames(cfg.end_s, 2)
+        self.hold = frames(cfg.hold_s, 1)
+        self._limit_mm = cfg.line_slip_mm if self.cls == _LINE else cfg.slip_mm
+        self.keep = max(self.cur + self.ref, 2 * self.end)
+        self._ready = True
+
+    def features(self, rows: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Per-frame features ``(m, 11)`` from rows ``(m, 9)`` (segment_scan's ``ROW_COLUMNS``).
+
+        Centre, area, doubled-angle axis, half-length, elongation, and a
+        line's two ends: its drawn extent along its axis, the axis oriented
+        like the previous frame's so that the ends keep their order.
+        """
+        theta = np.deg2rad(rows[:, 2])
+        t2 = 2.0 * theta
+        u = np.stack([np.cos(theta), np.sin(theta)], axis=-1)
+        prev = np.concatenate([u[:1] if self._u_last is None else self._u_last[None], u[:-1]])
+        flip = np.cumprod(np.where(np.einsum("ij,ij->i", u, prev) < 0.0, -1.0, 1.0))
+        u = u * flip[:, None]
+        if u.shape[0]:
+            self._u_last = u[-1].copy()
+        lo = np.where(flip > 0, rows[:, 6], -rows[:, 7])
+        hi = np.where(flip > 0, rows[:, 7], -rows[:, 6])
+        centre = rows[:, :2]
+        cols = (rows[:, 0], rows[:, 1], rows[:, 3], np.cos(t2), np.sin(t2), rows[:, 5], rows[:, 4])
+        ends = np.concatenate([centre + lo[:, None] * u, centre + hi[:, None] * u], axis=1)
+        lam_max = rows[:, 5] ** 2 / 3.0  # half = sqrt(3 lambda_max)
+        lam_min = lam_max / np.maximum(rows[:, 4], 1.0) ** 2  # elongation = sqrt(max / min)
+        c, s_ = np.cos(theta), np.sin(theta)
+        cov = np.stack(
+            [
+                lam_max * c * c + lam_min * s_ * s_,
+                lam_max * s_ * s_ + lam_min * c * c,
+                (lam_max - lam_min) * c * s_,
+            ],
+            axis=-1,
+        )
+        return np.concatenate([np.stack(cols, axis=-1), ends, cov], axis=1)
+
+    # -- the motion measure --------------------------------------------------------------------
+    def motion_mm(self, ref: NDArray[np.float64], cur: NDArray[np.float64]) -> float:
+        """How far the footprint moved from mean features ``ref`` to ``cur`` ``(7,)``, mm.
+
+        NaN when the area changed by more than ``area_step`` (no decision).
+        """
+        cfg = self.config
+        a_ref, a_cur = float(ref[_AREA_COL]), float(cur[_AREA_COL])
+        if not a_ref > 0 or abs(a_cur / a_ref - 1.0) > cfg.area_step:
+            return math.nan
+        dx, dy = float(cur[_CX] - ref[_CX]), float(cur[_CY] - ref[_CY])
+        if self.cls == _LINE:  # along the bisector of the two axes: a turn about a pivot cancels
+            c2, s2 = float(ref[_C2] + cur[_C2]), float(ref[_S2] + cur[_S2])
+            th = 0.5 * math.atan2(s2, c2)
+            a = np.array([math.cos(th), math.sin(th)])
+            d1, d2 = float((cur[_END1] - ref[_END1]) @ a), float((cur[_END2] - ref[_END2]) @ a)
+            if math.isnan(d1 + d2):  # ends not measured: the centre less the change of length
+                return abs(dx * a[0] + dy * a[1]) - abs(float(cur[_HALF] - ref[_HALF]))
+            return min(abs(d1), abs(d2)) if d1 * d2 > 0.0 else 0.0  # both ends, the same way
+        # both sides of the footprint must move: one that grows or shrinks on one side
+        # moves its centre by half the change of its length along the motion
+        moved = math.hypot(dx, dy)
+        if moved > 0.0:
+            nx, ny = dx / moved, dy / moved
+            size = [
+                math.sqrt(12.0 * max(0.0, float(v[0] * nx * nx + v[1] * ny * ny + 2 * v[2] * nx * ny)))
+                for v in (ref[_COV], cur[_COV])
+            ]
+            moved -= 0.5 * abs(size[1] - size[0])
+        th_ref = 0.5 * math.atan2(float(ref[_S2]), float(ref[_C2]))
+        if min(float(ref[_ELONG]), float(cur[_ELONG])) >= cfg.min_elongation:
+            th_cur = 0.5 * math.atan2(float(cur[_S2]), float(cur[_C2]))
+            turn = abs((th_cur - th_ref + 0.5 * math.pi) % math.pi - 0.5 * math.pi)
+            moved = max(moved, turn * float(ref[_HALF]))
+        return moved
+
+    # -- feeding ---------------------------------------------------------------------------------
+    def extend(self, frames: NDArray[np.intp], rows: NDArray[np.float64]) -> list[Slip]:
+        """Add frames ``(m,)`` with their rows ``(m, 9)``; the slips opened or closed by them.
+
+        Returns
+        -------
+        list of Slip
+            New slips (open) and slips whose end was decided here (closed), in
+            order; a slip opened and closed in one chunk is returned once, closed.
+        """
+        m = int(frames.size)
+        if m == 0 or not self._active:
+            self._n += m
+            return []
+        if not self._ready:
+            self._t_head += rows[: self.k - len(self._t_head), 8].tolist()
+        feats = self.features(rows)
+        x = np.concatenate([self._buf, feats])
+        fr = np.concatenate([self._buf_frames, np.asarray(frames, np.intp)])
+        n_old = self._buf.shape[0]
+        base = self._n - n_old  # segment index of x[0]
+        self._n += m
+        if not self._ready:
+            if len(self._t_head) < self.k:
+                self._buf, self._buf_frames = x, fr
+                return []
+            self._start()
+            n_old = 0  # every frame so far is new to the scan
+        out = self._scan(x, fr, base, n_old)
+        self._buf, self._buf_frames = x[-self.keep :], fr[-self.keep :]
+        return out
+
+    def _scan(
+        self, x: NDArray[np.float64], fr: NDArray[np.intp], base: int, first: int
+    ) -> list[Slip]:
+        """Decide frames ``x[first:]``; ``x[0]`` is segment frame ``base``."""
+        c, r, e = self.cur, self.ref, self.end
+        cur_m = _window_means(x, c)  # cur_m[p - c + 1]: frames p - c + 1 .. p
+        ref_m = _window_means(x, r)  # full reference windows
+        end_m = _window_means(x, e)
+        out: list[Slip] = []
+        cfg = self.config
+        for p in range(first, x.shape[0]):
+            i = base + p  # segment index of this frame
+            if self._open is None:
+                lo = i - c - r + 1  # the reference: a full window, all after the anchor
+                if lo < self._anchor:
+                    continue
+                ref = ref_m[lo - base]
+                motion = self.motion_mm(ref, cur_m[p - c + 1])
+                if math.isnan(motion):
+                    self._anchor, self._count = i - c + 1, 0
+                    continue
+                self._count = self._count + 1 if motion > self._limit_mm else 0
+                if self._count >= self.hold:
+                    onset = int(fr[max(0, p - self.hold - c + 2)])
+                    self._open = Slip(SLIP_KINDS[self.cls], onset, int(fr[p]))
+                    self._count = 0
+                    out.append(self._open)
+            elif p - 2 * e + 1 >= 0:
+                step = self.motion_mm(end_m[p - 2 * e + 1], end_m[p - e + 1])
+                if not step > cfg.still_mm:  # still (or the contact changed): the slip ended
+                    done = Slip(
+                        self._open.kind,
+                        self._open.first_frame,
+                        self._open.detected_frame,
+                        max(self._open.first_frame, int(fr[p - e])),
+                        int(fr[p]),
+                    )
+                    self._replace(out, done)
+                    self._open, self._anchor = None, i - e + 1
+        return out
+
+    def _replace(self, out: list[Slip], done: Slip) -> None:
+        self.slips.append(done)
+        if out and out[-1].detected_frame == done.detected_frame:
+            out[-1] = done
+        else:
+            out.append(done)
+
+    def close(self) -> list[Slip]:
+        """The segment ended: an open slip ends at its last frame (returned, closed)."""
+        if self._open is None:
+            return []
+        last = int(self._buf_frames[-1]) if self._buf_frames.size else self._open.detected_frame
+        done = Slip(self._open.kind, self._open.first_frame, self._open.detected_frame, last, last)
+        self._open = None
+        self.slips.append(done)
+        return [done]
+
+    def all_slips(self) -> list[Slip]:
+        """Every slip so far: the ended ones, then the one going on (if any)."""
+        return [*self.slips, *([] if self._open is None else [self._open])]
