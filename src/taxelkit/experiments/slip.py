@@ -283,9 +283,7 @@ class SlipResult:
     def summary(self, engine: str, rate_hz: float, kind: str) -> dict[str, Any]:
         """Figures of one engine, frame rate and kind of trial."""
         rows = [
-            t
-            for t in self.trials
-            if t.engine == engine and t.kind == kind and t.rate_hz == rate_hz
+            t for t in self.trials if t.engine == engine and t.kind == kind and t.rate_hz == rate_hz
         ]
         contact_s = sum(t.contact_s for t in rows)
         fa = sum(t.false_alarms for t in rows)
@@ -330,7 +328,7 @@ class SlipResult:
             for k in TRIAL_KINDS
             if any(t.engine == e and t.kind == k and t.rate_hz == r for t in self.trials)
         ]
-        overall = {}
+        overall: dict[str, dict[str, Any]] = {}
         for r in RATES_HZ:
             mine = [t for t in self.trials if t.rate_hz == r]
             slipping = [t for t in mine if t.kind != "roll"]

@@ -114,7 +114,7 @@ class Verdict:
 
     @property
     def reason(self) -> str | None:
-        """Why no object was identified: ``"slid"``, ``"ruled out"`` or ``"undecided"``; None if one was."""
+        """Why nothing was identified: ``"slid"``, ``"ruled out"``, ``"undecided"``; else None."""
         if self.outcome not in (None, UNKNOWN):
             return None
         if self.slid:

@@ -227,10 +227,9 @@ class Levels34:
             )
             for tac in found:
                 self.events.extend(self.elim.apply(tac, at))
-        found = [(frame, 1, tac) for tac, frame in seg.tactemes() if tac not in done]
-        for tac in [t for _, _, t in found]:
-            done.add(tac)
-        self._apply_in_order(found, self._new_slips(seg.slips()))
+        motions = [(frame, 1, tac) for tac, frame in seg.tactemes() if tac not in done]
+        done.update(tac for _, _, tac in motions)
+        self._apply_in_order(motions, self._new_slips(seg.slips()))
         self._len = seg.size
         self._held = held
         # a line's direction over all its frames (held still, an edge dominates its tips)
@@ -244,9 +243,10 @@ class Levels34:
             before = self._slips_seen.get(sl.detected_frame)
             if before is None:
                 out.append((sl.detected_frame, 0, Event("slip", sl.first_frame, sl.kind)))
-            if sl.last_frame is not None and sl.end_frame is not None:
-                if before is None or before.end_frame is None:
-                    out.append((sl.end_frame, 0, Event("slip-end", sl.last_frame, sl.kind)))
+            ended = sl.last_frame is not None and sl.end_frame is not None
+            if ended and (before is None or before.end_frame is None):
+                assert sl.last_frame is not None and sl.end_frame is not None
+                out.append((sl.end_frame, 0, Event("slip-end", sl.last_frame, sl.kind)))
             self._slips_seen[sl.detected_frame] = sl
             self.slips[sl.detected_frame] = sl
         return out

@@ -188,6 +188,7 @@ class ChunkRecogniser:
             done.candidates,
             done.verdict,
             classes,
+            done.slips,
         )
 
 

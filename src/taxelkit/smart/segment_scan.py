@@ -55,12 +55,9 @@ __all__ = ["ROW_COLUMNS", "SegmentScanner", "mean_axis_deg", "rows_from_track"]
 ROW_COLUMNS = ("cx", "cy", "theta", "area", "elong", "half", "lo", "hi", "t")
 
 
-
 def rows_from_track(track: SegmentTrack) -> NDArray[np.float64]:
     """The per-frame rows ``(n, 9)`` (:data:`ROW_COLUMNS`) of a whole segment's track."""
-    ext = (
-        np.full((track.frames.size, 2), np.nan) if track.extent_mm is None else track.extent_mm
-    )
+    ext = np.full((track.frames.size, 2), np.nan) if track.extent_mm is None else track.extent_mm
     return np.column_stack(
         [
             track.centre_mm,
@@ -83,23 +80,23 @@ _POINT, _LINE, _AREA = int(ContactClass.POINT), int(ContactClass.LINE), int(Cont
 class SegmentScanner:
     """Motion tactemes of one open segment, computed incrementally.
 
-    Parameters
-    ----------
-    cls : int
-        The segment's :class:`~taxelkit.smart.contact_classes.ContactClass`.
-    config : TactemeConfig
+        Parameters
+        ----------
+        cls : int
+            The segment's :class:`~taxelkit.smart.contact_classes.ContactClass`.
+        config : TactemeConfig
 
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from taxelkit.smart.tactemes import TactemeConfig
-    >>> from taxelkit.smart.contact_classes import ContactClass
-from taxelkit.smart.slip import Slip, SlipScanner
-    >>> scan = SegmentScanner(ContactClass.POINT, TactemeConfig())
-    >>> rows = np.zeros((100, 9)); rows[:, 3] = rows[:, 4] = 1.0  # 100 frames at 20 Hz
-    >>> rows[:, 0] = np.linspace(0, 5, 100); rows[:, 8] = np.arange(100) / 20
-    >>> [(t.value, f) for t, f in scan.extend(np.arange(100), rows)]
-    [('PC moves', 44)]
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from taxelkit.smart.tactemes import TactemeConfig
+        >>> from taxelkit.smart.contact_classes import ContactClass
+    from taxelkit.smart.slip import Slip, SlipScanner
+        >>> scan = SegmentScanner(ContactClass.POINT, TactemeConfig())
+        >>> rows = np.zeros((100, 9)); rows[:, 3] = rows[:, 4] = 1.0  # 100 frames at 20 Hz
+        >>> rows[:, 0] = np.linspace(0, 5, 100); rows[:, 8] = np.arange(100) / 20
+        >>> [(t.value, f) for t, f in scan.extend(np.arange(100), rows)]
+        [('PC moves', 44)]
     """
 
     def __init__(self, cls: int, config: TactemeConfig) -> None:

@@ -68,7 +68,7 @@ from numpy.typing import NDArray
 from taxelkit.errors import check_positive
 from taxelkit.smart.contact_classes import ContactClass
 
-__all__ = ["SLIP_KINDS", "Slip", "SlipConfig", "SlipScanner", "slip_to_json"]
+__all__ = ["DEFAULT_SLIP", "SLIP_KINDS", "Slip", "SlipConfig", "SlipScanner", "slip_to_json"]
 
 _LINE, _AREA = int(ContactClass.LINE), int(ContactClass.AREA)
 
@@ -144,6 +144,10 @@ class SlipConfig:
         ):
             check_positive(name, getattr(self, name))
         check_positive("hold_s", self.hold_s, allow_zero=True)
+
+
+#: The detector used unless switched off (:class:`~taxelkit.smart.tactemes.TactemeConfig`).
+DEFAULT_SLIP = SlipConfig()
 
 
 @dataclass(frozen=True)
@@ -313,10 +317,11 @@ class SlipScanner:
         if self.cls == _LINE:  # along the bisector of the two axes: a turn about a pivot cancels
             c2, s2 = float(ref[_C2] + cur[_C2]), float(ref[_S2] + cur[_S2])
             th = 0.5 * math.atan2(s2, c2)
-            a = np.array([math.cos(th), math.sin(th)])
-            d1, d2 = float((cur[_END1] - ref[_END1]) @ a), float((cur[_END2] - ref[_END2]) @ a)
+            ax, ay = math.cos(th), math.sin(th)
+            e1, e2 = cur[_END1] - ref[_END1], cur[_END2] - ref[_END2]
+            d1, d2 = float(e1[0] * ax + e1[1] * ay), float(e2[0] * ax + e2[1] * ay)
             if math.isnan(d1 + d2):  # ends not measured: the centre less the change of length
-                return abs(dx * a[0] + dy * a[1]) - abs(float(cur[_HALF] - ref[_HALF]))
+                return abs(dx * ax + dy * ay) - abs(float(cur[_HALF] - ref[_HALF]))
             return min(abs(d1), abs(d2)) if d1 * d2 > 0.0 else 0.0  # both ends, the same way
         # both sides of the footprint must move: one that grows or shrinks on one side
         # moves its centre by half the change of its length along the motion
@@ -324,7 +329,9 @@ class SlipScanner:
         if moved > 0.0:
             nx, ny = dx / moved, dy / moved
             size = [
-                math.sqrt(12.0 * max(0.0, float(v[0] * nx * nx + v[1] * ny * ny + 2 * v[2] * nx * ny)))
+                math.sqrt(
+                    12.0 * max(0.0, float(v[0] * nx * nx + v[1] * ny * ny + 2 * v[2] * nx * ny))
+                )
                 for v in (ref[_COV], cur[_COV])
             ]
             moved -= 0.5 * abs(size[1] - size[0])

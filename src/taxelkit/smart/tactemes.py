@@ -59,7 +59,7 @@ from numpy.typing import NDArray
 
 from taxelkit.errors import InputError, check_positive
 from taxelkit.smart.contact_classes import ContactClass
-from taxelkit.smart.slip import SlipConfig
+from taxelkit.smart.slip import DEFAULT_SLIP, SlipConfig
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_geometry import (
     anchors,
@@ -226,7 +226,7 @@ class TactemeConfig:
     pivot_band: float = 1.15
     pivot_hold_s: float = 0.5
     smooth_s: float = 0.15
-    slip: SlipConfig | None = SlipConfig()
+    slip: SlipConfig | None = DEFAULT_SLIP
 
     def __post_init__(self) -> None:
         if int(self.debounce_frames) < 1:
