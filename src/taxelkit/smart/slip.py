@@ -40,9 +40,12 @@ Onset: the motion exceeds ``slip_mm`` (a line: ``line_slip_mm``) on
 ``reference_s`` after the segment's start (or the last re-anchor); the
 slip is dated from the first frame of the current window
 (:attr:`Slip.first_frame`) and reported when decided
-(:attr:`Slip.detected_frame`). End: the mean centre of the last ``end_s``
-and of the ``end_s`` before moved less than ``still_mm`` (the same motion
-measure); the slip is dated to end ``end_s`` earlier. The reference then
+(:attr:`Slip.detected_frame`). End: once the last ``end_s`` lie wholly in the slip, the
+footprint's mean over them and over the ``end_s`` before moved less than
+``still_mm`` (the same motion measure; ``end_s`` is at least the time a slow
+slide, 3 mm/s, takes to cross a taxel, as a face square to the grid moves
+its footprint a column at a time); the slip is dated to end ``1.5 end_s``
+earlier. The reference then
 restarts after the slip. A relative change of the mean area above
 ``area_step`` between the windows (placing, lifting, tipping) restarts the
 reference and decides nothing (and ends a slip going on). The windows'
@@ -103,7 +106,7 @@ class SlipConfig:
         jitter by about half a pitch as it crosses the rows).
     still_mm : float
         A slip ends when the footprint moved less than this between two
-        windows of ``end_s``, mm (a slide at 3 mm/s moves 0.6 mm in 0.2 s).
+        windows of ``end_s``, mm (a slide at 3 mm/s moves 1.8 mm in 0.6 s).
     current_s : float
         Current window, s (at least 2 frames).
     reference_s : float
@@ -111,7 +114,9 @@ class SlipConfig:
         must lie wholly after the segment's start, the last slip's end and
         the last change of area, so a face that has just landed is not judged.
     end_s : float
-        Window of the end test, s (at least 2 frames).
+        Window of the end test, s (at least 2 frames): longer than a slow
+        slide (3 mm/s) takes to cross a taxel (0.59 s), as a face square to
+        the grid moves its footprint one column at a time.
     hold_s : float
         The motion must exceed the limit this long (at least one frame), s.
     area_step : float
@@ -123,10 +128,10 @@ class SlipConfig:
 
     slip_mm: float = 0.35
     line_slip_mm: float = 0.8
-    still_mm: float = 0.3
+    still_mm: float = 0.5
     current_s: float = 0.05
     reference_s: float = 0.3
-    end_s: float = 0.2
+    end_s: float = 0.6
     hold_s: float = 0.03
     area_step: float = 0.15
     min_elongation: float = 1.6
@@ -251,6 +256,7 @@ class SlipScanner:
         self._anchor = 0  # segment index where the reference may start
         self._count = 0  # frames in a row above slip_mm
         self._open: Slip | None = None
+        self._open_i = 0  # segment index of the open slip's first frame
 
     # -- set-up ------------------------------------------------------------------------------
     def _start(self) -> None:
@@ -397,18 +403,19 @@ class SlipScanner:
                     continue
                 self._count = self._count + 1 if motion > self._limit_mm else 0
                 if self._count >= self.hold:
-                    onset = int(fr[max(0, p - self.hold - c + 2)])
+                    q = max(0, p - self.hold - c + 2)
+                    onset, self._open_i = int(fr[q]), base + q
                     self._open = Slip(SLIP_KINDS[self.cls], onset, int(fr[p]))
                     self._count = 0
                     out.append(self._open)
-            elif p - 2 * e + 1 >= 0:
+            elif p - 2 * e + 1 >= 0 and i - e + 1 >= self._open_i:  # the last window: all slip
                 step = self.motion_mm(end_m[p - 2 * e + 1], end_m[p - e + 1])
                 if not step > cfg.still_mm:  # still (or the contact changed): the slip ended
                     done = Slip(
                         self._open.kind,
                         self._open.first_frame,
                         self._open.detected_frame,
-                        max(self._open.first_frame, int(fr[p - e])),
+                        max(self._open.first_frame, int(fr[p - e - e // 2])),
                         int(fr[p]),
                     )
                     self._replace(out, done)
