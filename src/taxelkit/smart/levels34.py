@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Eliminator, Event, Verdict, explain
 from taxelkit.smart.segment_scan import mean_axis_deg, rows_from_track
-from taxelkit.smart.slip import Slip, SlipScanner, slip_to_json
+from taxelkit.smart.slip import SLIP_KINDS, Slip, SlipScanner, slip_to_json
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import (
     SegmentTrack,
@@ -34,9 +34,15 @@ __all__ = ["Levels34", "Recognition", "Segment", "TrackSegment", "finish"]
 SLIDING_TACTEMES = frozenset(
     {Tacteme.AC_MOVES, Tacteme.AC_ROTATES, Tacteme.LC_SLIDES, Tacteme.LC_SPINS}
 )
-#: Tactemes read from a line's whole history since its anchor (the pivot): an
-#: earlier slip along the line moved the point they locate, so they are withheld.
-_PIVOT_TACTEMES = frozenset({Tacteme.LCMT_ABOUT_END, Tacteme.LCMT_ARC, Tacteme.LC_SPINS})
+
+#: What a slip going on can fake besides the sliding tactemes: a line sliding along
+#: itself moves its middle, by which the pivot of its turn is judged (about one end or
+#: in an arc); it does not move the line across itself or turn it (LCM, LCMP, LCMT
+#: stay true). A face sliding fakes only the sliding tactemes.
+FAKED_BY_SLIP: dict[str, frozenset[Tacteme]] = {
+    SLIP_KINDS[int(ContactClass.LINE)]: frozenset({Tacteme.LCMT_ABOUT_END, Tacteme.LCMT_ARC}),
+    SLIP_KINDS[int(ContactClass.AREA)]: frozenset(),
+}
 
 _BASIC = {
     int(ContactClass.POINT): Tacteme.PC,
@@ -257,12 +263,12 @@ class Levels34:
             return False
         if tac in SLIDING_TACTEMES:
             return True
-        for sl in self._slips_seen.values():
-            if sl.detected_frame <= frame and (
-                tac in _PIVOT_TACTEMES or sl.end_frame is None or frame <= sl.end_frame
-            ):
-                return True
-        return False
+        return any(
+            tac in FAKED_BY_SLIP.get(sl.kind, frozenset())
+            and sl.detected_frame <= frame
+            and (sl.end_frame is None or frame <= sl.end_frame)
+            for sl in self._slips_seen.values()
+        )
 
     def _apply_in_order(
         self, found: list[tuple[int, int, Tacteme]], slips: list[tuple[int, int, Event]]
