@@ -118,7 +118,10 @@ class SlipConfig:
         slide (3 mm/s) takes to cross a taxel (0.59 s), as a face square to
         the grid moves its footprint one column at a time.
     hold_s : float
-        The motion must exceed the limit this long (at least one frame), s.
+        The motion must exceed the limit this long (at least one frame), s:
+        a contact about to tip away, or just landed, moves its footprint for
+        a frame or two, a slide goes on (0.03 s: about twice the false alarms
+        on MuJoCo rolls, and slips found about 0.07 s sooner).
     area_step : float
         Relative change of the mean area between the windows that restarts
         the reference (a contact placed, lifted or tipping, not sliding).
@@ -132,7 +135,7 @@ class SlipConfig:
     current_s: float = 0.05
     reference_s: float = 0.3
     end_s: float = 0.6
-    hold_s: float = 0.03
+    hold_s: float = 0.1
     area_step: float = 0.15
     min_elongation: float = 1.6
 
