@@ -17,7 +17,8 @@ from taxelkit.sensors.presets import BONNEVILLE_16X16
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.recognise_chunks import ChunkRecogniser
 from taxelkit.smart.recogniser import SmartSensor, recognise
-from taxelkit.smart.slip import DEFAULT_SLIP, SlipConfig, SlipScanner
+from taxelkit.smart.slip import DEFAULT_SLIP, SlipConfig
+from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_table import OBJECTS
 from taxelkit.smart.tactemes import PAPER_LEVEL3, TactemeConfig
 

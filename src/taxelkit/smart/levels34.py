@@ -18,7 +18,8 @@ from numpy.typing import NDArray
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Eliminator, Event, Verdict, explain
 from taxelkit.smart.segment_scan import mean_axis_deg, rows_from_track
-from taxelkit.smart.slip import SLIP_KINDS, Slip, SlipScanner, slip_to_json
+from taxelkit.smart.slip import SLIP_KINDS, Slip, slip_to_json
+from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import (
     SegmentTrack,

@@ -31,7 +31,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
-from taxelkit.smart.slip import Slip, SlipScanner
+from taxelkit.smart.slip import Slip
+from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import MOTION_MIN_FRAMES, SegmentTrack, TactemeConfig
 from taxelkit.smart.track_geometry import axis_angle_deg, axis_vectors
@@ -80,23 +81,22 @@ _POINT, _LINE, _AREA = int(ContactClass.POINT), int(ContactClass.LINE), int(Cont
 class SegmentScanner:
     """Motion tactemes of one open segment, computed incrementally.
 
-        Parameters
-        ----------
-        cls : int
-            The segment's :class:`~taxelkit.smart.contact_classes.ContactClass`.
-        config : TactemeConfig
+    Parameters
+    ----------
+    cls : int
+        The segment's :class:`~taxelkit.smart.contact_classes.ContactClass`.
+    config : TactemeConfig
 
-        Examples
-        --------
-        >>> import numpy as np
-        >>> from taxelkit.smart.tactemes import TactemeConfig
-        >>> from taxelkit.smart.contact_classes import ContactClass
-    from taxelkit.smart.slip import Slip, SlipScanner
-        >>> scan = SegmentScanner(ContactClass.POINT, TactemeConfig())
-        >>> rows = np.zeros((100, 9)); rows[:, 3] = rows[:, 4] = 1.0  # 100 frames at 20 Hz
-        >>> rows[:, 0] = np.linspace(0, 5, 100); rows[:, 8] = np.arange(100) / 20
-        >>> [(t.value, f) for t, f in scan.extend(np.arange(100), rows)]
-        [('PC moves', 44)]
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from taxelkit.smart.tactemes import TactemeConfig
+    >>> from taxelkit.smart.contact_classes import ContactClass
+    >>> scan = SegmentScanner(ContactClass.POINT, TactemeConfig())
+    >>> rows = np.zeros((100, 9)); rows[:, 3] = rows[:, 4] = 1.0  # 100 frames at 20 Hz
+    >>> rows[:, 0] = np.linspace(0, 5, 100); rows[:, 8] = np.arange(100) / 20
+    >>> [(t.value, f) for t, f in scan.extend(np.arange(100), rows)]
+    [('PC moves', 44)]
     """
 
     def __init__(self, cls: int, config: TactemeConfig) -> None:
