@@ -99,9 +99,16 @@ def test_elimination_identifies_reports_unknown_and_keeps_candidates() -> None:
 
 def test_sliding_face_is_never_identified() -> None:
     frames = [blank()] * 2 + [area(4, 10, c, c + 6) for c in range(2, 10) for _ in range(2)]
-    rec = recognise(TactileFrames(np.stack(frames), pitch_mm=PITCH))
-    assert "AC moves" in [n for n, _ in rec.tactemes]
+    rec = recognise(
+        TactileFrames(np.stack(frames), pitch_mm=PITCH), config=TactemeConfig(slip=None)
+    )
+    assert "AC moves" in [n for n, _ in rec.tactemes]  # paper 001: nothing fits a slide
     assert rec.identified == "unknown"
+    slid = recognise(TactileFrames(np.stack(frames), pitch_mm=PITCH))
+    assert slid.slips and ("withheld", "AC moves") in [(e.kind, e.value) for e in slid.events]
+    assert slid.identified not in OBJECTS
+    assert slid.verdict.reason == "slid"
+    assert slid.verdict.sentence().startswith("not identified: slid")
 
 
 def test_lift_off_reports_the_candidates_left() -> None:

@@ -132,15 +132,20 @@ def test_a_line_sliding_along_itself_is_not_rolling() -> None:
     rec = TactileFrames(
         line_frames([(8, c) for c in cols]), t_s=np.arange(38) / 20.0, pitch_mm=PITCH
     )
-    r = recognise(rec, cleaning=None)
-    names = [n for n, _ in r.tactemes]
+    paper = recognise(rec, cleaning=None, config=TactemeConfig(slip=None))
+    names = [n for n, _ in paper.tactemes]
     assert "LC slides along itself" in names and "LCMP" not in names
-    assert r.identified == "unknown"
+    assert paper.identified == "unknown"
+    r = recognise(rec, cleaning=None)  # the slip detector: the slide is slip, not shape
+    assert [s.kind for s in r.slips] == ["line slides along itself"]
+    assert ("withheld", "LC slides along itself") in [(e.kind, e.value) for e in r.events]
+    assert r.identified is None and r.verdict.reason == "slid"
     rolled = [(5 + k // 3, 8) for k in range(18)]  # across itself: a cylinder's roll
     rec2 = TactileFrames(
         line_frames([(5, 8)] * 6 + rolled), t_s=np.arange(32) / 20.0, pitch_mm=PITCH
     )
-    assert recognise(rec2, cleaning=None).identified == "cylinder"
+    r2 = recognise(rec2, cleaning=None)
+    assert r2.identified == "cylinder" and r2.slips == ()
 
 
 def test_evidence_survives_a_short_loss_of_contact() -> None:

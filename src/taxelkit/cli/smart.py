@@ -173,7 +173,7 @@ def _echo_objects(objects: ObjectRecognition) -> None:
     if not accepted:
         click.echo("identified: nothing (no contact accepted)")
         return
-    verdicts = [o.identified or f"undecided among {', '.join(o.candidates)}" for o in accepted]
+    verdicts = [o.outcome_text() for o in accepted]
     if len(accepted) == 1:
         click.echo(f"identified: {verdicts[0]}")
     else:
@@ -240,6 +240,7 @@ def _recognise_whole(
         result.candidates,
         result.verdict,
         result.classes,
+        result.slips,
     ), recognise_objects(rec, **options)
 
 

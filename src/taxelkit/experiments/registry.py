@@ -124,6 +124,12 @@ def _multi_object(**kw: Any) -> ExperimentResult:
     return run_multi_object(**kw)
 
 
+def _slip(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.slip import run_slip
+
+    return run_slip(**kw)
+
+
 def _robustness(**kw: Any) -> ExperimentResult:
     from taxelkit.experiments.robustness import run_robustness
 
@@ -219,6 +225,14 @@ EXPERIMENTS: dict[str, Experiment] = {
             trials=100,
             workers=True,
             scheduler=True,
+        ),
+        Experiment(
+            "slip",
+            "Smart sensor: slip found from the frames, recognition under partial slip",
+            _slip,
+            "motion",
+            trials=30,
+            workers=True,
         ),
     )
 }

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from taxelkit.errors import InputError
+from taxelkit.experiments.report_slip import slip_markdown
 
 __all__ = [
     "BLOCKS",
@@ -29,6 +30,7 @@ __all__ = [
     "render_block",
     "robustness_heldout_markdown",
     "robustness_markdown",
+    "slip_markdown",
     "trace_robustness_markdown",
     "update_blocks",
 ]
@@ -397,6 +399,7 @@ BLOCKS: dict[str, tuple[tuple[str, ...], Callable[[dict[str, dict[str, Any]]], s
         ("multi-object",),
         lambda docs: multi_object_markdown(docs["multi-object"]),
     ),
+    "slip": (("slip",), lambda docs: slip_markdown(docs["slip"])),
     "trace-robustness": (
         ("trace-robustness",),
         lambda docs: trace_robustness_markdown(docs["trace-robustness"]),

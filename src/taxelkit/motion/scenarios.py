@@ -187,9 +187,14 @@ def _script_sphere(b: Builder, d: Draws, lim: _Limits) -> None:
 
 
 def _script_polyhedron(b: Builder, d: Draws, lim: _Limits) -> None:
+    begin_contact(b, d, "face")
+    _polyhedron_tips(b, d, lim)
+
+
+def _polyhedron_tips(b: Builder, d: Draws, lim: _Limits) -> None:
+    """From a face: tipped about 2-3 bottom edges in turn, maybe onto a vertex; lifted off."""
     solid = b.solid
     assert isinstance(solid, Cube | Tetrahedron)
-    begin_contact(b, d, "face")
     visits = 2 + d.index(2)
     vertex_visit = d.index(visits + 1)  # == visits: no vertex
     previous: NDArray[np.float64] | None = None

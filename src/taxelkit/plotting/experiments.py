@@ -16,6 +16,7 @@ def _plotters() -> dict[str, Callable[[Any], Figure]]:
     from taxelkit.plotting.paper000 import plot_fig7, plot_fig8, plot_fig9, plot_recall_vs_s
     from taxelkit.plotting.paper001 import plot_cylinder, plot_smart_sensor, plot_tacteme_table
     from taxelkit.plotting.robustness import plot_robustness
+    from taxelkit.plotting.slip import plot_slip
     from taxelkit.plotting.trace_robustness import plot_trace_robustness
 
     return {
@@ -32,6 +33,7 @@ def _plotters() -> dict[str, Callable[[Any], Figure]]:
         "recall-vs-s": plot_recall_vs_s,
         "robustness": plot_robustness,
         "robustness-heldout": plot_robustness,
+        "slip": plot_slip,
         "trace-robustness": plot_trace_robustness,
     }
 

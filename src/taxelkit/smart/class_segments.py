@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from taxelkit.errors import InputError
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Event, Verdict
+from taxelkit.smart.slip import Slip, slip_to_json
 
 __all__ = ["ChunkRecognition", "ClassSegments", "class_segments", "joined_segments"]
 
@@ -137,6 +138,8 @@ class ChunkRecognition:
         As in :class:`~taxelkit.smart.recogniser.Recognition`.
     classes : (T,) int8 or None
         Per-frame classes, kept only when asked for (``per_frame=True``).
+    slips : tuple of Slip
+        Slip phases (:mod:`taxelkit.smart.slip`).
     """
 
     segments: ClassSegments
@@ -146,6 +149,7 @@ class ChunkRecognition:
     candidates: tuple[str, ...]
     verdict: Verdict
     classes: NDArray[np.int8] | None = None
+    slips: tuple[Slip, ...] = ()
 
     @property
     def n_frames(self) -> int:
@@ -159,6 +163,7 @@ class ChunkRecognition:
             "candidates": list(self.candidates),
             "why": self.verdict.to_json(),
             "tactemes": [{"name": n, "frame": f} for n, f in self.tactemes],
+            "slips": [slip_to_json(s) for s in self.slips],
             "n_frames": self.n_frames,
             "class_segments": self.segments.to_json(),
         }

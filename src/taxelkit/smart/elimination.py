@@ -13,10 +13,12 @@ from dataclasses import dataclass, field
 
 from taxelkit.smart.tacteme_table import OBJECTS, Tacteme, eliminated_by
 
-__all__ = ["UNKNOWN", "Eliminator", "Event", "Verdict", "explain"]
+__all__ = ["SLID", "UNKNOWN", "Eliminator", "Event", "Verdict", "explain"]
 
 #: Outcome when every candidate has been eliminated.
 UNKNOWN = "unknown"
+#: Why a contact that slipped was not identified ("not identified: slid").
+SLID = "slid"
 
 
 @dataclass(frozen=True)
@@ -28,9 +30,13 @@ class Event:
     kind : str
         ``"contact"`` (a contact class accepted), ``"tacteme"``,
         ``"candidates"`` (the candidate list changed), ``"identified"``,
-        ``"unknown"`` or ``"lifted"`` (contact ended).
+        ``"unknown"``, ``"lifted"`` (contact ended), ``"slip"`` and
+        ``"slip-end"`` (a slip phase began, ended; value: what slipped, see
+        :mod:`taxelkit.smart.slip`) or ``"withheld"`` (a tacteme seen while
+        slipping, or one only slip produces: not used for elimination).
     frame : int
-        Frame index at which it happened.
+        Frame index at which it happened (a slip: its estimated first and
+        last frame, reported when decided).
     value : str or tuple of str
         The class name, tacteme name, identity, or candidates left.
     """
@@ -95,15 +101,35 @@ class Verdict:
     deciders : tuple of (tacteme, leaves, reason)
         When undecided: each tacteme that would split the candidates, the
         objects it would leave, and the motion that produces it.
+    slid : bool
+        The contact slipped (:mod:`taxelkit.smart.slip`): when no object is
+        identified, the reason is the slip.
     """
 
     outcome: str | None
     candidates: tuple[str, ...]
     eliminated: tuple[tuple[str, str, int, str], ...]
     deciders: tuple[tuple[str, tuple[str, ...], str], ...]
+    slid: bool = False
+
+    @property
+    def reason(self) -> str | None:
+        """Why nothing was identified: ``"slid"``, ``"ruled out"``, ``"undecided"``; else None."""
+        if self.outcome not in (None, UNKNOWN):
+            return None
+        if self.slid:
+            return SLID
+        return "ruled out" if self.outcome == UNKNOWN else "undecided"
 
     def sentence(self) -> str:
         """One line a user can read."""
+        if self.reason == SLID:
+            left = (
+                f"; its rolling phases leave {', '.join(self.candidates)}"
+                if self.candidates
+                else "; every object was ruled out"
+            )
+            return "not identified: slid" + left
         if self.outcome == UNKNOWN:
             last = self.eliminated[-1] if self.eliminated else None
             tail = f"; last: {last[1]} at frame {last[2]} ({last[3]})" if last else ""
@@ -120,6 +146,8 @@ class Verdict:
         return {
             "outcome": self.outcome,
             "candidates": list(self.candidates),
+            "slid": self.slid,
+            "reason": self.reason,
             "sentence": self.sentence(),
             "eliminated": [
                 {"object": o, "tacteme": t, "frame": f, "reason": r}
@@ -131,7 +159,9 @@ class Verdict:
         }
 
 
-def explain(tactemes: list[tuple[str, int]], *, objects: tuple[str, ...] = OBJECTS) -> Verdict:
+def explain(
+    tactemes: list[tuple[str, int]], *, objects: tuple[str, ...] = OBJECTS, slid: bool = False
+) -> Verdict:
     """The verdict and its reasons from the tactemes of one contact, in order.
 
     Parameters
@@ -139,6 +169,8 @@ def explain(tactemes: list[tuple[str, int]], *, objects: tuple[str, ...] = OBJEC
     tactemes : list of (name, frame)
     objects : tuple of str
         The objects the contact began with.
+    slid : bool
+        The contact slipped.
     """
     from taxelkit.smart.tacteme_table import TABLE
 
@@ -157,4 +189,4 @@ def explain(tactemes: list[tuple[str, int]], *, objects: tuple[str, ...] = OBJEC
             keep = tuple(o for o in left if o not in row.eliminates)
             if keep and len(keep) < len(left):
                 deciders.append((row.tacteme.value, keep, row.reason))
-    return Verdict(outcome, tuple(left), tuple(eliminated), tuple(deciders))
+    return Verdict(outcome, tuple(left), tuple(eliminated), tuple(deciders), bool(slid))

@@ -17,7 +17,9 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Eliminator, Event, Verdict, explain
-from taxelkit.smart.segment_scan import mean_axis_deg
+from taxelkit.smart.segment_scan import mean_axis_deg, rows_from_track
+from taxelkit.smart.slip import SLIP_KINDS, Slip, slip_to_json
+from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import (
     SegmentTrack,
@@ -27,6 +29,21 @@ from taxelkit.smart.tactemes import (
 )
 
 __all__ = ["Levels34", "Recognition", "Segment", "TrackSegment", "finish"]
+
+#: Tactemes only slip produces (they eliminate every object): with slip
+#: detection on they are evidence of slip, not of shape, and never eliminate.
+SLIDING_TACTEMES = frozenset(
+    {Tacteme.AC_MOVES, Tacteme.AC_ROTATES, Tacteme.LC_SLIDES, Tacteme.LC_SPINS}
+)
+
+#: What a slip going on can fake besides the sliding tactemes: a line sliding along
+#: itself moves its middle, by which the pivot of its turn is judged (about one end or
+#: in an arc); it does not move the line across itself or turn it (LCM, LCMP, LCMT
+#: stay true). A face sliding fakes only the sliding tactemes.
+FAKED_BY_SLIP: dict[str, frozenset[Tacteme]] = {
+    SLIP_KINDS[int(ContactClass.LINE)]: frozenset({Tacteme.LCMT_ABOUT_END, Tacteme.LCMT_ARC}),
+    SLIP_KINDS[int(ContactClass.AREA)]: frozenset(),
+}
 
 _BASIC = {
     int(ContactClass.POINT): Tacteme.PC,
@@ -46,6 +63,8 @@ class Segment(Protocol):
     def frame_at(self, i: int) -> int: ...
     def mean_axis_deg(self, stop: int | None = None) -> float: ...
     def tactemes(self) -> list[tuple[Tacteme, int]]: ...
+    def slips(self) -> list[Slip]: ...
+    def close_slips(self) -> list[Slip]: ...
 
 
 class TrackSegment:
@@ -64,6 +83,10 @@ class TrackSegment:
         self.first_frame = int(track.frames[0])
         self.last_frame = int(track.frames[-1])
         self._found = segment_tactemes(cls, track, config)
+        self._slip: SlipScanner | None = None
+        if config.slip is not None:
+            self._slip = SlipScanner(cls, config.slip, k=int(config.debounce_frames))
+            self._slip.extend(track.frames, rows_from_track(track))
 
     def frames_for(self, seconds: float, k: int, *, minimum: int | None = None) -> int:
         return self.track.frames_for(seconds, k, minimum=minimum)
@@ -76,6 +99,12 @@ class TrackSegment:
 
     def tactemes(self) -> list[tuple[Tacteme, int]]:
         return self._found
+
+    def slips(self) -> list[Slip]:
+        return [] if self._slip is None else self._slip.all_slips()
+
+    def close_slips(self) -> list[Slip]:
+        return [] if self._slip is None else self._slip.close()
 
 
 @dataclass(frozen=True, eq=False)
@@ -96,7 +125,9 @@ class Recognition:
         Objects not yet eliminated for the last contact.
     verdict : Verdict
         Why: what ruled out each object of the last contact and, when
-        undecided, which tactemes (motions) would decide.
+        undecided, which tactemes (motions) would decide; whether it slid.
+    slips : tuple of Slip
+        Slip phases of every contact, in order (:mod:`taxelkit.smart.slip`).
     """
 
     classes: NDArray[np.int8]
@@ -105,6 +136,7 @@ class Recognition:
     identified: str | None
     candidates: tuple[str, ...]
     verdict: Verdict
+    slips: tuple[Slip, ...] = ()
 
     def class_names(self) -> list[str]:
         """Per-frame class names (``"none"``, ``"indeterminate"``, ``"point"``, ...)."""
@@ -117,6 +149,7 @@ class Recognition:
             "candidates": list(self.candidates),
             "why": self.verdict.to_json(),
             "tactemes": [{"name": n, "frame": f} for n, f in self.tactemes],
+            "slips": [slip_to_json(s) for s in self.slips],
             "classes": self.class_names(),
         }
 
@@ -144,10 +177,13 @@ class Levels34:
         self._held = 0
         self._prev_held = 0
         self._transitions_done = True
+        self._seg: Segment | None = None
+        self._slips_seen: dict[int, Slip] = {}  # the open segment's, by detection frame
+        self.slips: dict[int, Slip] = {}  # every slip by detection frame (latest state)
 
     def open_run(self, cls: int, accept: int, seg: Segment | None) -> None:
         """A new class was accepted at frame ``accept``; ``seg`` holds its frames so far."""
-        self.close_run()
+        self.close_run(accept)
         if cls == ContactClass.NONE:
             if self.in_contact:
                 self.events.append(Event("lifted", accept, self.elim.candidates))
@@ -164,6 +200,8 @@ class Levels34:
         self._prev_held = self._held
         self.events.extend(self.elim.apply(_BASIC[cls], accept))
         self._open = (cls, set())
+        self._seg = seg
+        self._slips_seen = {}
         self._transitions_done = False
         self.update(seg)
 
@@ -196,31 +234,84 @@ class Levels34:
             )
             for tac in found:
                 self.events.extend(self.elim.apply(tac, at))
-        for tac, frame in seg.tactemes():
-            if tac not in done:
-                done.add(tac)
-                self.events.extend(self.elim.apply(tac, frame))
+        motions = [(frame, 1, tac) for tac, frame in seg.tactemes() if tac not in done]
+        done.update(tac for _, _, tac in motions)
+        self._apply_in_order(motions, self._new_slips(seg.slips()))
         self._len = seg.size
         self._held = held
         # a line's direction over all its frames (held still, an edge dominates its tips)
         self.history[-1] = (cls, seg.mean_axis_deg())
         self._last_frame = seg.last_frame
 
-    def close_run(self) -> None:
-        """The open segment ended."""
+    def _new_slips(self, slips: list[Slip]) -> list[tuple[int, int, Event]]:
+        """Slip onsets and ends not yet reported, as ``(decision frame, 0, event)``."""
+        out: list[tuple[int, int, Event]] = []
+        for sl in slips:
+            before = self._slips_seen.get(sl.detected_frame)
+            if before is None:
+                out.append((sl.detected_frame, 0, Event("slip", sl.first_frame, sl.kind)))
+            ended = sl.last_frame is not None and sl.end_frame is not None
+            if ended and (before is None or before.end_frame is None):
+                assert sl.last_frame is not None and sl.end_frame is not None
+                out.append((sl.end_frame, 0, Event("slip-end", sl.last_frame, sl.kind)))
+            self._slips_seen[sl.detected_frame] = sl
+            self.slips[sl.detected_frame] = sl
+        return out
+
+    def _withheld(self, tac: Tacteme, frame: int) -> bool:
+        """Whether a tacteme found at ``frame`` is slip's evidence rather than shape's."""
+        if self.config.slip is None:
+            return False
+        if tac in SLIDING_TACTEMES:
+            return True
+        return any(
+            tac in FAKED_BY_SLIP.get(sl.kind, frozenset())
+            and sl.detected_frame <= frame
+            and (sl.end_frame is None or frame <= sl.end_frame)
+            for sl in self._slips_seen.values()
+        )
+
+    def _apply_in_order(
+        self, found: list[tuple[int, int, Tacteme]], slips: list[tuple[int, int, Event]]
+    ) -> None:
+        """Slip events and tactemes by the frame they were decided at (slips first)."""
+        items: list[tuple[int, int, Tacteme | Event]] = [*slips, *found]
+        items.sort(key=lambda item: (item[0], item[1]))
+        for _, _, what in items:
+            if isinstance(what, Event):
+                self.events.append(what)
+            elif self._withheld(what, _frame_of(what, found)):
+                self.events.append(Event("withheld", _frame_of(what, found), what.value))
+            else:
+                self.events.extend(self.elim.apply(what, _frame_of(what, found)))
+
+    def close_run(self, frame: int | None = None) -> None:
+        """The open segment ended (a new class accepted at ``frame``)."""
+        seg, self._seg = self._seg, None
+        if seg is not None and self._open is not None:
+            self._apply_in_order([], self._new_slips(seg.close_slips() + seg.slips()))
         self._open = None
 
 
-def finish(classes: NDArray[np.int8], events: list[Event]) -> Recognition:
+def _frame_of(tac: Tacteme, found: list[tuple[int, int, Tacteme]]) -> int:
+    return next(f for f, _, t in found if t == tac)
+
+
+def finish(
+    classes: NDArray[np.int8], events: list[Event], slips: list[Slip] | None = None
+) -> Recognition:
     """Summarise: the outcome is that of the current contact, or of the last one lifted."""
     tactemes = tuple((str(e.value), e.frame) for e in events if e.kind == "tacteme")
     state = Eliminator()
     current: tuple[str, ...] | None = None  # candidates of the ongoing contact
     lifted: tuple[str, ...] | None = None  # candidates when the last contact ended
     seen: list[tuple[str, int]] = []  # tactemes of the ongoing (or last) contact
+    slid = False  # the ongoing (or last) contact slipped
     for e in events:
         if e.kind == "contact" and current is None:
-            current, seen = state.objects, []
+            current, seen, slid = state.objects, [], False
+        elif e.kind in ("slip", "withheld"):
+            slid = True
         elif e.kind == "candidates":
             current = tuple(e.value)
         elif e.kind == "lifted":
@@ -229,6 +320,14 @@ def finish(classes: NDArray[np.int8], events: list[Event]) -> Recognition:
             seen.append((str(e.value), e.frame))
     final = current if current is not None else lifted
     state.candidates = state.objects if final is None else final
-    verdict = explain(seen, objects=state.objects)
+    verdict = explain(seen, objects=state.objects, slid=slid)
     assert verdict.candidates == state.candidates  # the same elimination, told twice
-    return Recognition(classes, tactemes, tuple(events), state.outcome, state.candidates, verdict)
+    return Recognition(
+        classes,
+        tactemes,
+        tuple(events),
+        state.outcome,
+        state.candidates,
+        verdict,
+        tuple(slips or ()),
+    )

@@ -133,7 +133,9 @@ def binary_images(frames: ArrayLike, threshold: float | None = None) -> NDArray[
     if not np.isfinite(thr):
         raise InputError(f"threshold must be a finite number, got {threshold!r}")
     check_finite_array("frames", f)
-    return np.asarray(f > thr)
+    # in float64, as the chunked and per-track paths: a float32 taxel at the threshold's
+    # float32 value (a flat face pressed exactly the threshold deep) is above it
+    return np.asarray(np.asarray(f, dtype=np.float64) > thr)
 
 
 def _check_images(frames: ArrayLike, threshold: float | None) -> NDArray[np.bool_]:

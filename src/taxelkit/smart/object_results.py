@@ -12,9 +12,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from taxelkit.smart.elimination import Verdict
+from taxelkit.smart.elimination import SLID, Verdict
 
-__all__ = ["ObjectRecognition", "ObjectVerdict", "TrackedEvent", "interleaved"]
+__all__ = ["ObjectRecognition", "ObjectVerdict", "TrackSlip", "TrackedEvent", "interleaved"]
 
 
 @dataclass(frozen=True)
@@ -53,6 +53,43 @@ class TrackedEvent:
         }
 
 
+@dataclass(frozen=True)
+class TrackSlip:
+    """A slip phase of one track (:class:`~taxelkit.smart.slip.Slip` in recording frames, timed).
+
+    Attributes
+    ----------
+    kind : str
+        What slipped (``"area slides"``, ``"line slides along itself"``).
+    first_frame, detected_frame : int
+        Estimated start; frame at which it was decided.
+    last_frame : int or None
+        Estimated end; None while it goes on.
+    t_start_s, t_detected_s : float, s
+    t_end_s : float or None, s
+    """
+
+    kind: str
+    first_frame: int
+    detected_frame: int
+    last_frame: int | None
+    t_start_s: float
+    t_detected_s: float
+    t_end_s: float | None
+
+    def to_json(self) -> dict[str, Any]:
+        """JSON types (the ``slips`` entries of an ``objects`` record)."""
+        return {
+            "kind": self.kind,
+            "first_frame": self.first_frame,
+            "last_frame": self.last_frame,
+            "detected_frame": self.detected_frame,
+            "t_start_s": self.t_start_s,
+            "t_end_s": self.t_end_s,
+            "t_detected_s": self.t_detected_s,
+        }
+
+
 @dataclass(frozen=True, eq=False)
 class ObjectVerdict:
     """What one track concluded.
@@ -74,6 +111,8 @@ class ObjectVerdict:
     accepted : bool
         False if no contact class was ever accepted (a track shorter than the
         debounce): nothing was concluded.
+    slips : tuple of TrackSlip
+        The track's slip phases.
     """
 
     track: int
@@ -86,6 +125,15 @@ class ObjectVerdict:
     verdict: Verdict
     tactemes: tuple[tuple[str, int, float], ...]
     accepted: bool
+    slips: tuple[TrackSlip, ...] = ()
+
+    def outcome_text(self) -> str:
+        """The outcome in words: the object, "not identified: slid", "unknown" or undecided."""
+        if self.verdict.reason == SLID:
+            return "not identified: slid"
+        if self.identified is None:
+            return f"undecided among {', '.join(self.candidates)}"
+        return str(self.identified)
 
     def summary(self) -> str:
         """One line: the track, its span and its outcome."""
@@ -95,11 +143,12 @@ class ObjectVerdict:
         )
         if not self.accepted:
             outcome = "no contact accepted (too short)"
-        elif self.identified is None:
-            outcome = f"undecided among {', '.join(self.candidates)}"
+        elif self.verdict.reason == SLID or self.identified is None:
+            outcome = self.outcome_text()
         else:
             outcome = f"identified {self.identified}"
-        return f"object {self.track}: {span}: {outcome}"
+        slipped = f"; {len(self.slips)} slip phase(s)" if self.slips else ""
+        return f"object {self.track}: {span}: {outcome}{slipped}"
 
     def to_json(self) -> dict[str, Any]:
         """JSON types (the ``objects`` entries of ``taxelkit recognize --json``)."""
@@ -114,6 +163,7 @@ class ObjectVerdict:
             "candidates": list(self.candidates),
             "why": self.verdict.to_json(),
             "tactemes": [{"name": n, "frame": f, "t_s": t} for n, f, t in self.tactemes],
+            "slips": [s.to_json() for s in self.slips],
         }
 
 

@@ -45,10 +45,12 @@ from taxelkit.smart.object_results import (
     ObjectRecognition,
     ObjectVerdict,
     TrackedEvent,
+    TrackSlip,
     interleaved,
 )
 from taxelkit.smart.recognise_chunks import ChunkRecogniser
 from taxelkit.smart.regions import RegionConfig, segment_frames
+from taxelkit.smart.slip import Slip
 from taxelkit.smart.stream_state import check_chunk
 from taxelkit.smart.tactemes import TactemeConfig, debounce_counts
 from taxelkit.smart.tracks import RegionTracker, TrackerConfig
@@ -57,6 +59,7 @@ __all__ = [
     "ObjectRecogniser",
     "ObjectRecognition",
     "ObjectVerdict",
+    "TrackSlip",
     "TrackedEvent",
     "recognise_objects",
 ]
@@ -264,9 +267,22 @@ class ObjectRecogniser:
                     (n, live.start + f, self._t_of(live.start + f)) for n, f in res.tactemes
                 ),
                 accepted=any(e.kind == "contact" for e in res.events),
+                slips=tuple(self._track_slip(live.start, sl) for sl in res.slips),
             )
         )
         self._done_events.extend(live.events)
+
+    def _track_slip(self, start: int, sl: Slip) -> TrackSlip:
+        last = None if sl.last_frame is None else start + sl.last_frame
+        return TrackSlip(
+            kind=sl.kind,
+            first_frame=start + sl.first_frame,
+            detected_frame=start + sl.detected_frame,
+            last_frame=last,
+            t_start_s=self._t_of(start + sl.first_frame),
+            t_detected_s=self._t_of(start + sl.detected_frame),
+            t_end_s=None if last is None else self._t_of(last),
+        )
 
     def result(self) -> ObjectRecognition:
         """Every track's verdict so far (live tracks: their verdict up to now)."""

@@ -177,6 +177,7 @@ class ChunkRecogniser:
             done.candidates,
             done.verdict,
             classes,
+            done.slips,
         )
 
 

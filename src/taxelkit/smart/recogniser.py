@@ -27,7 +27,6 @@ from taxelkit.smart.contact_classes import (
     classify_contacts,
 )
 from taxelkit.smart.contact_limits import ContactLimits, apply_limits
-from taxelkit.smart.elimination import Event
 from taxelkit.smart.levels12 import (
     DEFAULT_CLEANING,
     DEFAULT_LIMITS,
@@ -48,17 +47,17 @@ from taxelkit.smart.track_geometry import line_extents
 __all__ = ["DEFAULT_CLEANING", "DEFAULT_LIMITS", "Recognition", "SmartSensor", "recognise"]
 
 
-def _events_for_runs(
+def _levels34_for_runs(
     runs: list[tuple[int, int, NDArray[np.intp]]],
     track_of: Any,
     config: TactemeConfig,
-) -> list[Event]:
+) -> Levels34:
     """Levels 3-4 over the accepted runs of a whole recording (batch)."""
     state = Levels34(config)
     for cls, accept, frames in runs:
         seg = TrackSegment(cls, track_of(frames), config) if cls != ContactClass.NONE else None
         state.open_run(cls, accept, seg)
-    return state.events
+    return state
 
 
 def recognise(
@@ -145,4 +144,5 @@ def recognise(
 
     k, k_none = debounce_counts(cfg, float(t_s[1] - t_s[0]) if t_s.size > 1 else None)
     runs = accepted_runs(classes, k, k_none=k_none)
-    return finish(classes, _events_for_runs(runs, track_of, cfg))
+    state = _levels34_for_runs(runs, track_of, cfg)
+    return finish(classes, state.events, list(state.slips.values()))

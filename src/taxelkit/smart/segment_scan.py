@@ -31,6 +31,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.slip import Slip
+from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import MOTION_MIN_FRAMES, SegmentTrack, TactemeConfig
 from taxelkit.smart.track_geometry import axis_angle_deg, axis_vectors
@@ -46,12 +48,29 @@ from taxelkit.smart.track_stream import (
     turn_from,
 )
 
-__all__ = ["ROW_COLUMNS", "SegmentScanner", "mean_axis_deg"]
+__all__ = ["ROW_COLUMNS", "SegmentScanner", "mean_axis_deg", "rows_from_track"]
 
 #: Columns of the per-frame rows fed to :meth:`SegmentScanner.extend`:
 #: centre x, y (mm), orientation (deg), area (mm^2), elongation, half-length
 #: (mm), line extent low, high (mm from the centre, NaN if not measured), time (s).
 ROW_COLUMNS = ("cx", "cy", "theta", "area", "elong", "half", "lo", "hi", "t")
+
+
+def rows_from_track(track: SegmentTrack) -> NDArray[np.float64]:
+    """The per-frame rows ``(n, 9)`` (:data:`ROW_COLUMNS`) of a whole segment's track."""
+    ext = np.full((track.frames.size, 2), np.nan) if track.extent_mm is None else track.extent_mm
+    return np.column_stack(
+        [
+            track.centre_mm,
+            track.orientation_deg,
+            track.area_mm2,
+            track.elongation,
+            track.half_length_mm,
+            ext,
+            track.t_s,
+        ]
+    )
+
 
 #: An anchor's reference: smoothed centre, axis, area, elongation and half-length there.
 _Ref = tuple[NDArray[np.float64], float, Any, Any, Any]
@@ -96,6 +115,11 @@ class SegmentScanner:
         self._early: list[tuple[NDArray[np.intp], NDArray[np.float64]]] = []
         self._axis_sum = RunningSum(2)
         self._ready = False
+        self._slip = (
+            None
+            if config.slip is None
+            else SlipScanner(self.cls, config.slip, k=int(config.debounce_frames))
+        )
 
     # -- what Level 3's transitions need ---------------------------------------------------
     def _timing(self) -> SegmentTrack:
@@ -130,6 +154,14 @@ class SegmentScanner:
         """The tactemes decided so far, in the order decided."""
         return self.found
 
+    def slips(self) -> list[Slip]:
+        """Slip phases so far (:class:`~taxelkit.smart.slip.SlipScanner`)."""
+        return [] if self._slip is None else self._slip.all_slips()
+
+    def close_slips(self) -> list[Slip]:
+        """The segment ended: a slip going on ends at its last frame."""
+        return [] if self._slip is None else self._slip.close()
+
     # -- feeding --------------------------------------------------------------------------------
     def extend(
         self, frames: NDArray[np.intp], rows: NDArray[np.float64]
@@ -147,6 +179,8 @@ class SegmentScanner:
         if self.first_frame < 0:
             self.first_frame = int(frames[0])
         self.last_frame = int(frames[-1])
+        if self._slip is not None:
+            self._slip.extend(frames, rows)
         t2 = np.deg2rad(2.0 * rows[:, 2])
         self._axis_sum.push(np.stack([np.cos(t2), np.sin(t2)], axis=-1))
         cap = self._head_cap

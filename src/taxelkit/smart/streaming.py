@@ -103,7 +103,7 @@ class _FrameLevels12:
         )
 
     def classify(self, frame: NDArray[Any], t_s: float) -> tuple[int, tuple[float, ...]]:
-        b = frame if frame.dtype == bool else frame > self.threshold
+        b = frame if frame.dtype == bool else frame.astype(np.float64) > self.threshold
         if self._cleaner is not None:
             b = self._cleaner.push(b, t_s)
         n, su, sv, suu, svv, suv = (self._basis_t @ b.ravel()).tolist()

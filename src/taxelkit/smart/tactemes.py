@@ -59,6 +59,7 @@ from numpy.typing import NDArray
 
 from taxelkit.errors import InputError, check_positive
 from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.slip import DEFAULT_SLIP, SlipConfig
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_geometry import (
     anchors,
@@ -184,6 +185,13 @@ class TactemeConfig:
         as it turns on (the estimate improves with the turn) and stays
         undecided if it never leaves the band: a doubt is better than a
         wrong name.
+    slip : SlipConfig or None
+        The slip detector (:mod:`taxelkit.smart.slip`, beyond paper 001): slip
+        phases are reported as events, the tactemes seen while a contact slips
+        (and the sliding tactemes, which only slip produces) are withheld
+        from elimination, and a contact that slid without being identified
+        ends "not identified: slid". None: no slip detection (paper 001's
+        pipeline: sliding tactemes eliminate every object).
     pivot_hold_s : float
         A pivot verdict must hold this long (at least as long as a motion), s:
         the running estimate settles as the line turns on. Measured on 12
@@ -218,6 +226,7 @@ class TactemeConfig:
     pivot_band: float = 1.15
     pivot_hold_s: float = 0.5
     smooth_s: float = 0.15
+    slip: SlipConfig | None = DEFAULT_SLIP
 
     def __post_init__(self) -> None:
         if int(self.debounce_frames) < 1:
@@ -251,8 +260,11 @@ class TactemeConfig:
 #: Level 3 as paper 001 states it, in frames: ``k = 3``, no time-based
 #: debounce, smoothing or lift-off grace (the thresholds of motion keep their
 #: units). With :func:`~taxelkit.smart.recogniser.recognise`'s ``cleaning=None``
-#: this is the faithful pipeline that reproduces Fig. 3.
-PAPER_LEVEL3 = TactemeConfig(debounce_frames=3, debounce_s=0.0, lift_grace_s=0.0, smooth_s=0.0)
+#: this is the faithful pipeline that reproduces Fig. 3 (no slip detection:
+#: the paper forbids sliding).
+PAPER_LEVEL3 = TactemeConfig(
+    debounce_frames=3, debounce_s=0.0, lift_grace_s=0.0, smooth_s=0.0, slip=None
+)
 
 
 def debounce_counts(config: TactemeConfig, dt_s: float | None) -> tuple[int, int]:

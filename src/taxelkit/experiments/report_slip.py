@@ -1,0 +1,69 @@
+"""The README block of the ``slip`` experiment (see :mod:`taxelkit.experiments.report`)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = ["slip_markdown"]
+
+
+def _pct(num: int, den: int) -> str:
+    return f"{num}/{den} ({100.0 * num / den:.1f} %)" if den else "-"
+
+
+def slip_markdown(doc: dict[str, Any]) -> str:
+    """Detection of slip phases, false alarms on rolling, recognition under slip, per engine."""
+    rates = " and ".join(f"{r:g}" for r in doc["rates_hz"])
+    lines = [
+        f"Rolls, rolls with one slipping phase (kinematic only) and slides of the six objects, "
+        f"each seen at {rates} frames/s on the Bonneville array with its noise "
+        f"({doc['n_trials']} kinematic and {doc['mujoco_trials']} MuJoCo trials per kind and "
+        f"object). Ground truth (scoring only): a slip phase is a run of contact points moving "
+        f"faster than {doc['gt_slip_mm_s']:g} mm/s along the plate; *in time*: decided within "
+        f"{doc['latency_s']:g} s of its start. Detectable kinds: a face (area) sliding and a line "
+        "sliding along itself; a point skidding and an isotropic face spinning leave the "
+        "footprint a rolling body leaves, and are listed apart.",
+        "",
+        "| engine | rate | kind | trials | faces and lines in time (found) | median latency "
+        "| other slip found | false alarms (trials, per s) | identified / wrong / not "
+        "(slid) | identified without slip detection |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for s in doc["summaries"]:
+        det = s["detectable"]
+        other = {k: v for k, v in s["by_slip_kind"].items() if k not in doc["detectable_kinds"]}
+        other_txt = ", ".join(f"{k} {v['detected']}/{v['phases']}" for k, v in other.items())
+        v, w = s["verdicts"], s["verdicts_without_slip"]
+        lat = det["median_latency_s"]
+        lines.append(
+            f"| {s['engine']} | {s['rate_hz']:g} | {s['kind']} | {s['trials']} "
+            f"| {_pct(det['in_time'], det['phases'])} ({det['detected']}) "
+            f"| {'-' if lat != lat else f'{lat:.2f} s'} | {other_txt or '-'} "
+            f"| {s['false_alarms']} ({s['trials_with_false_alarm']} trials, "
+            f"{s['false_alarms_per_s']:.3f}/s) "
+            f"| {v['identified']} / {v['wrong']} / {v['not_identified']} ({s['slid']}) "
+            f"| {w['identified']} / {w['wrong']} |"
+        )
+    lines += ["", "| rate | faces and lines in time | rolls with a false alarm "
+              "| partial slip identified (without slip detection) | slides identified |",
+              "| --- | --- | --- | --- | --- |"]  # fmt: skip
+    for rate, o in doc["overall"].items():
+        det, part, base = o["detectable"], o["partial"], o["partial_without_slip"]
+        n_part = sum(part.values())
+        lines.append(
+            f"| {rate} frames/s | {_pct(det['in_time'], det['phases'])} "
+            f"| {100 * o['roll_false_alarm_trial_rate']:.1f} % "
+            f"| {_pct(part['identified'], n_part)} ({base['identified']}), "
+            f"{part['wrong']} wrong | {o['sliding_identified']} |"
+        )
+    verdicts = []
+    for rate, acc in doc["acceptance"].items():
+        holds = [("slip phases in time >= 95 %", acc["detectable_in_time_ge_95"]),
+                 ("false alarms on rolls <= 2 %", acc["roll_false_alarms_le_2"]),
+                 ("slides never identified", acc["sliding_never_identified"])]  # fmt: skip
+        verdicts.append(
+            f"{rate} frames/s: " + "; ".join(f"{n} {'holds' if h else 'fails'}" for n, h in holds)
+        )
+    skipped = "".join(f" Skipped: {k} ({v})." for k, v in doc["skipped"].items())
+    lines += ["", "Acceptance: " + ". ".join(verdicts) + "." + skipped]
+    return "\n".join(lines)

@@ -1,0 +1,261 @@
+"""The ``slip`` experiment: slip detected from the frames, against the slip of the simulated body.
+
+Three kinds of trial, per engine and object, each seen at 20 and 100
+frames/s (the same motion) on the Bonneville array with its noise (clean
+otherwise):
+
+``roll``
+    The rolling scripts of :mod:`taxelkit.motion.scenarios` (no slip
+    scripted): false alarms.
+``partial``
+    A roll with one slipping phase
+    (:func:`~taxelkit.motion.slip_scenarios.make_partial_slip_scenario`;
+    kinematic engine only): detection, and recognition under partial slip.
+``slide``
+    The sliding script (a face dragged and/or spun): detection, and the
+    object must never be identified.
+
+Ground truth (for scoring only): a *slip phase* is a run of steps in which
+the material contact points move faster than :data:`GT_SLIP_MM_S` along the
+plane (:meth:`~taxelkit.motion.rolling.Scenario.slip_mm`: rolling without
+slip gives about 0, tipping up to 2 mm/s), runs less than
+:data:`GT_MERGE_S` apart merged, phases shorter than :data:`GT_MIN_S`
+ignored. Its kind is the body's contact at the time (``area``, ``line``,
+``point``), ``area spin`` when the engine labels most of it as spinning.
+
+Scoring
+    * A phase is *detected* by the earliest slip of the recogniser decided
+      between :data:`EARLY_S` before its start and :data:`LATE_S` after its
+      end; *latency* is the decision time less the phase's start (0 if
+      earlier); *in time* is a latency of at most :data:`LATENCY_S`.
+    * A detected slip matching no phase is a *false alarm*.
+    * The verdict of each trial is also taken without slip detection
+      (``TactemeConfig(slip=None)``, the table's sliding rows eliminating
+      everything as before) for comparison.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.errors import InputError
+from taxelkit.experiments.slip_result import (
+    EARLY_S,
+    GT_MERGE_S,
+    GT_MIN_S,
+    GT_SLIP_MM_S,
+    LATE_S,
+    LATENCY_S,
+    RATES_HZ,
+    TRIAL_KINDS,
+    SlipResult,
+    SlipTrial,
+)
+from taxelkit.motion.engines.registry import scenarios_from_engine
+from taxelkit.motion.rolling import Scenario, frames_from_scenario
+from taxelkit.motion.slip_scenarios import make_partial_slip_scenario
+from taxelkit.sensors.presets import BONNEVILLE_16X16
+from taxelkit.smart.recogniser import recognise
+from taxelkit.smart.tacteme_table import OBJECTS
+from taxelkit.smart.tactemes import TactemeConfig
+
+__all__ = [
+    "GT_SLIP_MM_S",
+    "LATENCY_S",
+    "TRIAL_KINDS",
+    "SlipResult",
+    "SlipTrial",
+    "run_slip",
+    "slip_phases",
+]
+
+
+def slip_phases(scenario: Scenario) -> list[tuple[int, int, str]]:
+    """Ground-truth slip phases ``(first_frame, last_frame, kind)`` of a scenario.
+
+    ``first_frame`` is the frame at which the slip starts (the first slipping
+    step leaves it), ``last_frame`` the one at which it stops.
+    """
+    t = np.asarray(scenario.t_s)
+    speed = scenario.slip_mm() / np.diff(t)
+    slipping = np.nan_to_num(speed, nan=0.0) > GT_SLIP_MM_S
+    idx = np.flatnonzero(slipping)
+    if idx.size == 0:
+        return []
+    runs: list[list[int]] = [[int(idx[0]), int(idx[0]) + 1]]
+    for i in idx[1:].tolist():
+        if t[i] - t[runs[-1][1]] <= GT_MERGE_S:
+            runs[-1][1] = i + 1
+        else:
+            runs.append([i, i + 1])
+    out = []
+    for a, b in runs:
+        if t[b] - t[a] < GT_MIN_S:
+            continue
+        contact = [c for c in scenario.contact[a : b + 1] if c != "none"]
+        kind = max(set(contact), key=contact.count) if contact else "none"
+        labels = scenario.phase[a + 1 : b + 1]
+        if kind == "area" and labels.count("spinning") > len(labels) / 2:
+            kind = "area spin"
+        out.append((a, b, kind))
+    return out
+
+
+def score_trial(
+    t_s: NDArray[np.float64],
+    phases: list[tuple[int, int, str]],
+    detected: list[int],
+) -> tuple[list[tuple[str, float | None]], int]:
+    """Match detections (decision frames) to phases; the latencies and the false alarms."""
+    used: set[int] = set()
+    out: list[tuple[str, float | None]] = []
+    for a, b, kind in phases:
+        start, end = float(t_s[a]), float(t_s[b])
+        hits = [
+            j
+            for j, f in enumerate(detected)
+            if start - EARLY_S <= float(t_s[f]) <= end + LATE_S and j not in used
+        ]
+        if hits:
+            used.update(hits)
+            out.append((kind, max(0.0, float(t_s[detected[hits[0]]]) - start)))
+        else:
+            out.append((kind, None))
+    return out, len(detected) - len(used)
+
+
+@dataclass(frozen=True)
+class _Unit:
+    engine: str
+    kind: str
+    obj: str
+    trial: int
+    entropy: int
+
+
+def _scenarios(unit: _Unit, rng: np.random.Generator) -> list[Scenario]:
+    """The unit's motion at every rate of :data:`RATES_HZ`."""
+    if unit.kind == "partial":
+        seed = int(rng.integers(2**63 - 1))
+        return [make_partial_slip_scenario(unit.obj, rng=seed, rate_hz=r) for r in RATES_HZ]
+    name = "sliding" if unit.kind == "slide" else unit.obj
+    return scenarios_from_engine(unit.engine, name, rates_hz=RATES_HZ, rng=rng)
+
+
+def _trial(unit: _Unit, sc: Scenario, rate_hz: float, rng: np.random.Generator) -> SlipTrial:
+    rec = frames_from_scenario(BONNEVILLE_16X16, sc, rng=rng)
+    thr = BONNEVILLE_16X16.contact_threshold_mm
+    res = recognise(rec, threshold=thr)
+    without = recognise(rec, threshold=thr, config=TactemeConfig(slip=None))
+    t = np.asarray(sc.t_s)
+    phases, false_alarms = score_trial(t, slip_phases(sc), [s.detected_frame for s in res.slips])
+    dt = float(np.median(np.diff(t)))
+    return SlipTrial(
+        engine=unit.engine,
+        kind=unit.kind,
+        obj=sc.object_name,
+        rate_hz=float(rate_hz),
+        trial=unit.trial,
+        identified=res.identified,
+        reason=res.verdict.reason,
+        identified_without=without.identified,
+        phases=tuple(phases),
+        false_alarms=false_alarms,
+        contact_s=float(np.count_nonzero(sc.in_contact)) * dt,
+    )
+
+
+def _run_unit(unit: _Unit) -> list[SlipTrial]:
+    rng = np.random.default_rng(np.random.SeedSequence(unit.entropy))
+    scenes = _scenarios(unit, rng)
+    return [_trial(unit, sc, r, rng) for sc, r in zip(scenes, RATES_HZ, strict=True)]
+
+
+def _local(units: list[_Unit], workers: int) -> Iterator[tuple[int, list[SlipTrial]]]:
+    if workers == 1:
+        for i, u in enumerate(units):
+            yield i, _run_unit(u)
+        return
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = {pool.submit(_run_unit, u): i for i, u in enumerate(units)}
+        for f in as_completed(futures):
+            yield futures[f], f.result()
+
+
+def _engines(engines: Sequence[str] | None) -> tuple[list[str], dict[str, str]]:
+    wanted = ["kinematic", "mujoco"] if engines is None else [str(e) for e in engines]
+    chosen, skipped = [], {}
+    for e in wanted:
+        if e not in ("kinematic", "mujoco"):
+            raise InputError(f"unknown engine {e!r}; known: kinematic, mujoco")
+        if e == "mujoco" and importlib.util.find_spec("mujoco") is None:
+            skipped[e] = 'not installed (pip install "taxelkit[mujoco]")'
+            continue
+        chosen.append(e)
+    if not chosen:
+        raise InputError("no engine available")
+    return chosen, skipped
+
+
+def run_slip(
+    *,
+    seed: int = 0,
+    n_trials: int = 30,
+    mujoco_trials: int | None = None,
+    engines: Sequence[str] | None = None,
+    workers: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> SlipResult:
+    """Run the slip experiment.
+
+    Parameters
+    ----------
+    seed : int
+        Seed of every trial (the same seed, the same result).
+    n_trials : int
+        Kinematic trials per kind and object, each seen at every rate of
+        :data:`RATES_HZ` (the ``slide`` kind: ``6 x n_trials`` trials, the
+        object slid drawn by the script).
+    mujoco_trials : int, optional
+        MuJoCo trials per kind and object (default ``n_trials``); MuJoCo runs
+        the ``roll`` and ``slide`` kinds (no partial-slip script).
+    engines : sequence of str, optional
+        Default both, MuJoCo skipped (and listed) when not installed.
+    workers : int, optional
+        Local worker processes (default: the CPU count).
+    progress : callable, optional
+        ``progress(done, total)`` after each trial.
+
+    Returns
+    -------
+    SlipResult
+    """
+    if int(n_trials) < 1:
+        raise InputError(f"n_trials must be >= 1, got {n_trials!r}")
+    chosen, skipped = _engines(engines)
+    n_mj = int(n_trials) if mujoco_trials is None else int(mujoco_trials)
+    units = []
+    for engine in chosen:
+        e_key = int.from_bytes(engine.encode()[:8], "little")
+        kinds = TRIAL_KINDS if engine == "kinematic" else ("roll", "slide")
+        for k_i, kind in enumerate(kinds):
+            for o_i, obj in enumerate(OBJECTS):
+                for trial in range(n_mj if engine == "mujoco" else int(n_trials)):
+                    key = [int(seed), e_key, k_i, o_i, trial]
+                    ent = np.random.SeedSequence(key).generate_state(1)
+                    units.append(_Unit(engine, kind, obj, trial, int(ent[0])))
+    n_workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
+    results: list[list[SlipTrial]] = [[] for _ in units]
+    for done, (i, res) in enumerate(_local(units, n_workers), start=1):
+        results[i] = res
+        if progress is not None:
+            progress(done, len(units))
+    trials = [t for r in results for t in r]
+    return SlipResult(tuple(trials), tuple(chosen), int(n_trials), n_mj, skipped)

@@ -1,0 +1,228 @@
+"""Records and summaries of the ``slip`` experiment (:mod:`taxelkit.experiments.slip`)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from taxelkit.smart.tacteme_table import OBJECTS
+
+__all__ = [
+    "DETECTABLE",
+    "GT_SLIP_MM_S",
+    "LATENCY_S",
+    "RATES_HZ",
+    "TRIAL_KINDS",
+    "SlipResult",
+    "SlipTrial",
+]
+
+#: Kinds of trial.
+TRIAL_KINDS: tuple[str, ...] = ("roll", "partial", "slide")
+#: Frame rates, Hz: the default rate of every experiment, and a faster one.
+RATES_HZ: tuple[float, ...] = (20.0, 100.0)
+#: Ground truth: contact points moving faster than this along the plane slip, mm/s.
+GT_SLIP_MM_S = 2.5
+#: Ground-truth runs closer than this are one phase, s.
+GT_MERGE_S = 0.1
+#: Ground-truth phases shorter than this are ignored, s.
+GT_MIN_S = 0.1
+#: Acceptance: a phase detected within this time of its start, s.
+LATENCY_S = 0.2
+#: A detection may precede a phase's start by this much (the onset is estimated), s.
+EARLY_S = 0.1
+#: ... or follow its end by this much (a slip too slow to decide at once), s.
+LATE_S = 0.3
+
+
+@dataclass(frozen=True)
+class SlipTrial:
+    """One trial.
+
+    Attributes
+    ----------
+    engine, kind, obj : str
+        Engine, trial kind (:data:`TRIAL_KINDS`) and the object (ground truth).
+    rate_hz : float
+    trial : int
+    identified : str or None
+        The verdict with slip detection.
+    reason : str or None
+        Why not identified (``"slid"``, ``"ruled out"``, ``"undecided"``).
+    identified_without : str or None
+        The verdict without slip detection.
+    phases : tuple of (kind, latency_s or None)
+        Every ground-truth phase and its detection latency (None: missed).
+    false_alarms : int
+        Detected slips matching no phase.
+    contact_s : float
+        Time in contact, s.
+    """
+
+    engine: str
+    kind: str
+    obj: str
+    rate_hz: float
+    trial: int
+    identified: str | None
+    reason: str | None
+    identified_without: str | None
+    phases: tuple[tuple[str, float | None], ...]
+    false_alarms: int
+    contact_s: float
+
+
+#: Slip kinds a binary footprint can show (see :mod:`taxelkit.smart.slip`).
+DETECTABLE: tuple[str, ...] = ("area", "line")
+
+
+def _phase_stats(trials: Sequence[SlipTrial], kinds: Sequence[str] | None) -> dict[str, Any]:
+    lat = [x for t in trials for k, x in t.phases if kinds is None or k in kinds]
+    found = [x for x in lat if x is not None]
+    in_time = sum(x <= LATENCY_S + 1e-9 for x in found)
+    return {
+        "phases": len(lat),
+        "detected": len(found),
+        "in_time": in_time,
+        "in_time_rate": in_time / len(lat) if lat else float("nan"),
+        "median_latency_s": float(np.median(found)) if found else float("nan"),
+    }
+
+
+def _verdicts(trials: Sequence[SlipTrial], *, without: bool = False) -> dict[str, int]:
+    said = [(t.identified_without if without else t.identified, t.obj) for t in trials]
+    return {
+        "identified": sum(v == o for v, o in said),
+        "wrong": sum(v in OBJECTS and v != o for v, o in said),
+        "not_identified": sum(v not in OBJECTS for v, _ in said),
+    }
+
+
+@dataclass(frozen=True, eq=False)
+class SlipResult:
+    """Every trial of the ``slip`` experiment.
+
+    Attributes
+    ----------
+    trials : tuple of SlipTrial
+        Sorted by engine, kind, object, trial.
+    engines : tuple of str
+    n_trials : int
+        Kinematic trials per kind and object (``slide``: per object slid).
+    mujoco_trials : int
+        MuJoCo trials per kind and object.
+    skipped : dict of str to str
+    """
+
+    trials: tuple[SlipTrial, ...]
+    engines: tuple[str, ...]
+    n_trials: int
+    mujoco_trials: int
+    skipped: dict[str, str]
+
+    def summary(self, engine: str, rate_hz: float, kind: str) -> dict[str, Any]:
+        """Figures of one engine, frame rate and kind of trial."""
+        rows = [
+            t for t in self.trials if t.engine == engine and t.kind == kind and t.rate_hz == rate_hz
+        ]
+        contact_s = sum(t.contact_s for t in rows)
+        fa = sum(t.false_alarms for t in rows)
+        by_kind = sorted({k for t in rows for k, _ in t.phases})
+        return {
+            "engine": engine,
+            "rate_hz": rate_hz,
+            "kind": kind,
+            "trials": len(rows),
+            "detectable": _phase_stats(rows, DETECTABLE),
+            "by_slip_kind": {k: _phase_stats(rows, [k]) for k in by_kind},
+            "false_alarms": fa,
+            "trials_with_false_alarm": sum(t.false_alarms > 0 for t in rows),
+            "false_alarm_trial_rate": (
+                sum(t.false_alarms > 0 for t in rows) / len(rows) if rows else float("nan")
+            ),
+            "false_alarms_per_s": fa / contact_s if contact_s else float("nan"),
+            "verdicts": _verdicts(rows),
+            "verdicts_without_slip": _verdicts(rows, without=True),
+            "slid": sum(t.reason == "slid" for t in rows),
+            "per_object": {
+                o: {
+                    "trials": len(mine),
+                    **_verdicts(mine),
+                    "without_slip": _verdicts(mine, without=True)["identified"],
+                    "slid": sum(t.reason == "slid" for t in mine),
+                    "in_time": _phase_stats(mine, DETECTABLE)["in_time"],
+                    "phases": _phase_stats(mine, DETECTABLE)["phases"],
+                    "false_alarms": sum(t.false_alarms for t in mine),
+                }
+                for o in sorted({t.obj for t in rows})
+                for mine in [[t for t in rows if t.obj == o]]
+            },
+        }
+
+    def to_json(self) -> dict[str, Any]:
+        """Summaries per engine and kind, the acceptance checks, and every trial."""
+        summaries = [
+            self.summary(e, r, k)
+            for e in self.engines
+            for r in RATES_HZ
+            for k in TRIAL_KINDS
+            if any(t.engine == e and t.kind == k and t.rate_hz == r for t in self.trials)
+        ]
+        overall: dict[str, dict[str, Any]] = {}
+        for r in RATES_HZ:
+            mine = [t for t in self.trials if t.rate_hz == r]
+            slipping = [t for t in mine if t.kind != "roll"]
+            rolling = [t for t in mine if t.kind == "roll"]
+            sliding = [t for t in mine if t.kind == "slide"]
+            fa = sum(t.false_alarms > 0 for t in rolling) / len(rolling) if rolling else 0.0
+            overall[f"{r:g}"] = {
+                "detectable": _phase_stats(slipping, DETECTABLE),
+                "all_kinds": _phase_stats(slipping, None),
+                "roll_false_alarm_trial_rate": fa,
+                "roll_false_alarms_per_s": sum(t.false_alarms for t in rolling)
+                / max(1e-9, sum(t.contact_s for t in rolling)),
+                "sliding_identified": sum(t.identified in OBJECTS for t in sliding),
+                "partial": _verdicts([t for t in mine if t.kind == "partial"]),
+                "partial_without_slip": _verdicts(
+                    [t for t in mine if t.kind == "partial"], without=True
+                ),
+            }
+        return {
+            "experiment": "slip",
+            "n_trials": self.n_trials,
+            "mujoco_trials": self.mujoco_trials,
+            "rates_hz": list(RATES_HZ),
+            "gt_slip_mm_s": GT_SLIP_MM_S,
+            "latency_s": LATENCY_S,
+            "engines": list(self.engines),
+            "skipped": dict(self.skipped),
+            "detectable_kinds": list(DETECTABLE),
+            "overall": overall,
+            "summaries": summaries,
+            "acceptance": {
+                f"{r}": {
+                    "detectable_in_time_ge_95": bool(o["detectable"]["in_time_rate"] >= 0.95),
+                    "roll_false_alarms_le_2": bool(o["roll_false_alarm_trial_rate"] <= 0.02),
+                    "sliding_never_identified": o["sliding_identified"] == 0,
+                }
+                for r, o in overall.items()
+            },
+            "trials": [
+                {
+                    "engine": t.engine,
+                    "rate_hz": t.rate_hz,
+                    "kind": t.kind,
+                    "object": t.obj,
+                    "trial": t.trial,
+                    "identified": t.identified,
+                    "reason": t.reason,
+                    "identified_without_slip": t.identified_without,
+                    "phases": [{"kind": k, "latency_s": x} for k, x in t.phases],
+                    "false_alarms": t.false_alarms,
+                }
+                for t in self.trials
+            ],
+        }

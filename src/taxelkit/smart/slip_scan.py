@@ -1,0 +1,264 @@
+"""The slip detector of :mod:`taxelkit.smart.slip`, fed one contact segment a chunk at a time."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.slip import SLIP_KINDS, Slip, SlipConfig
+
+__all__ = ["SlipScanner"]
+
+_LINE = int(ContactClass.LINE)
+
+# Feature columns averaged over the windows (from the rows of segment_scan.ROW_COLUMNS).
+_CX, _CY, _AREA_COL, _C2, _S2, _HALF, _ELONG = range(7)
+_END1, _END2 = slice(7, 9), slice(9, 11)  # a line's two ends, x y (mm), in a consistent order
+_COV = slice(11, 14)  # second central moments xx, yy, xy, mm^2
+_N_FEATURES = 14
+
+
+def _window_means(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
+    """Mean of each ``w`` consecutive rows ``(n - w + 1, F)``; empty when ``n < w``."""
+    n = x.shape[0] - w + 1
+    if n <= 0:
+        return np.zeros((0, x.shape[1]))
+    out = x[:n].copy()
+    for j in range(1, w):  # in a fixed order: the same floats whatever the chunking
+        out += x[j : j + n]
+    out /= w
+    return out
+
+
+class SlipScanner:
+    """Slip phases of one contact segment, fed a chunk of frames at a time.
+
+    Parameters
+    ----------
+    cls : int
+        The segment's :class:`~taxelkit.smart.contact_classes.ContactClass`
+        (points and other classes report nothing).
+    config : SlipConfig
+    k : int
+        Frames whose median interval fixes the frame rate (the debounce ``k``).
+
+    Notes
+    -----
+    Keeps the last ``reference + current + end`` frames' features and a few
+    numbers; a scalar step per frame after vectorised window means (a
+    16 x 16 stream is at most 240 frames/s).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> scan = SlipScanner(int(ContactClass.AREA), SlipConfig(), k=2)
+    >>> rows = np.zeros((40, 9)); rows[:, 3] = 50.0; rows[:, 4] = 1.0
+    >>> rows[:, 8] = np.arange(40) / 20; rows[20:, 0] = np.arange(20) * 0.25  # 5 mm/s from 0.95 s
+    >>> [(s.first_frame, s.detected_frame) for s in scan.extend(np.arange(40), rows)]
+    [(20, 21)]
+    """
+
+    def __init__(self, cls: int, config: SlipConfig, *, k: int = 2) -> None:
+        self.cls = int(cls)
+        self.config = config
+        self.k = max(2, int(k))
+        self.slips: list[Slip] = []
+        self._active = self.cls in SLIP_KINDS
+        self._t_head: list[float] = []
+        self._ready = False
+        self._buf = np.zeros((0, _N_FEATURES))
+        self._u_last: NDArray[np.float64] | None = None  # the last line's axis, oriented
+        self._buf_frames = np.zeros(0, np.intp)
+        self._n = 0  # frames seen
+        self._anchor = 0  # segment index where the reference may start
+        self._count = 0  # frames in a row above slip_mm
+        self._open: Slip | None = None
+        self._open_i = 0  # segment index of the open slip's first frame
+
+    # -- set-up ------------------------------------------------------------------------------
+    def _start(self) -> None:
+        steps = sorted(b - a for a, b in zip(self._t_head, self._t_head[1:], strict=False))
+        mid = len(steps) // 2
+        dt = steps[mid] if len(steps) % 2 else 0.5 * (steps[mid - 1] + steps[mid])
+        cfg = self.config
+
+        def frames(seconds: float, least: int) -> int:
+            return max(least, math.ceil(seconds / dt - 1e-9)) if dt > 0 else least
+
+        self.cur = frames(cfg.current_s, 2)
+        self.ref = frames(cfg.reference_s, 2)
+        self.end = frames(cfg.end_s, 2)
+        self.hold = frames(cfg.hold_s, 1)
+        self._limit_mm = cfg.line_slip_mm if self.cls == _LINE else cfg.slip_mm
+        self.keep = max(self.cur + self.ref, 2 * self.end)
+        self._ready = True
+
+    def features(self, rows: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Per-frame features ``(m, 11)`` from rows ``(m, 9)`` (segment_scan's ``ROW_COLUMNS``).
+
+        Centre, area, doubled-angle axis, half-length, elongation, and a
+        line's two ends: its drawn extent along its axis, the axis oriented
+        like the previous frame's so that the ends keep their order.
+        """
+        theta = np.deg2rad(rows[:, 2])
+        t2 = 2.0 * theta
+        u = np.stack([np.cos(theta), np.sin(theta)], axis=-1)
+        prev = np.concatenate([u[:1] if self._u_last is None else self._u_last[None], u[:-1]])
+        flip = np.cumprod(np.where(np.einsum("ij,ij->i", u, prev) < 0.0, -1.0, 1.0))
+        u = u * flip[:, None]
+        if u.shape[0]:
+            self._u_last = u[-1].copy()
+        lo = np.where(flip > 0, rows[:, 6], -rows[:, 7])
+        hi = np.where(flip > 0, rows[:, 7], -rows[:, 6])
+        centre = rows[:, :2]
+        cols = (rows[:, 0], rows[:, 1], rows[:, 3], np.cos(t2), np.sin(t2), rows[:, 5], rows[:, 4])
+        ends = np.concatenate([centre + lo[:, None] * u, centre + hi[:, None] * u], axis=1)
+        lam_max = rows[:, 5] ** 2 / 3.0  # half = sqrt(3 lambda_max)
+        lam_min = lam_max / np.maximum(rows[:, 4], 1.0) ** 2  # elongation = sqrt(max / min)
+        c, s_ = np.cos(theta), np.sin(theta)
+        cov = np.stack(
+            [
+                lam_max * c * c + lam_min * s_ * s_,
+                lam_max * s_ * s_ + lam_min * c * c,
+                (lam_max - lam_min) * c * s_,
+            ],
+            axis=-1,
+        )
+        return np.concatenate([np.stack(cols, axis=-1), ends, cov], axis=1)
+
+    # -- the motion measure --------------------------------------------------------------------
+    def motion_mm(self, ref: NDArray[np.float64], cur: NDArray[np.float64]) -> float:
+        """How far the footprint moved from mean features ``ref`` to ``cur`` ``(7,)``, mm.
+
+        NaN when the area changed by more than ``area_step`` (no decision).
+        """
+        cfg = self.config
+        a_ref, a_cur = float(ref[_AREA_COL]), float(cur[_AREA_COL])
+        if not a_ref > 0 or abs(a_cur / a_ref - 1.0) > cfg.area_step:
+            return math.nan
+        dx, dy = float(cur[_CX] - ref[_CX]), float(cur[_CY] - ref[_CY])
+        if self.cls == _LINE:  # along the bisector of the two axes: a turn about a pivot cancels
+            c2, s2 = float(ref[_C2] + cur[_C2]), float(ref[_S2] + cur[_S2])
+            th = 0.5 * math.atan2(s2, c2)
+            ax, ay = math.cos(th), math.sin(th)
+            e1, e2 = cur[_END1] - ref[_END1], cur[_END2] - ref[_END2]
+            d1, d2 = float(e1[0] * ax + e1[1] * ay), float(e2[0] * ax + e2[1] * ay)
+            if math.isnan(d1 + d2):  # ends not measured: the centre less the change of length
+                return abs(dx * ax + dy * ay) - abs(float(cur[_HALF] - ref[_HALF]))
+            return min(abs(d1), abs(d2)) if d1 * d2 > 0.0 else 0.0  # both ends, the same way
+        # both sides of the footprint must move: one that grows or shrinks on one side
+        # moves its centre by half the change of its length along the motion
+        moved = math.hypot(dx, dy)
+        if moved > 0.0:
+            nx, ny = dx / moved, dy / moved
+            size = [
+                math.sqrt(
+                    12.0 * max(0.0, float(v[0] * nx * nx + v[1] * ny * ny + 2 * v[2] * nx * ny))
+                )
+                for v in (ref[_COV], cur[_COV])
+            ]
+            moved -= 0.5 * abs(size[1] - size[0])
+        th_ref = 0.5 * math.atan2(float(ref[_S2]), float(ref[_C2]))
+        if min(float(ref[_ELONG]), float(cur[_ELONG])) >= cfg.min_elongation:
+            th_cur = 0.5 * math.atan2(float(cur[_S2]), float(cur[_C2]))
+            turn = abs((th_cur - th_ref + 0.5 * math.pi) % math.pi - 0.5 * math.pi)
+            moved = max(moved, turn * float(ref[_HALF]))
+        return moved
+
+    # -- feeding ---------------------------------------------------------------------------------
+    def extend(self, frames: NDArray[np.intp], rows: NDArray[np.float64]) -> list[Slip]:
+        """Add frames ``(m,)`` with their rows ``(m, 9)``; the slips opened or closed by them.
+
+        Returns
+        -------
+        list of Slip
+            New slips (open) and slips whose end was decided here (closed), in
+            order; a slip opened and closed in one chunk is returned once, closed.
+        """
+        m = int(frames.size)
+        if m == 0 or not self._active:
+            self._n += m
+            return []
+        if not self._ready:
+            self._t_head += rows[: self.k - len(self._t_head), 8].tolist()
+        feats = self.features(rows)
+        x = np.concatenate([self._buf, feats])
+        fr = np.concatenate([self._buf_frames, np.asarray(frames, np.intp)])
+        n_old = self._buf.shape[0]
+        base = self._n - n_old  # segment index of x[0]
+        self._n += m
+        if not self._ready:
+            if len(self._t_head) < self.k:
+                self._buf, self._buf_frames = x, fr
+                return []
+            self._start()
+            n_old = 0  # every frame so far is new to the scan
+        out = self._scan(x, fr, base, n_old)
+        self._buf, self._buf_frames = x[-self.keep :], fr[-self.keep :]
+        return out
+
+    def _scan(
+        self, x: NDArray[np.float64], fr: NDArray[np.intp], base: int, first: int
+    ) -> list[Slip]:
+        """Decide frames ``x[first:]``; ``x[0]`` is segment frame ``base``."""
+        c, r, e = self.cur, self.ref, self.end
+        cur_m = _window_means(x, c)  # cur_m[p - c + 1]: frames p - c + 1 .. p
+        ref_m = _window_means(x, r)  # full reference windows
+        end_m = _window_means(x, e)
+        out: list[Slip] = []
+        cfg = self.config
+        for p in range(first, x.shape[0]):
+            i = base + p  # segment index of this frame
+            if self._open is None:
+                lo = i - c - r + 1  # the reference: a full window, all after the anchor
+                if lo < self._anchor:
+                    continue
+                ref = ref_m[lo - base]
+                motion = self.motion_mm(ref, cur_m[p - c + 1])
+                if math.isnan(motion):
+                    self._anchor, self._count = i - c + 1, 0
+                    continue
+                self._count = self._count + 1 if motion > self._limit_mm else 0
+                if self._count >= self.hold:
+                    q = max(0, p - self.hold - c + 2)
+                    onset, self._open_i = int(fr[q]), base + q
+                    self._open = Slip(SLIP_KINDS[self.cls], onset, int(fr[p]))
+                    self._count = 0
+                    out.append(self._open)
+            elif p - 2 * e + 1 >= 0 and i - e + 1 >= self._open_i:  # the last window: all slip
+                step = self.motion_mm(end_m[p - 2 * e + 1], end_m[p - e + 1])
+                if not step > cfg.still_mm:  # still (or the contact changed): the slip ended
+                    done = Slip(
+                        self._open.kind,
+                        self._open.first_frame,
+                        self._open.detected_frame,
+                        max(self._open.first_frame, int(fr[p - e - e // 2])),
+                        int(fr[p]),
+                    )
+                    self._replace(out, done)
+                    self._open, self._anchor = None, i - e + 1
+        return out
+
+    def _replace(self, out: list[Slip], done: Slip) -> None:
+        self.slips.append(done)
+        if out and out[-1].detected_frame == done.detected_frame:
+            out[-1] = done
+        else:
+            out.append(done)
+
+    def close(self) -> list[Slip]:
+        """The segment ended: an open slip ends at its last frame (returned, closed)."""
+        if self._open is None:
+            return []
+        last = int(self._buf_frames[-1]) if self._buf_frames.size else self._open.detected_frame
+        done = Slip(self._open.kind, self._open.first_frame, self._open.detected_frame, last, last)
+        self._open = None
+        self.slips.append(done)
+        return [done]
+
+    def all_slips(self) -> list[Slip]:
+        """Every slip so far: the ended ones, then the one going on (if any)."""
+        return [*self.slips, *([] if self._open is None else [self._open])]

@@ -1,0 +1,45 @@
+"""The slip experiment: ground truth, scoring, a smoke run and its README block."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from taxelkit.experiments.registry import get_experiment
+from taxelkit.experiments.report import render_block
+from taxelkit.experiments.slip import run_slip, score_trial, slip_phases
+from taxelkit.motion.scenarios import make_scenario
+from taxelkit.motion.slip_scenarios import make_partial_slip_scenario
+
+
+def test_ground_truth_phases() -> None:
+    assert slip_phases(make_scenario("cylinder", rng=1)) == []
+    sc = make_partial_slip_scenario("cube", rng=1)
+    ((a, b, kind),) = slip_phases(sc)
+    assert kind == "area"
+    assert sc.phase[a + 1] == "sliding" and sc.phase[a] != "sliding"  # the slide leaves frame a
+    assert sc.phase[b - 1] == "sliding"
+
+
+def test_scoring_latency_and_false_alarms() -> None:
+    t = np.arange(100) * 0.05
+    phases = [(20, 40, "area"), (60, 70, "line")]
+    found, fa = score_trial(t, phases, [19, 23, 50, 90])
+    # 19 is 0.05 s early (allowed, latency 0); 23 belongs to the same phase and is not a
+    # false alarm; the line is missed; 50 (0.5 s after the face's end) and 90 are false alarms
+    assert found == [("area", 0.0), ("line", None)] and fa == 2
+    found, fa = score_trial(t, phases, [24, 64])
+    assert [round(x or 0.0, 6) for _, x in found] == [0.2, 0.2] and fa == 0
+
+
+def test_smoke_run_and_readme_block() -> None:
+    assert get_experiment("slip").trials == 30
+    res = run_slip(seed=5, n_trials=1, engines=["kinematic"], workers=1)
+    doc = res.to_json()
+    assert len(res.trials) == 3 * 6 * 2  # kinds x objects x rates
+    assert {s["kind"] for s in doc["summaries"]} == {"roll", "partial", "slide"}
+    assert set(doc["overall"]) == {"20", "100"}
+    for o in doc["overall"].values():
+        assert o["sliding_identified"] == 0
+        assert o["detectable"]["phases"] >= 5  # five partial slips of faces and lines, and slides
+    block = render_block("slip", {"slip": doc})
+    assert "| kinematic | 20 | partial | 6 |" in block and "Acceptance:" in block

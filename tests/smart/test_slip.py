@@ -1,0 +1,158 @@
+"""The slip detector: synthetic footprints, chunking, the verdict, batch = streaming."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from taxelkit.cli import run
+from taxelkit.frames import TactileFrames
+from taxelkit.io.recordings import write_recording
+from taxelkit.motion.rolling import frames_from_scenario
+from taxelkit.motion.slip_scenarios import make_partial_slip_scenario
+from taxelkit.sensors.presets import BONNEVILLE_16X16
+from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.recognise_chunks import ChunkRecogniser
+from taxelkit.smart.recogniser import SmartSensor, recognise
+from taxelkit.smart.slip import DEFAULT_SLIP, SlipConfig
+from taxelkit.smart.slip_scan import SlipScanner
+from taxelkit.smart.tacteme_table import OBJECTS
+from taxelkit.smart.tactemes import PAPER_LEVEL3, TactemeConfig
+
+PITCH = 1.7625
+RATE_HZ = 20.0
+
+
+def face_frames(cols_mm: list[float]) -> TactileFrames:
+    """A 6 x 6-taxel face (about 10 mm square) whose left edge sits at ``cols_mm``, mm.
+
+    Sub-taxel positions are drawn the way a skin sees them: a taxel is on when
+    its centre lies under the face.
+    """
+    x = (np.arange(16) - 7.5) * PITCH
+    frames = np.zeros((len(cols_mm) + 2, 16, 16), bool)
+    for t, left in enumerate(cols_mm, start=2):
+        on = (x >= left) & (x < left + 6 * PITCH)
+        frames[t, 5:11, :] = on[None, :]
+    return TactileFrames(frames, t_s=np.arange(frames.shape[0]) / RATE_HZ, pitch_mm=PITCH)
+
+
+def test_a_face_held_still_does_not_slip() -> None:
+    rec = recognise(face_frames([-5.0] * 40), cleaning=None)
+    assert rec.slips == ()
+    assert "slip" not in [e.kind for e in rec.events]
+
+
+def test_a_face_dragged_is_slip_found_within_0_2_s() -> None:
+    speed_mm_s = 4.0
+    hold = [-8.0] * 16
+    drag = [-8.0 + speed_mm_s * (k + 1) / RATE_HZ for k in range(30)]
+    rec = recognise(face_frames(hold + drag + [drag[-1]] * 40), cleaning=None)
+    assert len(rec.slips) == 1
+    slip = rec.slips[0]
+    assert slip.kind == "area slides"
+    start = 2 + len(hold) - 1  # the last still frame: the drag leaves it
+    assert (slip.detected_frame - start) / RATE_HZ <= 0.2 + 1e-9
+    assert slip.last_frame is not None and abs(slip.last_frame - (start + 30)) <= 0.3 * RATE_HZ
+    # the face only slid: nothing identified, and the reason is named
+    assert rec.identified not in OBJECTS
+    assert rec.verdict.reason == "slid"
+    assert rec.verdict.sentence().startswith("not identified: slid")
+    assert rec.to_json()["why"]["reason"] == "slid"
+    assert rec.to_json()["slips"][0]["first_frame"] == slip.first_frame
+
+
+def test_the_paper_pipeline_detects_no_slip() -> None:
+    assert PAPER_LEVEL3.slip is None
+    assert TactemeConfig().slip == DEFAULT_SLIP
+    drag = [-8.0] * 16 + [-8.0 + 0.25 * k for k in range(30)]
+    rec = recognise(face_frames(drag), cleaning=None, limits=None, config=PAPER_LEVEL3)
+    assert rec.slips == () and rec.verdict.reason != "slid"
+
+
+def test_a_point_never_slips_and_config_is_checked() -> None:
+    scan = SlipScanner(int(ContactClass.POINT), SlipConfig(), k=2)
+    rows = np.zeros((40, 9))
+    rows[:, 0] = np.arange(40) * 0.5  # a point racing across: rolling or skidding, who knows
+    rows[:, 3], rows[:, 4], rows[:, 8] = 3.0, 1.0, np.arange(40) / RATE_HZ
+    assert scan.extend(np.arange(40), rows) == [] and scan.close() == []
+    with pytest.raises(ValueError, match="slip_mm"):
+        SlipConfig(slip_mm=0.0)
+
+
+def _dragged_face_rows(n: int = 80) -> np.ndarray:
+    gen = np.random.default_rng(5)
+    rows = np.zeros((n, 9))
+    rows[:, 0] = np.where(np.arange(n) < 30, 0.0, (np.arange(n) - 30) * 0.2)
+    rows[:, :2] += gen.normal(0.0, 0.08, (n, 2))  # sub-taxel jitter of the mean centre
+    rows[:, 2] = 10.0
+    rows[:, 3] = 100.0 + gen.normal(0.0, 3.0, n)
+    rows[:, 4], rows[:, 5] = 1.2, 6.0
+    rows[:, 6:8] = np.nan
+    rows[:, 8] = np.arange(n) / RATE_HZ
+    return rows
+
+
+@pytest.mark.parametrize("chunk", [1, 3, 7, 80])
+def test_slips_do_not_depend_on_the_chunking(chunk: int) -> None:
+    rows = _dragged_face_rows()
+    whole = SlipScanner(int(ContactClass.AREA), SlipConfig(), k=2)
+    whole.extend(np.arange(80), rows)
+    parts = SlipScanner(int(ContactClass.AREA), SlipConfig(), k=2)
+    for a in range(0, 80, chunk):
+        parts.extend(np.arange(a, min(a + chunk, 80)), rows[a : a + chunk])
+    assert whole.all_slips() and parts.all_slips() == whole.all_slips()
+
+
+@pytest.fixture(scope="module")
+def cube_with_slip() -> TactileFrames:
+    sc = make_partial_slip_scenario("cube", rng=0)
+    return frames_from_scenario(BONNEVILLE_16X16, sc, rng=0)
+
+
+def test_a_roll_with_a_slipping_phase_is_still_identified(cube_with_slip: TactileFrames) -> None:
+    rec = recognise(cube_with_slip)
+    assert rec.identified == "cube"
+    assert [s.kind for s in rec.slips][:1] == ["area slides"]
+    kinds = [e.kind for e in rec.events]
+    assert "withheld" in kinds and kinds.index("slip") < kinds.index("withheld")
+    # without slip detection the drag's "AC moves" rules out every object
+    assert recognise(cube_with_slip, config=TactemeConfig(slip=None)).identified == "unknown"
+
+
+def test_streaming_and_chunks_give_the_batch_events(cube_with_slip: TactileFrames) -> None:
+    rec = cube_with_slip
+    batch = recognise(rec)
+    events = [(e.kind, e.frame, e.value) for e in batch.events]
+    sensor = SmartSensor(rec.shape[1:], pitch_mm=rec.pitch_mm)
+    for f, t in zip(rec.frames, rec.t_s, strict=True):
+        sensor.push(f, t)
+    assert [(e.kind, e.frame, e.value) for e in sensor.result().events] == events
+    chunks = ChunkRecogniser(rec.shape[1:], pitch_mm=rec.pitch_mm)
+    for a in range(0, rec.n_frames, 13):
+        chunks.push(rec.frames[a : a + 13], rec.t_s[a : a + 13])
+    done = chunks.result()
+    assert [(e.kind, e.frame, e.value) for e in done.events] == events
+    assert done.slips == batch.slips
+
+
+def test_recognize_json_lists_each_tracks_slips(
+    cube_with_slip: TactileFrames, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = tmp_path / "cube.npz"
+    write_recording(cube_with_slip, path)
+    assert run(["recognize", str(path), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    (obj,) = doc["objects"]
+    assert obj["identified"] == "cube" and obj["slips"]
+    slip = obj["slips"][0]
+    assert slip["kind"] == "area slides"
+    assert slip["t_start_s"] == pytest.approx(slip["first_frame"] / RATE_HZ)
+    assert slip["t_end_s"] >= slip["t_start_s"]
+    assert doc["slips"][0]["first_frame"] == slip["first_frame"]
+    assert run(["recognize", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert "slip-end" in text and "withheld" in text and "slip phase(s)" in text
