@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Eliminator, Event, Verdict, explain
+from taxelkit.smart.object_table import ObjectTable
 from taxelkit.smart.segment_scan import mean_axis_deg
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import (
@@ -132,7 +133,7 @@ class Levels34:
     def __init__(self, config: TactemeConfig) -> None:
         self.config = config
         self.k = int(config.debounce_frames)
-        self.elim = Eliminator()
+        self.elim = Eliminator.for_table(config.objects)
         self.history: list[tuple[int, float]] = []
         self.in_contact = False
         self.events: list[Event] = []
@@ -211,10 +212,15 @@ class Levels34:
         self._open = None
 
 
-def finish(classes: NDArray[np.int8], events: list[Event]) -> Recognition:
-    """Summarise: the outcome is that of the current contact, or of the last one lifted."""
+def finish(
+    classes: NDArray[np.int8], events: list[Event], objects: ObjectTable | None = None
+) -> Recognition:
+    """Summarise: the outcome is that of the current contact, or of the last one lifted.
+
+    ``objects``: the object table the events were found with (None: the six).
+    """
     tactemes = tuple((str(e.value), e.frame) for e in events if e.kind == "tacteme")
-    state = Eliminator()
+    state = Eliminator.for_table(objects)
     current: tuple[str, ...] | None = None  # candidates of the ongoing contact
     lifted: tuple[str, ...] | None = None  # candidates when the last contact ended
     seen: list[tuple[str, int]] = []  # tactemes of the ongoing (or last) contact
@@ -229,6 +235,6 @@ def finish(classes: NDArray[np.int8], events: list[Event]) -> Recognition:
             seen.append((str(e.value), e.frame))
     final = current if current is not None else lifted
     state.candidates = state.objects if final is None else final
-    verdict = explain(seen, objects=state.objects)
+    verdict = explain(seen, objects=state.objects, table=objects)
     assert verdict.candidates == state.candidates  # the same elimination, told twice
     return Recognition(classes, tactemes, tuple(events), state.outcome, state.candidates, verdict)

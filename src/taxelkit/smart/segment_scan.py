@@ -32,7 +32,8 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.tacteme_table import Tacteme
-from taxelkit.smart.tactemes import MOTION_MIN_FRAMES, SegmentTrack, TactemeConfig
+from taxelkit.smart.face_shapes import face_masks, triangularity
+from taxelkit.smart.tactemes import MOTION_MIN_FRAMES, SegmentTrack, TactemeConfig, face_limits
 from taxelkit.smart.track_geometry import axis_angle_deg, axis_vectors
 from taxelkit.smart.track_stream import (
     CarriedShift,
@@ -206,6 +207,8 @@ class SegmentScanner:
         self._done: set[Tacteme] = set()
         new = [Sustained(self.hold) for _ in range(4)]
         self._s1, self._s2, self._s3, self._s4 = new
+        self._faces = [Sustained(self.hold) for _ in range(4)]  # the face-shape classes
+        self._tau = RollingMean(w, 1)
         window = (cfg.orthogonal_min_deg, cfg.orthogonal_max_deg)
         self._legs, self._corners = (
             LegScan(cfg.turn_leg_mm, window),
@@ -354,6 +357,11 @@ class SegmentScanner:
             turned = np.where(valid, turn_from(angle, ra), 0.0)
             rotated = (turned > cfg.area_rotate_deg) & same & oriented
             self._add(new, Tacteme.AC_ROTATES, self._s2.push(rotated, frames))
+            if cfg.face_shapes:
+                tau = self._tau.push(triangularity(rows[:, 3], rows[:, 4], rows[:, 5])[:, None])
+                masks = face_masks(area, elong, tau[:, 0], valid & same, **face_limits(cfg))
+                for run, (tac, mask) in zip(self._faces, masks, strict=True):
+                    self._add(new, tac, run.push(mask, frames))
         new.sort(key=lambda item: item[1])
         self.found += new
         return new

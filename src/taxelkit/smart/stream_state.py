@@ -301,4 +301,4 @@ class ArrayStream:
             state, seg = copy.deepcopy((self.state, self._seg))
             if seg.close():
                 state.update(seg)
-        return finish(self.classes.to_array(), list(state.events))
+        return finish(self.classes.to_array(), list(state.events), self.config.objects)

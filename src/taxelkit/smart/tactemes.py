@@ -53,12 +53,14 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.errors import InputError, check_positive
 from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.face_shapes import face_masks, triangularity
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_geometry import (
     anchors,
@@ -74,6 +76,9 @@ from taxelkit.smart.track_geometry import (
     sustained,
     turn,
 )
+
+if TYPE_CHECKING:
+    from taxelkit.smart.object_table import ObjectTable
 
 __all__ = [
     "PAPER_LEVEL3",
@@ -192,6 +197,21 @@ class TactemeConfig:
     pivot_turn_deg : float
         Turn of the line before the pivot is located (about one end / in an
         arc), deg: the common point of nearly parallel lines is ill-conditioned.
+    face_shapes : bool
+        Also emit the shape class of a held face (beyond paper 001,
+        :mod:`taxelkit.smart.face_shapes`): AC compact, elongated, triangular,
+        elongated triangular. Off by default (paper 001's tactemes only).
+    face_min_area_mm2 : float
+        Smallest face whose shape is classed, mm^2 (about 13 Bonneville
+        taxels: a smaller footprint's moments are mostly grid).
+    face_compact_max, face_elongated_min : float
+        Elongation limits of a compact and an elongated face.
+    face_symmetric_max, face_triangular_min : float
+        Triangularity limits of a symmetric and a triangular face.
+    objects : ObjectTable or None
+        Level 4's object table (:mod:`taxelkit.smart.object_table`); None:
+        the six objects of paper 001 and Table 1. Carried here so that every
+        path that takes a ``config`` (batch, streaming, per track) uses it.
     """
 
     debounce_frames: int = 2
@@ -218,6 +238,13 @@ class TactemeConfig:
     pivot_band: float = 1.15
     pivot_hold_s: float = 0.5
     smooth_s: float = 0.15
+    face_shapes: bool = False
+    face_min_area_mm2: float = 40.0
+    face_compact_max: float = 1.35
+    face_elongated_min: float = 1.6
+    face_symmetric_max: float = 1.025
+    face_triangular_min: float = 1.055
+    objects: ObjectTable | None = None
 
     def __post_init__(self) -> None:
         if int(self.debounce_frames) < 1:
@@ -244,6 +271,11 @@ class TactemeConfig:
             "pivot_turn_deg",
             "pivot_band",
             "pivot_hold_s",
+            "face_min_area_mm2",
+            "face_compact_max",
+            "face_elongated_min",
+            "face_symmetric_max",
+            "face_triangular_min",
         ):
             check_positive(name, getattr(self, name))
 
@@ -253,6 +285,17 @@ class TactemeConfig:
 #: units). With :func:`~taxelkit.smart.recogniser.recognise`'s ``cleaning=None``
 #: this is the faithful pipeline that reproduces Fig. 3.
 PAPER_LEVEL3 = TactemeConfig(debounce_frames=3, debounce_s=0.0, lift_grace_s=0.0, smooth_s=0.0)
+
+
+def face_limits(config: TactemeConfig) -> dict[str, float]:
+    """The keyword limits of :func:`~taxelkit.smart.face_shapes.face_masks` from ``config``."""
+    return {
+        "min_area_mm2": config.face_min_area_mm2,
+        "compact_max": config.face_compact_max,
+        "elongated_min": config.face_elongated_min,
+        "symmetric_max": config.face_symmetric_max,
+        "triangular_min": config.face_triangular_min,
+    }
 
 
 def debounce_counts(config: TactemeConfig, dt_s: float | None) -> tuple[int, int]:
@@ -530,6 +573,12 @@ def segment_tactemes(
         )
         rotated = (turned > config.area_rotate_deg) & same & oriented
         emit(Tacteme.AC_ROTATES, first(sustained(rotated, hold), 0))
+        if config.face_shapes:
+            raw = triangularity(track.area_mm2, track.elongation, track.half_length_mm)
+            for tac, mask in face_masks(
+                area, elong, rolling_mean(raw, w), valid & same, **face_limits(config)
+            ):
+                emit(tac, first(sustained(mask, hold), 0))
     out.sort(key=lambda item: item[1])
     return out
 
