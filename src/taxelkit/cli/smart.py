@@ -88,6 +88,14 @@ __all__ = ["recognize", "roll"]
     help="With --live: the stream carries this many arrays (version 2 packets name each "
     "frame's array); each is recognised in a sensor bank and events name their array.",
 )
+@click.option(
+    "--objects",
+    "objects_file",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="A user object table (from 'taxelkit learn-object'): recognise its objects beside "
+    "the six of paper 001 (face-shape tactemes on).",
+)
 @click.option("--force", is_flag=True, help="Overwrite existing --save-view and --record files.")
 @view_options
 def recognize(
@@ -103,6 +111,7 @@ def recognize(
     record: Path | None,
     per_frame: bool,
     arrays: int,
+    objects_file: Path | None,
     force: bool,
     view: ViewTarget,
 ) -> int:
@@ -115,6 +124,8 @@ def recognize(
     --view-url or --save-view, the frames, contact classes, tactemes,
     candidates and verdicts are logged to rerun as they happen (docs/viewer.md).
     """
+    if live is not None and objects_file is not None:
+        raise InputError("--objects applies to recordings (FILE), not yet to --live streams")
     if live is not None:
         if file is not None:
             raise InputError("give either FILE or --live SOURCE, not both")
@@ -146,6 +157,8 @@ def recognize(
         from taxelkit.smart.tactemes import PAPER_LEVEL3
 
         options.update(cleaning=None, limits=None, config=PAPER_LEVEL3)
+    if objects_file is not None:
+        options["config"] = _with_objects(options.get("config"), objects_file)
     if not view.wanted and topic is None and file.suffix.lower() in (".h5", ".hdf5", ".npz"):
         result, objects = _recognise_in_chunks(file, pitch_mm, per_frame, options)
     else:
@@ -157,6 +170,18 @@ def recognize(
         return 0
     _echo_objects(objects)
     return 0
+
+
+def _with_objects(config: Any, path: Path) -> Any:
+    """``config`` (default Level 3) with the six plus the table's objects and face tactemes."""
+    import dataclasses
+
+    from taxelkit.smart.object_table import PAPER_OBJECTS, read_object_table
+    from taxelkit.smart.tactemes import TactemeConfig
+
+    table = PAPER_OBJECTS.plus(read_object_table(path).rows)
+    base = TactemeConfig() if config is None else config
+    return dataclasses.replace(base, face_shapes=True, objects=table)
 
 
 def _echo_objects(objects: ObjectRecognition) -> None:

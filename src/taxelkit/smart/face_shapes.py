@@ -18,7 +18,8 @@ face's position and yaw, give the shape class of an area contact:
 Rules (thresholds in :class:`~taxelkit.smart.tactemes.TactemeConfig`, all on
 values smoothed as the other Level 3 rules; only on an area segment, only
 while the area stays within ``area_tolerance`` of its reference, as for "AC
-moves", and only for faces of at least ``face_min_area_mm2``; held for the
+moves", and only for faces of at least ``face_min_area_mm2`` (60 mm^2: smaller
+discs of the jittered cylinders and cones read triangular now and then); held for the
 motion hold):
 
 =========================  ====================================================

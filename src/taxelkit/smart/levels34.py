@@ -46,6 +46,7 @@ class Segment(Protocol):
     def frames_for(self, seconds: float, k: int, *, minimum: int | None = None) -> int: ...
     def frame_at(self, i: int) -> int: ...
     def mean_axis_deg(self, stop: int | None = None) -> float: ...
+    def mean_centre_mm(self, stop: int) -> tuple[float, float]: ...
     def tactemes(self) -> list[tuple[Tacteme, int]]: ...
 
 
@@ -74,6 +75,10 @@ class TrackSegment:
 
     def mean_axis_deg(self, stop: int | None = None) -> float:
         return mean_axis_deg(self.track.orientation_deg[:stop])
+
+    def mean_centre_mm(self, stop: int) -> tuple[float, float]:
+        c = self.track.centre_mm[:stop].mean(axis=0)
+        return float(c[0]), float(c[1])
 
     def tactemes(self) -> list[tuple[Tacteme, int]]:
         return self._found
@@ -135,6 +140,7 @@ class Levels34:
         self.k = int(config.debounce_frames)
         self.elim = Eliminator.for_table(config.objects)
         self.history: list[tuple[int, float]] = []
+        self.centres: list[tuple[float, float]] = []  # of the history's segments
         self.in_contact = False
         self.events: list[Event] = []
         self._open: tuple[int, set[Tacteme]] | None = None  # class, motion tactemes emitted
@@ -154,12 +160,14 @@ class Levels34:
                 self.events.append(Event("lifted", accept, self.elim.candidates))
                 self.elim.reset()
                 self.history = []
+                self.centres = []
                 self.in_contact = False
             return
         assert seg is not None  # a contact class always has frames
         self.in_contact = True
         self.events.append(Event("contact", accept, ContactClass(cls).name.lower()))
         self.history.append((cls, seg.mean_axis_deg(self.k)))
+        self.centres.append(seg.mean_centre_mm(self.k))
         self._gap = seg.first_frame - self._last_frame - 1
         self._prev_len = self._len
         self._prev_held = self._held
@@ -186,6 +194,7 @@ class Levels34:
             self._transitions_done = True
             if cls == ContactClass.LINE:  # the new edge's direction over its held frames
                 self.history[-1] = (cls, seg.mean_axis_deg(held))
+                self.centres[-1] = seg.mean_centre_mm(held)
             at = (
                 seg.frame_at(min(seg.size, held) - 1)
                 if cls == ContactClass.LINE
@@ -193,7 +202,11 @@ class Levels34:
             )
             max_gap = max(2 * self.k, seg.frames_for(self.config.transition_gap_s, self.k))
             found = transition_tactemes(
-                self.history, self.config, gap_frames=self._gap, max_gap_frames=max_gap
+                self.history,
+                self.config,
+                gap_frames=self._gap,
+                max_gap_frames=max_gap,
+                centres=self.centres,
             )
             for tac in found:
                 self.events.extend(self.elim.apply(tac, at))

@@ -92,6 +92,7 @@ class SegmentScanner:
         self._head_frames: list[int] = []
         self._head_t: list[float] = []
         self._head_theta: list[float] = []
+        self._head_xy: list[tuple[float, float]] = []
         self._head_cap: int | None = None
         self._dt: dict[int, float] = {}  # frame interval of the first frames, per k
         self._early: list[tuple[NDArray[np.intp], NDArray[np.float64]]] = []
@@ -127,6 +128,11 @@ class SegmentScanner:
             return float(0.5 * np.rad2deg(np.arctan2(s[1], s[0])))
         return mean_axis_deg(np.asarray(self._head_theta[:stop], dtype=np.float64))
 
+    def mean_centre_mm(self, stop: int) -> tuple[float, float]:
+        """Mean centre of the first ``stop`` frames (kept ones), mm."""
+        c = np.asarray(self._head_xy[:stop], dtype=np.float64).mean(axis=0)
+        return float(c[0]), float(c[1])
+
     def tactemes(self) -> list[tuple[Tacteme, int]]:
         """The tactemes decided so far, in the order decided."""
         return self.found
@@ -156,6 +162,7 @@ class SegmentScanner:
             self._head_frames += frames[:room].tolist()
             self._head_t += rows[:room, 8].tolist()
             self._head_theta += rows[:room, 2].tolist()
+            self._head_xy += [(float(x), float(y)) for x, y in rows[:room, 0:2]]
         self.size += m
         if not self._ready:
             self._early.append((frames, rows))
@@ -195,6 +202,7 @@ class SegmentScanner:
         self._head_cap = max(k, self.frames_for(cfg.edge_hold_s, k))
         del self._head_frames[self._head_cap :], self._head_t[self._head_cap :]
         del self._head_theta[self._head_cap :]
+        del self._head_xy[self._head_cap :]
         w = self.w
         self._smooth = RollingMean(w, 7)  # centre x, y, axis vector, area, elongation, half
         self._anchor = 0

@@ -58,6 +58,7 @@ class Tacteme(enum.StrEnum):
     AC_ELONGATED = "AC elongated"
     AC_TRIANGULAR = "AC triangular"
     AC_ELONGATED_TRIANGULAR = "AC elongated triangular"
+    AC_OVER = "AC -> LC -> AC onto another face"
 
 
 @dataclass(frozen=True)
@@ -178,7 +179,8 @@ FACE_TACTEMES: tuple[Tacteme, ...] = (
     Tacteme.AC_ELONGATED_TRIANGULAR,
 )
 
-#: Rows of the face-shape tactemes for the six objects (beyond paper 001).
+#: Rows of the face tactemes (the shape classes and tipping over onto another
+#: face) for the six objects (beyond paper 001).
 FACE_ROWS: tuple[TactemeRow, ...] = (
     TactemeRow(
         Tacteme.AC_COMPACT,
@@ -202,6 +204,12 @@ FACE_ROWS: tuple[TactemeRow, ...] = (
         Tacteme.AC_ELONGATED_TRIANGULAR,
         frozenset(OBJECTS),
         "a held face both elongated and triangular (a tall isosceles triangle): none of the six",
+    ),
+    TactemeRow(
+        Tacteme.AC_OVER,
+        frozenset({"sphere", "cylinder", "cone", "truncated-cone"}),
+        "a polyhedron tips over an edge from one face onto the next (the second face lies "
+        "across the edge from the first); a round body has no edge between two faces",
     ),
 )
 

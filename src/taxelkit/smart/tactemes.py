@@ -202,12 +202,16 @@ class TactemeConfig:
         :mod:`taxelkit.smart.face_shapes`): AC compact, elongated, triangular,
         elongated triangular. Off by default (paper 001's tactemes only).
     face_min_area_mm2 : float
-        Smallest face whose shape is classed, mm^2 (about 13 Bonneville
+        Smallest face whose shape is classed, mm^2 (about 19 Bonneville
         taxels: a smaller footprint's moments are mostly grid).
     face_compact_max, face_elongated_min : float
         Elongation limits of a compact and an elongated face.
     face_symmetric_max, face_triangular_min : float
         Triangularity limits of a symmetric and a triangular face.
+    over_min_mm : float
+        With ``face_shapes``: both faces of "AC -> LC -> AC onto another
+        face" lie at least this far from the edge's line, mm (half a
+        Bonneville pitch more than the move threshold's flicker).
     objects : ObjectTable or None
         Level 4's object table (:mod:`taxelkit.smart.object_table`); None:
         the six objects of paper 001 and Table 1. Carried here so that every
@@ -239,11 +243,12 @@ class TactemeConfig:
     pivot_hold_s: float = 0.5
     smooth_s: float = 0.15
     face_shapes: bool = False
-    face_min_area_mm2: float = 40.0
+    face_min_area_mm2: float = 60.0
     face_compact_max: float = 1.35
     face_elongated_min: float = 1.6
     face_symmetric_max: float = 1.025
     face_triangular_min: float = 1.055
+    over_min_mm: float = 1.5
     objects: ObjectTable | None = None
 
     def __post_init__(self) -> None:
@@ -276,6 +281,7 @@ class TactemeConfig:
             "face_elongated_min",
             "face_symmetric_max",
             "face_triangular_min",
+            "over_min_mm",
         ):
             check_positive(name, getattr(self, name))
 
@@ -589,6 +595,7 @@ def transition_tactemes(
     *,
     gap_frames: int = 0,
     max_gap_frames: int | None = None,
+    centres: list[tuple[float, float]] | None = None,
 ) -> list[Tacteme]:
     """Tactemes of the latest change of accepted class.
 
@@ -607,6 +614,12 @@ def transition_tactemes(
         ``2 k``; the recogniser passes ``max(2 k frames, transition_gap_s)``)
         give no transition.
     max_gap_frames : int, optional
+    centres : list of (x, y) mm, optional
+        Centre of each segment of ``history`` (an area's first frames, a
+        line's held frames). With ``config.face_shapes``: AC -> LC -> AC
+        with the two areas on opposite sides of the line, each at least
+        ``over_min_mm`` from it, is "AC -> LC -> AC onto another face" (a
+        polyhedron tipped over an edge rather than back onto its face).
 
     Returns
     -------
@@ -619,6 +632,19 @@ def transition_tactemes(
     out: list[Tacteme] = []
     if c1 == ContactClass.LINE and c2 == ContactClass.AREA:
         out.append(Tacteme.LC_TO_AC)
+        if (
+            config.face_shapes
+            and centres is not None
+            and len(history) >= 3
+            and history[-3][0] == ContactClass.AREA
+        ):
+            t = math.radians(history[-2][1])
+            normal = np.array([-math.sin(t), math.cos(t)])
+            line = np.asarray(centres[-2])
+            s1 = float(normal @ (np.asarray(centres[-3]) - line))
+            s2 = float(normal @ (np.asarray(centres[-1]) - line))
+            if s1 * s2 < 0 and min(abs(s1), abs(s2)) >= config.over_min_mm:
+                out.append(Tacteme.AC_OVER)
     if c1 == ContactClass.AREA and c2 == ContactClass.LINE:
         out.append(Tacteme.AC_TO_LC)
         if len(history) >= 3 and history[-3][0] == ContactClass.LINE:
