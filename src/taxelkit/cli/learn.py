@@ -74,12 +74,17 @@ def learn_object(
         raise InputError(f"--name {name!r} is one of the six objects of paper 001")
     table = read_object_table(out) if out.exists() else ObjectTable(())
     if name in table.objects and not force:
-        raise InputError(f"{out} already holds an object named {name!r}; pass --force to replace it")
+        raise InputError(
+            f"{out} already holds an object named {name!r}; pass --force to replace it"
+        )
     solid = load_mesh_solid(mesh, convex_hull=hull, scale=scale)
     learnt = learn_solid(solid, name, source=mesh.name, n_check=checks, rng=seed, beside=table)
     rows = [learnt.row if r.name == name else r for r in table.rows]
     new = ObjectTable(tuple(rows) if name in table.objects else (*rows, learnt.row))
-    atomic_write(out, lambda tmp: tmp.write_text(dumps(new), encoding="utf-8"), force=True)
+    def write(tmp: Path) -> None:
+        tmp.write_text(dumps(new), encoding="utf-8")
+
+    atomic_write(out, write, force=True)
     f = learnt.features
     click.echo(
         f"{name}: {len(f.faces)} flat face(s), {len(f.ruled)} ruled side(s), "
@@ -92,7 +97,14 @@ def learn_object(
         click.echo(f"check: {checks} simulated rolls; never seen: {', '.join(never) or 'none'}")
         for t in learnt.outside:
             click.echo(f"warning: {t.value} was seen but not derived; added to the row")
+        for t in learnt.left_out:
+            click.echo(
+                f"warning: {t.value} was seen in {learnt.seen[t]} roll(s) but no object can "
+                "produce it; such a roll ends unknown"
+            )
     for o in learnt.overlaps:
         click.echo(f"cannot tell apart: {o.sentence}")
-    click.echo(f"wrote {out} ({len(new.rows)} object(s)); use: taxelkit recognize FILE --objects {out}")
+    click.echo(
+        f"wrote {out} ({len(new.rows)} object(s)); use: taxelkit recognize FILE --objects {out}"
+    )
     return 0

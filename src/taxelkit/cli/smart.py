@@ -273,8 +273,21 @@ def _recognise_whole(
     "--object",
     "object_name",
     type=ROLL_OBJECT,
-    required=True,
+    default=None,
     help="A solid of paper 001 to roll, or sliding (a body dragged without rolling).",
+)
+@click.option(
+    "--mesh",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Or your own convex mesh (STL, OBJ, ...; kinematic engine), as for learn-object.",
+)
+@click.option(
+    "--mesh-scale",
+    type=click.FloatRange(min=0.0, min_open=True),
+    default=1.0,
+    show_default=True,
+    help="With --mesh: mm per mesh unit.",
 )
 @click.option(
     "--engine",
@@ -314,7 +327,9 @@ def _recognise_whole(
 )
 @click.option("--force", is_flag=True, help="Overwrite an existing output.")
 def roll(
-    object_name: str,
+    object_name: str | None,
+    mesh: Path | None,
+    mesh_scale: float,
     engine: str,
     rate_hz: float,
     lift_gap_s: float,
@@ -331,9 +346,18 @@ def roll(
     from taxelkit.motion.rolling import frames_from_scenario
     from taxelkit.sensors.presets import BONNEVILLE_16X16
 
-    scenario = scenario_from_engine(
-        engine, object_name, rng=seed, rate_hz=rate_hz, lift_gap_s=lift_gap_s
-    )
+    if (object_name is None) == (mesh is None):
+        raise InputError("give exactly one of --object NAME or --mesh FILE")
+    if mesh is not None:
+        if engine != "kinematic":
+            raise InputError("--mesh rolls with the kinematic engine only")
+        scenario = _mesh_scenario(mesh, mesh_scale, seed, rate_hz)
+        object_name = mesh.name
+    else:
+        assert object_name is not None
+        scenario = scenario_from_engine(
+            engine, object_name, rng=seed, rate_hz=rate_hz, lift_gap_s=lift_gap_s
+        )
     rec = frames_from_scenario(BONNEVILLE_16X16, scenario, rng=seed, add_noise=not no_noise)
     if contact:
         rec = TactileFrames(
@@ -346,3 +370,16 @@ def roll(
     click.echo(
         f"wrote {out} ({rec.n_frames} frames, {rec.duration_s:.1f} s, {object_name}, {engine})"
     )
+
+
+def _mesh_scenario(mesh: Path, scale: float, seed: int, rate_hz: float) -> Any:
+    """A randomised kinematic script for a convex mesh (:mod:`taxelkit.motion.mesh_scenarios`)."""
+    import trimesh
+
+    from taxelkit.motion.mesh_scenarios import make_mesh_scenario
+    from taxelkit.world.mesh_features import mesh_features
+    from taxelkit.world.mesh_solid import load_mesh_solid
+
+    solid = load_mesh_solid(mesh, scale=scale)
+    features = mesh_features(trimesh.Trimesh(solid.vertices_mm).convex_hull)
+    return make_mesh_scenario(solid, features, name=mesh.stem, rng=seed, rate_hz=rate_hz)

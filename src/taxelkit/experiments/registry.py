@@ -124,6 +124,12 @@ def _multi_object(**kw: Any) -> ExperimentResult:
     return run_multi_object(**kw)
 
 
+def _new_objects(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.new_objects import run_new_objects
+
+    return run_new_objects(**kw)
+
+
 def _robustness(**kw: Any) -> ExperimentResult:
     from taxelkit.experiments.robustness import run_robustness
 
@@ -219,6 +225,14 @@ EXPERIMENTS: dict[str, Experiment] = {
             trials=100,
             workers=True,
             scheduler=True,
+        ),
+        Experiment(
+            "new-objects",
+            "Smart sensor: the six objects and four learnt from meshes, confusion",
+            _new_objects,
+            "trial",
+            trials=100,
+            workers=True,
         ),
     )
 }

@@ -4,12 +4,21 @@
 then rolls the mesh on the simulated sensor ``n_check`` times with the
 kinematic scripts of :mod:`taxelkit.motion.mesh_scenarios` and runs the
 recogniser (face tactemes on) on the frames. Every tacteme the recogniser
-reports in a roll is one the object produces on this sensor: one the
+reports in a roll is one the object produces on this sensor. One the
 derivation missed (the skin and the taxel grid can make a thin face tipping
-over look like a line that turns, or a face that moves) is added to the row,
-with the number of rolls it came from, and named in the result, so that the
-recogniser never rules the object out for what it does. Tactemes of the row
-never seen in the check are listed too (the scripts do not try every motion).
+over look like a line that turns, or a face that moves) is named in the
+result with the number of rolls it came from, and:
+
+* added to the row if another object of the table can produce it: otherwise
+  seeing it could rule the learnt object out and leave that other one, a
+  wrong name;
+* left out if no object of the table can produce it (the tactemes of
+  sliding: AC moves, AC rotates, LC slides, LC spins): seeing it then rules
+  every object out and the roll ends "unknown", never a wrong name; adding
+  it would make the learnt object the answer to every sliding object.
+
+Tactemes of the row never seen in the check are listed too (the scripts do
+not try every motion).
 Finally the row is compared with the table it joins: objects whose rows hold
 all of another's cannot always be told apart (:meth:`ObjectTable.overlaps
 <taxelkit.smart.object_table.ObjectTable.overlaps>`).
@@ -67,6 +76,7 @@ class Learnt:
     outside: tuple[Tacteme, ...]
     overlaps: tuple[Overlap, ...]
     features: MeshFeatures
+    left_out: tuple[Tacteme, ...] = ()
 
 
 def check_rolls(
@@ -118,25 +128,37 @@ def learn_solid(
     Returns
     -------
     Learnt
+        ``outside``: seen, not derived, added; ``left_out``: seen, not
+        derived, produced by no object of the table (not added).
     """
     import trimesh
 
     hull = trimesh.Trimesh(solid.vertices_mm).convex_hull
     features = mesh_features(hull)
     derived = derive_row(solid, features, name, source=source, sensor=sensor)
-    seen = check_rolls(solid, features, name, n_rolls=n_check, rng=rng, sensor=sensor) if n_check else Counter()
-    outside = tuple(t for t in Tacteme if t in seen and t not in derived.tactemes)
+    seen = (
+        check_rolls(solid, features, name, n_rolls=n_check, rng=rng, sensor=sensor)
+        if n_check
+        else Counter()
+    )
+    others = [r for r in (beside.rows if beside is not None else ()) if r.name != name]
+    produced = set().union(*(r.tactemes for r in (*PAPER_OBJECTS.rows, *others)))
+    missed = [t for t in Tacteme if t in seen and t not in derived.tactemes]
+    outside = tuple(t for t in missed if t in produced)
+    left_out = tuple(t for t in missed if t not in produced)
     reasons = dict(derived.reasons)
     for t in outside:
-        reasons[t] = f"seen in {seen[t]} of {n_check} simulated rolls (not derived from the geometry)"
+        reasons[t] = (
+            f"seen in {seen[t]} of {n_check} simulated rolls (not derived from the geometry)"
+        )
     order = [t for t in Tacteme if t in reasons]
     checked = {
         "rolls": n_check,
         "seen": {t.value: seen[t] for t in Tacteme if t in seen},
         "outside_row": [t.value for t in outside],
+        "left_out": [t.value for t in left_out],
     }
     row = ObjectRow(name, frozenset(order), tuple((t, reasons[t]) for t in order), source, checked)
-    others = [r for r in (beside.rows if beside is not None else ()) if r.name != name]
     table = PAPER_OBJECTS.plus([*others, row])
     overlaps = tuple(o for o in table.overlaps() if name in (o.first, o.second))
-    return Learnt(row, derived, dict(seen), n_check, outside, overlaps, features)
+    return Learnt(row, derived, dict(seen), n_check, outside, overlaps, features, left_out)

@@ -2,7 +2,7 @@
 
 The rules read :class:`~taxelkit.world.mesh_features.MeshFeatures` and what
 each flat face reads as on the sensor (:mod:`taxelkit.learn.footprints`:
-area, line, shape classes, at sizes x :data:`SIZE_FACTORS`), and give every
+area, line, shape classes), and give every
 tacteme the object can produce rolling (or tipping) without slip, with the
 reason. They reproduce the six hand-written rows of Table 1 and the face
 rows from meshes of the six solids (tested):
@@ -51,19 +51,23 @@ from taxelkit.smart.tactemes import TactemeConfig
 from taxelkit.world.mesh_features import FlatFace, MeshFeatures
 from taxelkit.world.mesh_solid import MeshSolid
 
-__all__ = ["ANGLE_MARGIN_DEG", "SIZE_FACTORS", "derive_row"]
+__all__ = ["ANGLE_MARGIN_DEG", "MIN_EDGE_MM", "SIZE_FACTORS", "derive_row"]
 
 #: Edge angles within this of a limit of ``edge_angle_tol_deg`` count on both sides, deg.
 ANGLE_MARGIN_DEG = 2.0
-#: A face is read at these multiples of its size (a learnt object is met at other sizes).
-SIZE_FACTORS = (0.9, 1.0, 1.1)
+#: A face is read at these multiples of its size: a learnt object is that
+#: object at that size (learn it again with another ``--scale`` for another).
+SIZE_FACTORS = (1.0,)
+#: Polyhedral edges shorter than this never read as lines (Level 2's shortest
+#: line, 6 mm, less its 15 % hysteresis), mm.
+MIN_EDGE_MM = 5.1
 #: Long axes of two line faces within this angle are parallel, deg.
 PARALLEL_AXES_DEG = 5.0
 
 
 def _edge_angles(face: FlatFace) -> list[float]:
-    """Axis differences (0-90 deg) between every two polyhedral edges of a face."""
-    d = face.edge_dirs
+    """Axis differences (0-90 deg) between every two of a face's edges that read as lines."""
+    d = face.edge_dirs[face.edge_lengths_mm >= MIN_EDGE_MM]
     out = []
     for i in range(len(d)):
         for j in range(i + 1, len(d)):
@@ -81,9 +85,7 @@ def read_faces(
         classes: set[ContactClass] = set()
         shapes: set[Tacteme] = set()
         for k, factor in enumerate(SIZE_FACTORS):
-            scaled = MeshSolid(
-                solid.vertices_mm * factor, solid.normals, solid.offsets_mm * factor
-            )
+            scaled = MeshSolid(solid.vertices_mm * factor, solid.normals, solid.offsets_mm * factor)
             big = replace(
                 face,
                 triangles_2d_mm=face.triangles_2d_mm * factor,
@@ -117,7 +119,9 @@ def _line_faces(
             # where the two axes (through the faces' centroids) come closest: the pivot
             a, b = fi.long_axis, fj.long_axis
             m = np.array([[a @ a, -(a @ b)], [a @ b, -(b @ b)]])
-            rhs = np.array([(fj.centroid_mm - fi.centroid_mm) @ a, (fj.centroid_mm - fi.centroid_mm) @ b])
+            rhs = np.array(
+                [(fj.centroid_mm - fi.centroid_mm) @ a, (fj.centroid_mm - fi.centroid_mm) @ b]
+            )
             t = np.linalg.solve(m, rhs)
             pivot = 0.5 * (fi.centroid_mm + t[0] * a + fj.centroid_mm + t[1] * b)
             reach = max(float(np.abs(fi.triangles_2d_mm).max()), 1e-9)
@@ -133,12 +137,12 @@ def _polyhedral(
     out: dict[Tacteme, str] = {}
     tol = config.edge_angle_tol_deg + ANGLE_MARGIN_DEG
     areas = [f for f, r in zip(features.faces, readings, strict=True) if r.area]
-    n_edges = sum(len(f.edge_dirs) for f in features.faces) // 2
+    n_edges = sum(int(np.sum(f.edge_lengths_mm >= MIN_EDGE_MM)) for f in features.faces) // 2
     if areas:
         out[Tacteme.AC] = f"{len(areas)} face(s) read as an area"
     if n_edges:
         out[Tacteme.LC] = f"{n_edges} polyhedral edge(s)"
-    if any(len(f.edge_dirs) for f in areas):
+    if any(np.any(f.edge_lengths_mm >= MIN_EDGE_MM) for f in areas):
         out[Tacteme.LC_TO_AC] = "tipping from a polyhedral edge onto a face"
         out[Tacteme.AC_TO_LC] = "tipping from a face onto a polyhedral edge"
     square = [f for f in areas if any(a <= tol or a >= 90.0 - tol for a in _edge_angles(f))]

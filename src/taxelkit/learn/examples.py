@@ -1,15 +1,17 @@
 """The four example objects shipped as meshes (``examples/objects/*.stl``).
 
-Sizes are chosen to fit the 28.2 mm Bonneville array in every resting pose
-(assumed; with the +-10 % size jitter of the ``new-objects`` experiment):
+Sizes (assumed) fit the 28.2 mm Bonneville array through every script of
+:mod:`taxelkit.motion.mesh_scenarios`, and keep the faces of the polyhedra
+large enough to read as areas on it (on the 1.76 mm pitch a slender prism's
+sides read as lines, and it then rolls like a cylinder):
 
 ==================  ==========================================================
-``hex-prism``       regular hexagonal prism, side 5.5 mm, 13 mm long: two
-                    hexagons (compact faces) and six 5.5 x 13 mm rectangles
-                    (elongated faces)
-``square-pyramid``  square base 8 mm, height 20 mm: a square (compact) and
-                    four tall isosceles triangles (elongated, triangular),
-                    whose edges meet at 79 and 22 deg, never near 60
+``hex-prism``       regular hexagonal prism, side 6 mm, 11 mm long: two
+                    hexagons (compact faces) and six 6 x 11 mm rectangles
+                    (elongated faces, or lines at some yaws)
+``square-pyramid``  square base 12 mm, height 10 mm: a square and four
+                    isosceles triangles (base 12 mm, height 11.7 mm; their
+                    edges meet at 62.9 and 54.3 deg)
 ``ellipsoid``       semi-axes 9, 7 and 6 mm (icosphere, 1280 triangles)
 ``capsule``         radius 5 mm, 12 mm between the centres of its caps
                     (2048 triangles)
@@ -29,15 +31,19 @@ from taxelkit.errors import InputError
 if TYPE_CHECKING:
     import trimesh
 
-__all__ = ["EXAMPLE_OBJECTS", "example_mesh"]
+__all__ = ["EXAMPLE_OBJECTS", "OUTSIDE_OBJECTS", "example_mesh"]
 
 #: Names of the shipped examples, in the order of the experiment.
 EXAMPLE_OBJECTS: tuple[str, ...] = ("hex-prism", "square-pyramid", "ellipsoid", "capsule")
+#: Objects the experiment rolls without learning them (they must end "not identified"):
+#: a triangular prism (equilateral ends of side 12 mm, 12 mm long), which paper 001's
+#: table calls a cube when it tips over the edges of its square sides.
+OUTSIDE_OBJECTS: tuple[str, ...] = ("triangular-prism",)
 
-HEX_SIDE_MM = 4.2
-HEX_LENGTH_MM = 14.0
-PYRAMID_BASE_MM = 7.0
-PYRAMID_HEIGHT_MM = 20.0
+HEX_SIDE_MM = 6.0
+HEX_LENGTH_MM = 11.0
+PYRAMID_BASE_MM = 12.0
+PYRAMID_HEIGHT_MM = 10.0
 ELLIPSOID_SEMI_AXES_MM = (9.0, 7.0, 6.0)
 CAPSULE_RADIUS_MM = 5.0
 CAPSULE_LENGTH_MM = 12.0
@@ -66,7 +72,11 @@ def example_mesh(name: str) -> trimesh.Trimesh:
         mesh = trimesh.creation.capsule(
             height=CAPSULE_LENGTH_MM, radius=CAPSULE_RADIUS_MM, count=[32, 32]
         )
+    elif name == "triangular-prism":
+        mesh = trimesh.creation.cylinder(radius=12.0 / math.sqrt(3.0), height=12.0, sections=3)
     else:
-        raise InputError(f"unknown example object {name!r}; known: {', '.join(EXAMPLE_OBJECTS)}")
+        known = ", ".join((*EXAMPLE_OBJECTS, *OUTSIDE_OBJECTS))
+        raise InputError(f"unknown example object {name!r}; known: {known}")
     mesh.apply_translation(-mesh.center_mass)
-    return mesh
+    out: trimesh.Trimesh = mesh
+    return out

@@ -19,16 +19,21 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from taxelkit.smart.contact_classes import DEFAULT_CONFIDENCE, HAND_SET, ContactClass, classify_contacts
+from taxelkit.motion.rolling import DEFAULT_DEPTH_MM, E_Z
+from taxelkit.sensors.presets import BONNEVILLE_16X16, Sensor
+from taxelkit.sensors.press import displacement_from_solid
+from taxelkit.smart.contact_classes import (
+    DEFAULT_CONFIDENCE,
+    HAND_SET,
+    ContactClass,
+    classify_contacts,
+)
 from taxelkit.smart.contact_limits import apply_limits
 from taxelkit.smart.face_shapes import face_masks, triangularity
 from taxelkit.smart.levels12 import DEFAULT_LIMITS, half_length
 from taxelkit.smart.moments import image_stats
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import TactemeConfig, face_limits
-from taxelkit.motion.rolling import DEFAULT_DEPTH_MM, E_Z
-from taxelkit.sensors.presets import BONNEVILLE_16X16, Sensor
-from taxelkit.sensors.press import displacement_from_solid
 from taxelkit.world.mesh_features import FlatFace
 from taxelkit.world.mesh_solid import MeshSolid
 from taxelkit.world.pose import matrix_from_axis_angle
@@ -122,7 +127,12 @@ def read_face(
     classes = classify_contacts(stats, HAND_SET, confidence=DEFAULT_CONFIDENCE)
     half = half_length(stats)
     classes = apply_limits(
-        classes, stats.n_taxels, 2.0 * half, stats.elongation, DEFAULT_LIMITS, area_mm2=stats.area_mm2
+        classes,
+        stats.n_taxels,
+        2.0 * half,
+        stats.elongation,
+        DEFAULT_LIMITS,
+        area_mm2=stats.area_mm2,
     )
     area = classes == ContactClass.AREA
     tau = triangularity(stats.area_mm2, stats.elongation, half)
@@ -133,4 +143,6 @@ def read_face(
         )
         if np.any(mask)
     }
-    return FaceReading(frozenset(ContactClass(int(c)) for c in np.unique(classes)), frozenset(shapes))
+    return FaceReading(
+        frozenset(ContactClass(int(c)) for c in np.unique(classes)), frozenset(shapes)
+    )

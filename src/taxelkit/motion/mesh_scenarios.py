@@ -147,7 +147,10 @@ def _roll(b: Builder, d: NDArray[np.float64], speed: float, label: str, **stop: 
     dist = stop.get("distance_mm", travel)
     n = rots.shape[0]
     b.move(
-        lambda u: (rots[np.minimum(np.round(u * n).astype(int), n) - 1], cents[np.minimum(np.round(u * n).astype(int), n) - 1]),
+        lambda u: (
+            rots[np.minimum(np.round(u * n).astype(int), n) - 1],
+            cents[np.minimum(np.round(u * n).astype(int), n) - 1],
+        ),
         dist / speed,
         "rolling",
         label,
@@ -244,7 +247,11 @@ def _script_polyhedron(b: Builder, feats: MeshFeatures, d: Draws) -> None:
 
 
 def _first_hop(
-    feats: MeshFeatures, here: int, kind: tuple[float, float, float], lands: list[int], stable: list[int]
+    feats: MeshFeatures,
+    here: int,
+    kind: tuple[float, float, float],
+    lands: list[int],
+    stable: list[int],
 ) -> int | None:
     """Bottom edge to tip over first on the shortest path of stable faces to ``kind``."""
     graph = {i: set(int(n) for n in feats.faces[i].neighbours if int(n) in stable) for i in stable}
@@ -339,7 +346,7 @@ def make_mesh_scenario(
     *,
     name: str = "mesh",
     rng: RngLike = None,
-    size_jitter: float = 0.1,
+    size_jitter: float = 0.0,
     depth_mm: float = DEFAULT_DEPTH_MM,
     depth_jitter: float = 0.3,
     rate_hz: float = DEFAULT_RATE_HZ,
@@ -357,7 +364,8 @@ def make_mesh_scenario(
     rng : int, Generator or None
         Seed: the same seed gives an identical scenario.
     size_jitter : float
-        The mesh is scaled by one factor from ``1 +- size_jitter``, in [0, 0.5].
+        The mesh is scaled by one factor from ``1 +- size_jitter``, in [0, 0.5]
+        (default 0: a learnt object is one object at one size).
     depth_mm, depth_jitter, rate_hz, sensor
         As :func:`~taxelkit.motion.scenarios.make_scenario`.
 
@@ -400,4 +408,6 @@ def make_mesh_scenario(
                 slides=False,
             )
         draws = np.random.default_rng(gen.integers(2**32)).random(_N_DRAWS)
-    raise InputError(f"cannot fit a {name!r} script on the {sensor.name} array; the mesh is too large")
+    raise InputError(
+        f"cannot fit a {name!r} script on the {sensor.name} array; the mesh is too large"
+    )

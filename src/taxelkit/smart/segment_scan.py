@@ -31,8 +31,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
-from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.face_shapes import face_masks, triangularity
+from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import MOTION_MIN_FRAMES, SegmentTrack, TactemeConfig, face_limits
 from taxelkit.smart.track_geometry import axis_angle_deg, axis_vectors
 from taxelkit.smart.track_stream import (

@@ -185,7 +185,9 @@ def _shape(
     centre = (a[:, None] * p.mean(axis=1)).sum(axis=0) / area
     q = p - centre
     s = q.sum(axis=1)
-    second = np.einsum("m,mij->ij", a / 12.0, np.einsum("mki,mkj->mij", q, q) + s[:, :, None] * s[:, None, :])
+    second = np.einsum(
+        "m,mij->ij", a / 12.0, np.einsum("mki,mkj->mij", q, q) + s[:, :, None] * s[:, None, :]
+    )
     lam, vec = np.linalg.eigh(second / area)
     e = float(np.sqrt(lam[1] / max(lam[0], 1e-12)))
     tau = 4.0 * 3.0 * float(lam[1]) / (e * area)
@@ -194,7 +196,9 @@ def _shape(
     return e, tau, centroid3, q, axis3
 
 
-def _inside(tris: NDArray[np.float64], point: NDArray[np.float64], normal: NDArray[np.float64]) -> bool:
+def _inside(
+    tris: NDArray[np.float64], point: NDArray[np.float64], normal: NDArray[np.float64]
+) -> bool:
     """Whether ``point`` (in the face plane) lies inside one of the triangles."""
     a, b, c = tris[:, 0], tris[:, 1], tris[:, 2]
     s1 = np.einsum("ij,j->i", np.cross(b - a, point - a), normal)
@@ -229,7 +233,10 @@ def _local_curvature(
 
 
 def _ruled_regions(
-    mesh: trimesh.Trimesh, tri: NDArray[np.intp], ruling: NDArray[np.float64], centres: NDArray[np.float64]
+    mesh: trimesh.Trimesh,
+    tri: NDArray[np.intp],
+    ruling: NDArray[np.float64],
+    centres: NDArray[np.float64],
 ) -> list[RuledRegion]:
     """Connected singly curved triangles ``tri`` grouped into ruled regions."""
     import trimesh as tm
@@ -257,7 +264,9 @@ def _ruled_regions(
         on_body = False
         if not parallel:
             proj = np.eye(3)[None] - r[:, :, None] * r[:, None, :]
-            apex = np.linalg.lstsq(proj.sum(0), np.einsum("nij,nj->i", proj, centres[idx]), rcond=None)[0]
+            apex = np.linalg.lstsq(
+                proj.sum(0), np.einsum("nij,nj->i", proj, centres[idx]), rcond=None
+            )[0]
             normals = mesh.face_normals
             offsets = np.einsum("ij,ij->i", normals, mesh.triangles[:, 0])
             on_body = bool(np.max(normals @ apex - offsets) <= APEX_ON_BODY_MM)
@@ -290,8 +299,12 @@ def mesh_features(mesh: trimesh.Trimesh) -> MeshFeatures:
     between = la != lb
     sharp = between & (angle >= np.deg2rad(SHARP_DEG))
     n_lab = int(label.max()) + 1
-    border = np.bincount(la[between], length[between], n_lab) + np.bincount(lb[between], length[between], n_lab)
-    sharp_len = np.bincount(la[sharp], length[sharp], n_lab) + np.bincount(lb[sharp], length[sharp], n_lab)
+    border = np.bincount(la[between], length[between], n_lab) + np.bincount(
+        lb[between], length[between], n_lab
+    )
+    sharp_len = np.bincount(la[sharp], length[sharp], n_lab) + np.bincount(
+        lb[sharp], length[sharp], n_lab
+    )
     flat_label = np.flatnonzero((border > 0) & (sharp_len >= 0.5 * border))
     face_of = {int(lab): i for i, lab in enumerate(flat_label)}
     is_flat = np.isin(label, flat_label)
@@ -305,7 +318,9 @@ def mesh_features(mesh: trimesh.Trimesh) -> MeshFeatures:
         stable = _inside(tris[members], foot, n)
         dirs, lens, nbrs = [], [], []
         rim = 0.0
-        for other in sorted({int(x) for x in np.concatenate([lb[sharp & (la == lab)], la[sharp & (lb == lab)]])}):
+        for other in sorted(
+            {int(x) for x in np.concatenate([lb[sharp & (la == lab)], la[sharp & (lb == lab)]])}
+        ):
             sel = sharp & (((la == lab) & (lb == other)) | ((lb == lab) & (la == other)))
             if other in face_of:
                 pts = verts[np.unique(edges[sel])]
