@@ -81,6 +81,7 @@ def learn_object(
     learnt = learn_solid(solid, name, source=mesh.name, n_check=checks, rng=seed, beside=table)
     rows = [learnt.row if r.name == name else r for r in table.rows]
     new = ObjectTable(tuple(rows) if name in table.objects else (*rows, learnt.row))
+
     def write(tmp: Path) -> None:
         tmp.write_text(dumps(new), encoding="utf-8")
 

@@ -100,8 +100,8 @@ def roll_path(
     direction : (3,) float
         Horizontal direction of travel.
     distance_mm, angle_rad : float
-        Stop once the contact has travelled this far over the plane, or the
-        body has turned this much (exactly one of the two).
+        Stop once the contact has advanced this far along ``direction``, or
+        the body has turned this much (exactly one of the two).
 
     Returns
     -------
@@ -129,7 +129,7 @@ def roll_path(
         world[:, 2] -= low
         front = np.where(world[:, 2] <= 1e-6, world @ d, -np.inf)
         new = world[np.argmax(front)]
-        travelled += float(np.hypot(*(new - pivot)[:2]))
+        travelled += float((new - pivot) @ d)  # the contact's advance along d
         turned += step
         pivot = new
         rots.append(rot.copy())

@@ -19,8 +19,8 @@ Rules (thresholds in :class:`~taxelkit.smart.tactemes.TactemeConfig`, all on
 values smoothed as the other Level 3 rules; only on an area segment, only
 while the area stays within ``area_tolerance`` of its reference, as for "AC
 moves", and only for faces of at least ``face_min_area_mm2`` (60 mm^2: smaller
-discs of the jittered cylinders and cones read triangular now and then); held for the
-motion hold):
+discs of the jittered cylinders and cones read triangular now and then); held for
+``face_hold_s``, 0.5 s):
 
 =========================  ====================================================
 AC compact                 ``e <= face_compact_max`` and ``tau <= face_symmetric_max``
@@ -30,14 +30,17 @@ AC elongated triangular    ``e >= face_elongated_min`` and ``tau >= face_triangu
 =========================  ====================================================
 
 Between the limits lies a band of doubt that gives no tacteme. Measured on
-the kinematic scenes of the six solids (12 each, Bonneville 16 x 16, faces of
-40 mm^2 or more, single frames): cube tau 0.97-1.03, discs of the round
-bodies 0.96-1.05, tetrahedron 1.00-1.16 (median 1.08); elongation of all
-these faces at most 1.47. The taxel grid pulls a triangle's tau towards 1:
-a tetrahedron's face of 25-45 taxels, at some positions and yaws, reads
-1.00-1.02 for frames on end and is called compact (3 of 40 scenes). A
-triangular face can therefore produce the symmetric class of its
-elongation too; a symmetric face has never read triangular.
+the kinematic scenes of the six solids (Bonneville 16 x 16, noise on, faces
+of 60 mm^2 or more): single frames, cube tau 0.97-1.03, discs of the round
+bodies 0.96-1.05, tetrahedron 1.00-1.16 (median 1.08), elongation of all
+these faces at most 1.47; the largest 3-frame mean over each held face, in
+60 scenes each, cube 0.97-1.04 (210 faces), tetrahedron 1.02-1.16 (median
+1.09). The taxel grid pulls a triangle's tau towards 1: a tetrahedron's face
+of 25-45 taxels, at some positions and yaws, reads 1.00-1.02 for frames on
+end and is called compact (3 of 40 scenes). A triangular face can therefore
+produce the symmetric class of its elongation too. In 100 cube rolls with a
+limit of 1.055 and no face hold, two faces read triangular (one lifting off,
+one held at 1.05-1.09): hence 1.06 and the hold.
 """
 
 from __future__ import annotations

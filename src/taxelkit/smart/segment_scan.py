@@ -215,7 +215,8 @@ class SegmentScanner:
         self._done: set[Tacteme] = set()
         new = [Sustained(self.hold) for _ in range(4)]
         self._s1, self._s2, self._s3, self._s4 = new
-        self._faces = [Sustained(self.hold) for _ in range(4)]  # the face-shape classes
+        face_hold = self.frames_for(cfg.face_hold_s, k, minimum=self.hold)
+        self._faces = [Sustained(face_hold) for _ in range(4)]  # the face-shape classes
         self._tau = RollingMean(w, 1)
         window = (cfg.orthogonal_min_deg, cfg.orthogonal_max_deg)
         self._legs, self._corners = (

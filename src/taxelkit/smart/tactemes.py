@@ -208,6 +208,11 @@ class TactemeConfig:
         Elongation limits of a compact and an elongated face.
     face_symmetric_max, face_triangular_min : float
         Triangularity limits of a symmetric and a triangular face.
+    face_hold_s : float
+        A face's shape class must hold this long, s: a held face, not the
+        transient footprint of placing, lifting or tipping (a cube's face
+        lifting off shrinks through a plus-shaped image that reads
+        triangular for a few frames).
     over_min_mm : float
         With ``face_shapes``: both faces of "AC -> LC -> AC onto another
         face" lie at least this far from the edge's line, mm (half a
@@ -247,7 +252,8 @@ class TactemeConfig:
     face_compact_max: float = 1.35
     face_elongated_min: float = 1.6
     face_symmetric_max: float = 1.025
-    face_triangular_min: float = 1.055
+    face_triangular_min: float = 1.06
+    face_hold_s: float = 0.5
     over_min_mm: float = 1.5
     objects: ObjectTable | None = None
 
@@ -281,6 +287,7 @@ class TactemeConfig:
             "face_elongated_min",
             "face_symmetric_max",
             "face_triangular_min",
+            "face_hold_s",
             "over_min_mm",
         ):
             check_positive(name, getattr(self, name))
@@ -581,10 +588,11 @@ def segment_tactemes(
         emit(Tacteme.AC_ROTATES, first(sustained(rotated, hold), 0))
         if config.face_shapes:
             raw = triangularity(track.area_mm2, track.elongation, track.half_length_mm)
+            face_hold = track.frames_for(config.face_hold_s, k, minimum=hold)
             for tac, mask in face_masks(
                 area, elong, rolling_mean(raw, w), valid & same, **face_limits(config)
             ):
-                emit(tac, first(sustained(mask, hold), 0))
+                emit(tac, first(sustained(mask, face_hold), 0))
     out.sort(key=lambda item: item[1])
     return out
 
