@@ -33,7 +33,7 @@ def test_a_ball_rolls_its_distance_without_slip() -> None:
 def test_a_cube_tips_over_its_front_edge_by_a_quarter_turn() -> None:
     cube = MeshSolid.from_trimesh(trimesh.creation.box(extents=(10.0, 10.0, 10.0)))
     start = Pose(np.eye(3), np.array([0.0, 0.0, 5.0]))
-    rots, cents = roll_path(cube, start, np.array([1.0, 0.0, 0.0]), angle_rad=math.pi / 2)
+    _, cents = roll_path(cube, start, np.array([1.0, 0.0, 0.0]), angle_rad=math.pi / 2)
     assert cents[-1] == pytest.approx([10.0, 0.0, 5.0], abs=0.05)  # onto the next face
 
 

@@ -1,4 +1,4 @@
-"""Object tables: the six rows agree with Table 1, the file format, overlaps, Level 4 with a table."""
+"""Object tables: the six rows are Table 1, the file format, overlaps, Level 4 with a table."""
 
 from __future__ import annotations
 
