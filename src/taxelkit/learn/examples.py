@@ -11,7 +11,7 @@ sides read as lines, and it then rolls like a cylinder):
                     (elongated faces, or lines at some yaws)
 ``square-pyramid``  square base 12 mm, height 10 mm: a square and four
                     isosceles triangles (base 12 mm, height 11.7 mm; their
-                    edges meet at 62.9 and 54.3 deg)
+                    edges meet at 62.8 and 54.5 deg)
 ``ellipsoid``       semi-axes 9, 7 and 6 mm (icosphere, 1280 triangles)
 ``capsule``         radius 5 mm, 12 mm between the centres of its caps
                     (2048 triangles)

@@ -274,6 +274,20 @@ def _ruled_regions(
     return out
 
 
+def _curved_surfaces(
+    hull: trimesh.Trimesh, curved: NDArray[np.intp], normals: NDArray[np.float64]
+) -> tuple[list[RuledRegion], float]:
+    """Ruled regions and doubly curved area of the triangles ``curved``."""
+    if curved.size == 0:
+        return [], 0.0
+    centres = np.asarray(hull.triangles_center, dtype=np.float64)[curved]
+    areas = np.asarray(hull.area_faces, dtype=np.float64)[curved]
+    singly, ruling = _local_curvature(centres, normals[curved], areas)
+    ruled = _ruled_regions(hull, curved[singly], ruling[singly], centres[singly])
+    doubly = float(areas[~singly].sum())
+    return ruled, (doubly if doubly >= MIN_CURVED_AREA_MM2 else 0.0)
+
+
 def mesh_features(mesh: trimesh.Trimesh) -> MeshFeatures:
     """The flat faces, ruled regions and doubly curved area of a convex mesh (mm).
 
@@ -348,15 +362,5 @@ def mesh_features(mesh: trimesh.Trimesh) -> MeshFeatures:
                 c3 - centroid,
             )
         )
-    curved = np.flatnonzero(~is_flat)
-    ruled: list[RuledRegion] = []
-    doubly = 0.0
-    if curved.size:
-        centres = np.asarray(hull.triangles_center, dtype=np.float64)[curved]
-        areas = np.asarray(hull.area_faces, dtype=np.float64)[curved]
-        singly, ruling = _local_curvature(centres, normals[curved], areas)
-        ruled = _ruled_regions(hull, curved[singly], ruling[singly], centres[singly])
-        doubly = float(areas[~singly].sum())
-        if doubly < MIN_CURVED_AREA_MM2:
-            doubly = 0.0
+    ruled, doubly = _curved_surfaces(hull, np.flatnonzero(~is_flat), normals)
     return MeshFeatures(tuple(faces), tuple(ruled), doubly, len(verts))
