@@ -38,4 +38,8 @@ def test_the_readme_learn_instructions_work(
         outputs.append(capsys.readouterr().out)
     assert "wrote objects.json" in outputs[0]
     last = outputs[-1].strip().splitlines()[-1]
-    assert last == "identified: my-part", outputs[-1]
+    # learnt and recognised: named, or undecided with it among the candidates (the
+    # roll may not show what sets it apart); never another name, never ruled out
+    assert last == "identified: my-part" or (
+        last.startswith("identified: undecided among") and "my-part" in last
+    ), outputs[-1]

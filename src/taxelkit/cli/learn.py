@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from taxelkit.cli.options import SEED
+from taxelkit.cli.options import SCALE, SEED
 from taxelkit.errors import InputError
 
 __all__ = ["learn_object"]
@@ -28,7 +28,7 @@ _NAME = re.compile(r"^[a-z0-9][a-z0-9-]{0,47}$")
 )
 @click.option(
     "--scale",
-    type=click.FloatRange(min=0.0, min_open=True),
+    type=SCALE,
     default=1.0,
     show_default=True,
     help="mm per mesh unit (1 for a mesh in mm, 1000 for one in m, 25.4 for inches).",

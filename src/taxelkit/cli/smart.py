@@ -13,6 +13,7 @@ from taxelkit.cli.options import (
     PITCH_MM,
     RATE_HZ,
     ROLL_OBJECT,
+    SCALE,
     SEED,
     THRESHOLD,
     TIMEOUT_S,
@@ -284,7 +285,7 @@ def _recognise_whole(
 )
 @click.option(
     "--mesh-scale",
-    type=click.FloatRange(min=0.0, min_open=True),
+    type=SCALE,
     default=1.0,
     show_default=True,
     help="With --mesh: mm per mesh unit.",
