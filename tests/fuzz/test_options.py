@@ -39,6 +39,7 @@ BASE_ARGV: dict[str, list[str]] = {
     "simulate press": ["simulate", "press", "--shape", "circle", "--out", "{d}/p.npz"],
     "simulate solid": ["simulate", "solid", "--object", "cube", "--out", "{d}/s.npz"],
     "simulate roll": ["simulate", "roll", "--object", "cube", "--out", "{d}/r.npz"],
+    "learn-object": ["learn-object", "{f}", "--name", "x", "--out", "{d}/o.json"],
 }
 
 

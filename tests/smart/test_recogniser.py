@@ -9,7 +9,7 @@ from taxelkit.frames import TactileFrames
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Eliminator
 from taxelkit.smart.recogniser import SmartSensor, recognise
-from taxelkit.smart.tacteme_table import OBJECTS, TABLE, Tacteme
+from taxelkit.smart.tacteme_table import ALL_ROWS, OBJECTS, Tacteme
 from taxelkit.smart.tactemes import PAPER_LEVEL3, TactemeConfig, accepted_runs
 
 N = 16
@@ -120,8 +120,8 @@ def test_lift_off_reports_the_candidates_left() -> None:
 
 
 def test_every_tacteme_has_a_row_and_a_reason() -> None:
-    assert {r.tacteme for r in TABLE} == set(Tacteme)
-    assert all(r.reason and r.eliminates <= set(OBJECTS) for r in TABLE)
+    assert {r.tacteme for r in ALL_ROWS} == set(Tacteme)
+    assert all(r.reason and r.eliminates <= set(OBJECTS) for r in ALL_ROWS)
 
 
 def test_recognise_rejects_a_bare_array_without_pitch() -> None:

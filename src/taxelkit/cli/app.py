@@ -262,13 +262,24 @@ def sensors() -> None:
 
 
 from taxelkit.cli.convert import convert  # noqa: E402  (sub-commands)
+from taxelkit.cli.learn import learn_object  # noqa: E402
 from taxelkit.cli.paper000 import memorise, reproduce, trace  # noqa: E402
 from taxelkit.cli.simulate import demo, simulate  # noqa: E402
 from taxelkit.cli.smart import recognize, roll  # noqa: E402
 from taxelkit.cli.sources import sources  # noqa: E402
 
 simulate.add_command(roll)
-for _command in (simulate, demo, reproduce, trace, memorise, recognize, convert, sources):
+for _command in (
+    simulate,
+    demo,
+    reproduce,
+    trace,
+    memorise,
+    recognize,
+    convert,
+    sources,
+    learn_object,
+):
     cli.add_command(_command)
 
 

@@ -13,6 +13,7 @@ from taxelkit.cli.options import (
     PITCH_MM,
     RATE_HZ,
     ROLL_OBJECT,
+    SCALE,
     SEED,
     THRESHOLD,
     TIMEOUT_S,
@@ -88,6 +89,14 @@ __all__ = ["recognize", "roll"]
     help="With --live: the stream carries this many arrays (version 2 packets name each "
     "frame's array); each is recognised in a sensor bank and events name their array.",
 )
+@click.option(
+    "--objects",
+    "objects_file",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="A user object table (from 'taxelkit learn-object'): recognise its objects beside "
+    "the six of paper 001 (face-shape tactemes on).",
+)
 @click.option("--force", is_flag=True, help="Overwrite existing --save-view and --record files.")
 @view_options
 def recognize(
@@ -103,6 +112,7 @@ def recognize(
     record: Path | None,
     per_frame: bool,
     arrays: int,
+    objects_file: Path | None,
     force: bool,
     view: ViewTarget,
 ) -> int:
@@ -115,6 +125,8 @@ def recognize(
     --view-url or --save-view, the frames, contact classes, tactemes,
     candidates and verdicts are logged to rerun as they happen (docs/viewer.md).
     """
+    if live is not None and objects_file is not None:
+        raise InputError("--objects applies to recordings (FILE), not yet to --live streams")
     if live is not None:
         if file is not None:
             raise InputError("give either FILE or --live SOURCE, not both")
@@ -146,6 +158,8 @@ def recognize(
         from taxelkit.smart.tactemes import PAPER_LEVEL3
 
         options.update(cleaning=None, limits=None, config=PAPER_LEVEL3)
+    if objects_file is not None:
+        options["config"] = _with_objects(options.get("config"), objects_file)
     if not view.wanted and topic is None and file.suffix.lower() in (".h5", ".hdf5", ".npz"):
         result, objects = _recognise_in_chunks(file, pitch_mm, per_frame, options)
     else:
@@ -157,6 +171,18 @@ def recognize(
         return 0
     _echo_objects(objects)
     return 0
+
+
+def _with_objects(config: Any, path: Path) -> Any:
+    """``config`` (default Level 3) with the six plus the table's objects and face tactemes."""
+    import dataclasses
+
+    from taxelkit.smart.object_table import PAPER_OBJECTS, read_object_table
+    from taxelkit.smart.tactemes import TactemeConfig
+
+    table = PAPER_OBJECTS.plus(read_object_table(path).rows)
+    base = TactemeConfig() if config is None else config
+    return dataclasses.replace(base, face_shapes=True, objects=table)
 
 
 def _echo_objects(objects: ObjectRecognition) -> None:
@@ -249,8 +275,21 @@ def _recognise_whole(
     "--object",
     "object_name",
     type=ROLL_OBJECT,
-    required=True,
+    default=None,
     help="A solid of paper 001 to roll, or sliding (a body dragged without rolling).",
+)
+@click.option(
+    "--mesh",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Or your own convex mesh (STL, OBJ, ...; kinematic engine), as for learn-object.",
+)
+@click.option(
+    "--mesh-scale",
+    type=SCALE,
+    default=1.0,
+    show_default=True,
+    help="With --mesh: mm per mesh unit.",
 )
 @click.option(
     "--engine",
@@ -290,7 +329,9 @@ def _recognise_whole(
 )
 @click.option("--force", is_flag=True, help="Overwrite an existing output.")
 def roll(
-    object_name: str,
+    object_name: str | None,
+    mesh: Path | None,
+    mesh_scale: float,
     engine: str,
     rate_hz: float,
     lift_gap_s: float,
@@ -307,9 +348,18 @@ def roll(
     from taxelkit.motion.rolling import frames_from_scenario
     from taxelkit.sensors.presets import BONNEVILLE_16X16
 
-    scenario = scenario_from_engine(
-        engine, object_name, rng=seed, rate_hz=rate_hz, lift_gap_s=lift_gap_s
-    )
+    if (object_name is None) == (mesh is None):
+        raise InputError("give exactly one of --object NAME or --mesh FILE")
+    if mesh is not None:
+        if engine != "kinematic":
+            raise InputError("--mesh rolls with the kinematic engine only")
+        scenario = _mesh_scenario(mesh, mesh_scale, seed, rate_hz)
+        object_name = mesh.name
+    else:
+        assert object_name is not None
+        scenario = scenario_from_engine(
+            engine, object_name, rng=seed, rate_hz=rate_hz, lift_gap_s=lift_gap_s
+        )
     rec = frames_from_scenario(BONNEVILLE_16X16, scenario, rng=seed, add_noise=not no_noise)
     if contact:
         rec = TactileFrames(
@@ -322,3 +372,16 @@ def roll(
     click.echo(
         f"wrote {out} ({rec.n_frames} frames, {rec.duration_s:.1f} s, {object_name}, {engine})"
     )
+
+
+def _mesh_scenario(mesh: Path, scale: float, seed: int, rate_hz: float) -> Any:
+    """A randomised kinematic script for a convex mesh (:mod:`taxelkit.motion.mesh_scenarios`)."""
+    import trimesh
+
+    from taxelkit.motion.mesh_scenarios import make_mesh_scenario
+    from taxelkit.world.mesh_features import mesh_features
+    from taxelkit.world.mesh_solid import load_mesh_solid
+
+    solid = load_mesh_solid(mesh, scale=scale)
+    features = mesh_features(trimesh.Trimesh(solid.vertices_mm).convex_hull)
+    return make_mesh_scenario(solid, features, name=mesh.stem, rng=seed, rate_hz=rate_hz)

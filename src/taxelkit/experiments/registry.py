@@ -130,6 +130,12 @@ def _slip(**kw: Any) -> ExperimentResult:
     return run_slip(**kw)
 
 
+def _new_objects(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.new_objects import run_new_objects
+
+    return run_new_objects(**kw)
+
+
 def _robustness(**kw: Any) -> ExperimentResult:
     from taxelkit.experiments.robustness import run_robustness
 
@@ -232,6 +238,14 @@ EXPERIMENTS: dict[str, Experiment] = {
             _slip,
             "motion",
             trials=30,
+            workers=True,
+        ),
+        Experiment(
+            "new-objects",
+            "Smart sensor: the six objects and four learnt from meshes, confusion",
+            _new_objects,
+            "trial",
+            trials=100,
             workers=True,
         ),
     )

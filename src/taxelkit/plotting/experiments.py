@@ -13,6 +13,7 @@ __all__ = ["plot_experiment"]
 
 def _plotters() -> dict[str, Callable[[Any], Figure]]:
     from taxelkit.plotting.multi_object import plot_multi_object
+    from taxelkit.plotting.new_objects import plot_new_objects
     from taxelkit.plotting.paper000 import plot_fig7, plot_fig8, plot_fig9, plot_recall_vs_s
     from taxelkit.plotting.paper001 import plot_cylinder, plot_smart_sensor, plot_tacteme_table
     from taxelkit.plotting.robustness import plot_robustness
@@ -30,6 +31,7 @@ def _plotters() -> dict[str, Callable[[Any], Figure]]:
         "fig9-readings": _plot_fig9_readings,
         "open-set": _plot_open_set,
         "multi-object": plot_multi_object,
+        "new-objects": plot_new_objects,
         "recall-vs-s": plot_recall_vs_s,
         "robustness": plot_robustness,
         "robustness-heldout": plot_robustness,

@@ -10,8 +10,12 @@ resets when the object is lifted off, ready for the next one.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from taxelkit.smart.tacteme_table import OBJECTS, Tacteme, eliminated_by
+
+if TYPE_CHECKING:
+    from taxelkit.smart.object_table import ObjectTable
 
 __all__ = ["SLID", "UNKNOWN", "Eliminator", "Event", "Verdict", "explain"]
 
@@ -53,6 +57,15 @@ class Eliminator:
     objects: tuple[str, ...] = OBJECTS
     candidates: tuple[str, ...] = field(default=OBJECTS)
     identified: str | None = None
+    #: Rows by object (None: Table 1 of paper 001, the six objects).
+    table: ObjectTable | None = None
+
+    @classmethod
+    def for_table(cls, table: ObjectTable | None) -> Eliminator:
+        """Start with every object of ``table`` (None: the six of paper 001)."""
+        if table is None:
+            return cls()
+        return cls(table.objects, table.objects, None, table)
 
     def reset(self) -> None:
         """Forget the current object (after lift-off)."""
@@ -62,7 +75,7 @@ class Eliminator:
     def apply(self, tacteme: Tacteme, frame: int) -> list[Event]:
         """Eliminate what ``tacteme`` rules out; report what changed."""
         events = [Event("tacteme", frame, tacteme.value)]
-        gone = eliminated_by(tacteme)
+        gone = eliminated_by(tacteme) if self.table is None else self.table.eliminated_by(tacteme)
         left = tuple(c for c in self.candidates if c not in gone)
         if left != self.candidates:
             self.candidates = left
@@ -160,7 +173,11 @@ class Verdict:
 
 
 def explain(
-    tactemes: list[tuple[str, int]], *, objects: tuple[str, ...] = OBJECTS, slid: bool = False
+    tactemes: list[tuple[str, int]],
+    *,
+    objects: tuple[str, ...] = OBJECTS,
+    slid: bool = False,
+    table: ObjectTable | None = None,
 ) -> Verdict:
     """The verdict and its reasons from the tactemes of one contact, in order.
 
@@ -171,21 +188,32 @@ def explain(
         The objects the contact began with.
     slid : bool
         The contact slipped.
+    table : ObjectTable, optional
+        Rows by object (default: Table 1, the six objects of paper 001).
     """
-    from taxelkit.smart.tacteme_table import TABLE
+    from taxelkit.smart.tacteme_table import ALL_ROWS, TABLE, TactemeRow
 
-    reason = {row.tacteme.value: row.reason for row in TABLE}
+    rows: tuple[TactemeRow, ...] = TABLE
+    if table is not None:
+        objects = table.objects
+        rows = tuple(
+            TactemeRow(t, table.eliminated_by(t), table.reason(t))
+            for t in (r.tacteme for r in ALL_ROWS)
+        )
+    # reasons of every row (face shapes included); deciders from ``rows`` only
+    reason = {row.tacteme.value: row.reason for row in (ALL_ROWS if table is None else rows)}
+    gone_by = {row.tacteme.value: row.eliminates for row in rows}
     left = list(objects)
     eliminated: list[tuple[str, str, int, str]] = []
     for name, frame in tactemes:
-        gone = eliminated_by(Tacteme(name))
+        gone = gone_by[name] if name in gone_by else eliminated_by(Tacteme(name))
         for o in [o for o in left if o in gone]:
             eliminated.append((o, name, frame, reason[name]))
             left.remove(o)
     outcome = left[0] if len(left) == 1 else (UNKNOWN if not left else None)
     deciders: list[tuple[str, tuple[str, ...], str]] = []
     if outcome is None:
-        for row in TABLE:
+        for row in rows:
             keep = tuple(o for o in left if o not in row.eliminates)
             if keep and len(keep) < len(left):
                 deciders.append((row.tacteme.value, keep, row.reason))

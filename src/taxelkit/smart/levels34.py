@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Eliminator, Event, Verdict, explain
+from taxelkit.smart.object_table import ObjectTable
 from taxelkit.smart.segment_scan import mean_axis_deg, rows_from_track
 from taxelkit.smart.slip import SLIP_KINDS, Slip, slip_to_json
 from taxelkit.smart.slip_scan import SlipScanner
@@ -62,6 +63,7 @@ class Segment(Protocol):
     def frames_for(self, seconds: float, k: int, *, minimum: int | None = None) -> int: ...
     def frame_at(self, i: int) -> int: ...
     def mean_axis_deg(self, stop: int | None = None) -> float: ...
+    def mean_centre_mm(self, stop: int) -> tuple[float, float]: ...
     def tactemes(self) -> list[tuple[Tacteme, int]]: ...
     def slips(self) -> list[Slip]: ...
     def close_slips(self) -> list[Slip]: ...
@@ -96,6 +98,10 @@ class TrackSegment:
 
     def mean_axis_deg(self, stop: int | None = None) -> float:
         return mean_axis_deg(self.track.orientation_deg[:stop])
+
+    def mean_centre_mm(self, stop: int) -> tuple[float, float]:
+        c = self.track.centre_mm[:stop].mean(axis=0)
+        return float(c[0]), float(c[1])
 
     def tactemes(self) -> list[tuple[Tacteme, int]]:
         return self._found
@@ -165,8 +171,9 @@ class Levels34:
     def __init__(self, config: TactemeConfig) -> None:
         self.config = config
         self.k = int(config.debounce_frames)
-        self.elim = Eliminator()
+        self.elim = Eliminator.for_table(config.objects)
         self.history: list[tuple[int, float]] = []
+        self.centres: list[tuple[float, float]] = []  # of the history's segments
         self.in_contact = False
         self.events: list[Event] = []
         self._open: tuple[int, set[Tacteme]] | None = None  # class, motion tactemes emitted
@@ -189,12 +196,14 @@ class Levels34:
                 self.events.append(Event("lifted", accept, self.elim.candidates))
                 self.elim.reset()
                 self.history = []
+                self.centres = []
                 self.in_contact = False
             return
         assert seg is not None  # a contact class always has frames
         self.in_contact = True
         self.events.append(Event("contact", accept, ContactClass(cls).name.lower()))
         self.history.append((cls, seg.mean_axis_deg(self.k)))
+        self.centres.append(seg.mean_centre_mm(self.k))
         self._gap = seg.first_frame - self._last_frame - 1
         self._prev_len = self._len
         self._prev_held = self._held
@@ -223,6 +232,7 @@ class Levels34:
             self._transitions_done = True
             if cls == ContactClass.LINE:  # the new edge's direction over its held frames
                 self.history[-1] = (cls, seg.mean_axis_deg(held))
+                self.centres[-1] = seg.mean_centre_mm(held)
             at = (
                 seg.frame_at(min(seg.size, held) - 1)
                 if cls == ContactClass.LINE
@@ -230,7 +240,11 @@ class Levels34:
             )
             max_gap = max(2 * self.k, seg.frames_for(self.config.transition_gap_s, self.k))
             found = transition_tactemes(
-                self.history, self.config, gap_frames=self._gap, max_gap_frames=max_gap
+                self.history,
+                self.config,
+                gap_frames=self._gap,
+                max_gap_frames=max_gap,
+                centres=self.centres,
             )
             for tac in found:
                 self.events.extend(self.elim.apply(tac, at))
@@ -298,11 +312,19 @@ def _frame_of(tac: Tacteme, found: list[tuple[int, int, Tacteme]]) -> int:
 
 
 def finish(
-    classes: NDArray[np.int8], events: list[Event], slips: list[Slip] | None = None
+    classes: NDArray[np.int8],
+    events: list[Event],
+    slips: list[Slip] | None = None,
+    *,
+    objects: ObjectTable | None = None,
 ) -> Recognition:
-    """Summarise: the outcome is that of the current contact, or of the last one lifted."""
+    """Summarise: the outcome is that of the current contact, or of the last one lifted.
+
+    ``slips``: the slip phases found; ``objects``: the object table the events
+    were found with (None: the six).
+    """
     tactemes = tuple((str(e.value), e.frame) for e in events if e.kind == "tacteme")
-    state = Eliminator()
+    state = Eliminator.for_table(objects)
     current: tuple[str, ...] | None = None  # candidates of the ongoing contact
     lifted: tuple[str, ...] | None = None  # candidates when the last contact ended
     seen: list[tuple[str, int]] = []  # tactemes of the ongoing (or last) contact
@@ -320,7 +342,7 @@ def finish(
             seen.append((str(e.value), e.frame))
     final = current if current is not None else lifted
     state.candidates = state.objects if final is None else final
-    verdict = explain(seen, objects=state.objects, slid=slid)
+    verdict = explain(seen, objects=state.objects, slid=slid, table=objects)
     assert verdict.candidates == state.candidates  # the same elimination, told twice
     return Recognition(
         classes,

@@ -145,4 +145,4 @@ def recognise(
     k, k_none = debounce_counts(cfg, float(t_s[1] - t_s[0]) if t_s.size > 1 else None)
     runs = accepted_runs(classes, k, k_none=k_none)
     state = _levels34_for_runs(runs, track_of, cfg)
-    return finish(classes, state.events, list(state.slips.values()))
+    return finish(classes, state.events, list(state.slips.values()), objects=cfg.objects)

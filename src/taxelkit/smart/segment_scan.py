@@ -31,10 +31,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.face_shapes import face_masks, triangularity
 from taxelkit.smart.slip import Slip
 from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_table import Tacteme
-from taxelkit.smart.tactemes import MOTION_MIN_FRAMES, SegmentTrack, TactemeConfig
+from taxelkit.smart.tactemes import MOTION_MIN_FRAMES, SegmentTrack, TactemeConfig, face_limits
 from taxelkit.smart.track_geometry import axis_angle_deg, axis_vectors
 from taxelkit.smart.track_stream import (
     CarriedShift,
@@ -110,6 +111,7 @@ class SegmentScanner:
         self._head_frames: list[int] = []
         self._head_t: list[float] = []
         self._head_theta: list[float] = []
+        self._head_xy: list[tuple[float, float]] = []
         self._head_cap: int | None = None
         self._dt: dict[int, float] = {}  # frame interval of the first frames, per k
         self._early: list[tuple[NDArray[np.intp], NDArray[np.float64]]] = []
@@ -150,6 +152,11 @@ class SegmentScanner:
             return float(0.5 * np.rad2deg(np.arctan2(s[1], s[0])))
         return mean_axis_deg(np.asarray(self._head_theta[:stop], dtype=np.float64))
 
+    def mean_centre_mm(self, stop: int) -> tuple[float, float]:
+        """Mean centre of the first ``stop`` frames (kept ones), mm."""
+        c = np.asarray(self._head_xy[:stop], dtype=np.float64).mean(axis=0)
+        return float(c[0]), float(c[1])
+
     def tactemes(self) -> list[tuple[Tacteme, int]]:
         """The tactemes decided so far, in the order decided."""
         return self.found
@@ -189,6 +196,7 @@ class SegmentScanner:
             self._head_frames += frames[:room].tolist()
             self._head_t += rows[:room, 8].tolist()
             self._head_theta += rows[:room, 2].tolist()
+            self._head_xy += [(float(x), float(y)) for x, y in rows[:room, 0:2]]
         self.size += m
         if not self._ready:
             self._early.append((frames, rows))
@@ -228,6 +236,7 @@ class SegmentScanner:
         self._head_cap = max(k, self.frames_for(cfg.edge_hold_s, k))
         del self._head_frames[self._head_cap :], self._head_t[self._head_cap :]
         del self._head_theta[self._head_cap :]
+        del self._head_xy[self._head_cap :]
         w = self.w
         self._smooth = RollingMean(w, 7)  # centre x, y, axis vector, area, elongation, half
         self._anchor = 0
@@ -240,6 +249,9 @@ class SegmentScanner:
         self._done: set[Tacteme] = set()
         new = [Sustained(self.hold) for _ in range(4)]
         self._s1, self._s2, self._s3, self._s4 = new
+        face_hold = self.frames_for(cfg.face_hold_s, k, minimum=self.hold)
+        self._faces = [Sustained(face_hold) for _ in range(4)]  # the face-shape classes
+        self._tau = RollingMean(w, 1)
         window = (cfg.orthogonal_min_deg, cfg.orthogonal_max_deg)
         self._legs, self._corners = (
             LegScan(cfg.turn_leg_mm, window),
@@ -388,6 +400,11 @@ class SegmentScanner:
             turned = np.where(valid, turn_from(angle, ra), 0.0)
             rotated = (turned > cfg.area_rotate_deg) & same & oriented
             self._add(new, Tacteme.AC_ROTATES, self._s2.push(rotated, frames))
+            if cfg.face_shapes:
+                tau = self._tau.push(triangularity(rows[:, 3], rows[:, 4], rows[:, 5])[:, None])
+                masks = face_masks(area, elong, tau[:, 0], valid & same, **face_limits(cfg))
+                for run, (tac, mask) in zip(self._faces, masks, strict=True):
+                    self._add(new, tac, run.push(mask, frames))
         new.sort(key=lambda item: item[1])
         self.found += new
         return new

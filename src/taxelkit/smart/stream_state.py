@@ -339,4 +339,9 @@ class ArrayStream:
             state, seg = copy.deepcopy((self.state, self._seg))
             if seg.close():
                 state.update(seg)
-        return finish(self.classes.to_array(), list(state.events), list(state.slips.values()))
+        return finish(
+            self.classes.to_array(),
+            list(state.events),
+            list(state.slips.values()),
+            objects=self.config.objects,
+        )

@@ -12,6 +12,9 @@ import enum
 from dataclasses import dataclass
 
 __all__ = [
+    "ALL_ROWS",
+    "FACE_ROWS",
+    "FACE_TACTEMES",
     "OBJECTS",
     "TABLE",
     "Tacteme",
@@ -51,6 +54,11 @@ class Tacteme(enum.StrEnum):
     LC_AC_LC_TRIANGLE = "LC -> AC -> LC (60 or 120 deg)"
     LC_SLIDES = "LC slides along itself"
     LC_SPINS = "LC spins about its middle"
+    AC_COMPACT = "AC compact"
+    AC_ELONGATED = "AC elongated"
+    AC_TRIANGULAR = "AC triangular"
+    AC_ELONGATED_TRIANGULAR = "AC elongated triangular"
+    AC_OVER = "AC -> LC -> AC onto another face"
 
 
 @dataclass(frozen=True)
@@ -162,7 +170,53 @@ TABLE: tuple[TactemeRow, ...] = (
     ),
 )
 
-_BY_TACTEME = {row.tacteme: row for row in TABLE}
+#: The shape classes of a held face (beyond paper 001; emitted only with
+#: ``TactemeConfig(face_shapes=True)``, see :mod:`taxelkit.smart.face_shapes`).
+FACE_TACTEMES: tuple[Tacteme, ...] = (
+    Tacteme.AC_COMPACT,
+    Tacteme.AC_ELONGATED,
+    Tacteme.AC_TRIANGULAR,
+    Tacteme.AC_ELONGATED_TRIANGULAR,
+)
+
+#: Rows of the face tactemes (the shape classes and tipping over onto another
+#: face) for the six objects (beyond paper 001).
+FACE_ROWS: tuple[TactemeRow, ...] = (
+    TactemeRow(
+        Tacteme.AC_COMPACT,
+        frozenset({"sphere"}),
+        "a held face as wide as it is long and centrally symmetric: a cube's square, the "
+        "discs of a cylinder, cone and truncated cone; and a tetrahedron's triangle of a few "
+        "dozen taxels, which the taxel grid can make look symmetric",
+    ),
+    TactemeRow(
+        Tacteme.AC_ELONGATED,
+        frozenset(OBJECTS),
+        "a held face at least 1.6 times as long as it is wide (a rectangle, an ellipse): none "
+        "of the six has one",
+    ),
+    TactemeRow(
+        Tacteme.AC_TRIANGULAR,
+        _all_but("tetrahedron"),
+        "a held face whose second moments are those of a triangle (the tetrahedron's faces)",
+    ),
+    TactemeRow(
+        Tacteme.AC_ELONGATED_TRIANGULAR,
+        frozenset(OBJECTS),
+        "a held face both elongated and triangular (a tall isosceles triangle): none of the six",
+    ),
+    TactemeRow(
+        Tacteme.AC_OVER,
+        frozenset({"sphere", "cylinder", "cone", "truncated-cone"}),
+        "a polyhedron tips over an edge from one face onto the next (the second face lies "
+        "across the edge from the first); a round body has no edge between two faces",
+    ),
+)
+
+#: Table 1 and the face-shape rows.
+ALL_ROWS: tuple[TactemeRow, ...] = TABLE + FACE_ROWS
+
+_BY_TACTEME = {row.tacteme: row for row in ALL_ROWS}
 
 
 def eliminated_by(tacteme: Tacteme) -> frozenset[str]:

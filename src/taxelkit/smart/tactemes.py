@@ -53,12 +53,14 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.errors import InputError, check_positive
 from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.face_shapes import face_masks, triangularity
 from taxelkit.smart.slip import DEFAULT_SLIP, SlipConfig
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_geometry import (
@@ -75,6 +77,9 @@ from taxelkit.smart.track_geometry import (
     sustained,
     turn,
 )
+
+if TYPE_CHECKING:
+    from taxelkit.smart.object_table import ObjectTable
 
 __all__ = [
     "PAPER_LEVEL3",
@@ -200,6 +205,30 @@ class TactemeConfig:
     pivot_turn_deg : float
         Turn of the line before the pivot is located (about one end / in an
         arc), deg: the common point of nearly parallel lines is ill-conditioned.
+    face_shapes : bool
+        Also emit the shape class of a held face (beyond paper 001,
+        :mod:`taxelkit.smart.face_shapes`): AC compact, elongated, triangular,
+        elongated triangular. Off by default (paper 001's tactemes only).
+    face_min_area_mm2 : float
+        Smallest face whose shape is classed, mm^2 (about 19 Bonneville
+        taxels: a smaller footprint's moments are mostly grid).
+    face_compact_max, face_elongated_min : float
+        Elongation limits of a compact and an elongated face.
+    face_symmetric_max, face_triangular_min : float
+        Triangularity limits of a symmetric and a triangular face.
+    face_hold_s : float
+        A face's shape class must hold this long, s: a held face, not the
+        transient footprint of placing, lifting or tipping (a cube's face
+        lifting off shrinks through a plus-shaped image that reads
+        triangular for a few frames).
+    over_min_mm : float
+        With ``face_shapes``: both faces of "AC -> LC -> AC onto another
+        face" lie at least this far from the edge's line, mm (half a
+        Bonneville pitch more than the move threshold's flicker).
+    objects : ObjectTable or None
+        Level 4's object table (:mod:`taxelkit.smart.object_table`); None:
+        the six objects of paper 001 and Table 1. Carried here so that every
+        path that takes a ``config`` (batch, streaming, per track) uses it.
     """
 
     debounce_frames: int = 2
@@ -227,6 +256,15 @@ class TactemeConfig:
     pivot_hold_s: float = 0.5
     smooth_s: float = 0.15
     slip: SlipConfig | None = DEFAULT_SLIP
+    face_shapes: bool = False
+    face_min_area_mm2: float = 60.0
+    face_compact_max: float = 1.35
+    face_elongated_min: float = 1.6
+    face_symmetric_max: float = 1.025
+    face_triangular_min: float = 1.06
+    face_hold_s: float = 0.5
+    over_min_mm: float = 1.5
+    objects: ObjectTable | None = None
 
     def __post_init__(self) -> None:
         if int(self.debounce_frames) < 1:
@@ -253,6 +291,13 @@ class TactemeConfig:
             "pivot_turn_deg",
             "pivot_band",
             "pivot_hold_s",
+            "face_min_area_mm2",
+            "face_compact_max",
+            "face_elongated_min",
+            "face_symmetric_max",
+            "face_triangular_min",
+            "face_hold_s",
+            "over_min_mm",
         ):
             check_positive(name, getattr(self, name))
 
@@ -265,6 +310,17 @@ class TactemeConfig:
 PAPER_LEVEL3 = TactemeConfig(
     debounce_frames=3, debounce_s=0.0, lift_grace_s=0.0, smooth_s=0.0, slip=None
 )
+
+
+def face_limits(config: TactemeConfig) -> dict[str, float]:
+    """The keyword limits of :func:`~taxelkit.smart.face_shapes.face_masks` from ``config``."""
+    return {
+        "min_area_mm2": config.face_min_area_mm2,
+        "compact_max": config.face_compact_max,
+        "elongated_min": config.face_elongated_min,
+        "symmetric_max": config.face_symmetric_max,
+        "triangular_min": config.face_triangular_min,
+    }
 
 
 def debounce_counts(config: TactemeConfig, dt_s: float | None) -> tuple[int, int]:
@@ -542,6 +598,13 @@ def segment_tactemes(
         )
         rotated = (turned > config.area_rotate_deg) & same & oriented
         emit(Tacteme.AC_ROTATES, first(sustained(rotated, hold), 0))
+        if config.face_shapes:
+            raw = triangularity(track.area_mm2, track.elongation, track.half_length_mm)
+            face_hold = track.frames_for(config.face_hold_s, k, minimum=hold)
+            for tac, mask in face_masks(
+                area, elong, rolling_mean(raw, w), valid & same, **face_limits(config)
+            ):
+                emit(tac, first(sustained(mask, face_hold), 0))
     out.sort(key=lambda item: item[1])
     return out
 
@@ -552,6 +615,7 @@ def transition_tactemes(
     *,
     gap_frames: int = 0,
     max_gap_frames: int | None = None,
+    centres: list[tuple[float, float]] | None = None,
 ) -> list[Tacteme]:
     """Tactemes of the latest change of accepted class.
 
@@ -570,6 +634,12 @@ def transition_tactemes(
         ``2 k``; the recogniser passes ``max(2 k frames, transition_gap_s)``)
         give no transition.
     max_gap_frames : int, optional
+    centres : list of (x, y) mm, optional
+        Centre of each segment of ``history`` (an area's first frames, a
+        line's held frames). With ``config.face_shapes``: AC -> LC -> AC
+        with the two areas on opposite sides of the line, each at least
+        ``over_min_mm`` from it, is "AC -> LC -> AC onto another face" (a
+        polyhedron tipped over an edge rather than back onto its face).
 
     Returns
     -------
@@ -582,6 +652,19 @@ def transition_tactemes(
     out: list[Tacteme] = []
     if c1 == ContactClass.LINE and c2 == ContactClass.AREA:
         out.append(Tacteme.LC_TO_AC)
+        if (
+            config.face_shapes
+            and centres is not None
+            and len(history) >= 3
+            and history[-3][0] == ContactClass.AREA
+        ):
+            t = math.radians(history[-2][1])
+            normal = np.array([-math.sin(t), math.cos(t)])
+            line = np.asarray(centres[-2])
+            s1 = float(normal @ (np.asarray(centres[-3]) - line))
+            s2 = float(normal @ (np.asarray(centres[-1]) - line))
+            if s1 * s2 < 0 and min(abs(s1), abs(s2)) >= config.over_min_mm:
+                out.append(Tacteme.AC_OVER)
     if c1 == ContactClass.AREA and c2 == ContactClass.LINE:
         out.append(Tacteme.AC_TO_LC)
         if len(history) >= 3 and history[-3][0] == ContactClass.LINE:

@@ -1,0 +1,36 @@
+"""The ``new-objects`` experiment: a small run scores, renders and plots."""
+
+from __future__ import annotations
+
+import pytest
+
+from taxelkit.experiments import new_objects
+from taxelkit.experiments.report import render_block
+from taxelkit.smart.object_table import PAPER_OBJECTS, ObjectRow
+from taxelkit.smart.tacteme_table import Tacteme
+
+
+def test_decidable_rolls_are_those_whose_tactemes_rule_out_every_other_object() -> None:
+    ball = ObjectRow("ball", frozenset({Tacteme.PC, Tacteme.PC_MOVES, Tacteme.PC_ORTHOGONAL_TURN}))
+    table = PAPER_OBJECTS.plus([ball])
+    assert not new_objects.decidable(
+        table, "sphere", ("PC", "PC moves", "PC takes an orthogonal turn")
+    )
+    assert new_objects.decidable(table, "cone", ("LC", "LCMT about one end"))
+    assert not new_objects.decidable(table, "cone", ("LC", "LCM"))
+
+
+def test_a_small_run_scores_renders_and_plots(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(new_objects, "DEFAULT_CHECK_ROLLS", 1)
+    result = new_objects.run_new_objects(n_trials=1, n_outside=1, workers=1)
+    doc = result.to_json()
+    assert len(doc["objects"]) == 10 and doc["objects"][:6] == list(PAPER_OBJECTS.objects)
+    assert sum(r["trials"] for r in doc["per_object"]) == 10
+    assert doc["acceptance"]["six_rows_agree"] and not any(doc["six_differences"].values())
+    assert {"sphere", "ellipsoid"} <= set(doc["not_distinguishable"])
+    text = render_block("new-objects", {"new-objects": doc})
+    assert "| hex-prism |" in text and "Acceptance:" in text
+    from taxelkit.plotting.experiments import plot_experiment
+
+    fig = plot_experiment("new-objects", result)
+    assert len(fig.axes) == 2

@@ -1,0 +1,90 @@
+"""Object tables: the six rows are Table 1, the file format, overlaps, Level 4 with a table."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from taxelkit.errors import InputError
+from taxelkit.smart.elimination import Eliminator, explain
+from taxelkit.smart.object_table import (
+    FORMAT,
+    PAPER_OBJECTS,
+    ObjectRow,
+    ObjectTable,
+    dumps,
+    read_object_table,
+    table_from_json,
+)
+from taxelkit.smart.tacteme_table import ALL_ROWS, OBJECTS, Tacteme, eliminated_by
+
+T = Tacteme
+
+
+def test_paper_rows_are_table_1_read_by_object() -> None:
+    assert PAPER_OBJECTS.objects == OBJECTS
+    for row in ALL_ROWS:
+        assert PAPER_OBJECTS.eliminated_by(row.tacteme) == row.eliminates
+        assert PAPER_OBJECTS.eliminated_by(row.tacteme) == eliminated_by(row.tacteme)
+    assert PAPER_OBJECTS.row("sphere").tactemes == {T.PC, T.PC_MOVES, T.PC_ORTHOGONAL_TURN}
+
+
+def _row(name: str, *tactemes: Tacteme) -> ObjectRow:
+    return ObjectRow(name, frozenset(tactemes), tuple((t, f"why {t.value}") for t in tactemes))
+
+
+def test_file_round_trip_and_errors(tmp_path: Path) -> None:
+    table = ObjectTable((_row("prism", T.PC, T.LC, T.AC_ELONGATED), _row("egg", T.PC)))
+    path = tmp_path / "objects.json"
+    path.write_text(dumps(table))
+    back = read_object_table(path)
+    assert back.objects == ("prism", "egg")
+    assert back.row("prism").tactemes == {T.PC, T.LC, T.AC_ELONGATED}
+    assert back.row("prism").reason(T.LC) == "why LC"
+    doc = json.loads(path.read_text())
+    for bad, match in (
+        ({**doc, "version": 99}, "version"),
+        ({**doc, "format": "x"}, "format"),
+        ({**doc, "objects": [{"name": "Bad Name", "tactemes": []}]}, "name"),
+        ({**doc, "objects": [{"name": "cube", "tactemes": ["PC"]}]}, "six objects"),
+        ({**doc, "objects": [{"name": "a", "tactemes": ["PC flies"]}]}, "unknown tacteme"),
+        (
+            {**doc, "objects": [{"name": "a", "tactemes": []}, {"name": "a", "tactemes": []}]},
+            "unique",
+        ),
+    ):
+        with pytest.raises(InputError, match=match):
+            table_from_json(bad)
+    path.write_text("{not json")
+    with pytest.raises(InputError, match="not valid JSON"):
+        read_object_table(path)
+    assert FORMAT in dumps(table)
+
+
+def test_overlaps_name_identical_and_contained_rows() -> None:
+    table = PAPER_OBJECTS.plus(
+        [
+            _row("ball", T.PC, T.PC_MOVES, T.PC_ORTHOGONAL_TURN),
+            _row("pill", *PAPER_OBJECTS.row("sphere").tactemes, T.LC),
+        ]
+    )
+    found = {(o.first, o.second, o.identical) for o in table.overlaps()}
+    assert ("sphere", "ball", True) in found
+    assert ("sphere", "pill", False) in found and ("ball", "pill", False) in found
+    assert not any(o.first == "cube" for o in table.overlaps())
+
+
+def test_eliminator_and_explain_with_a_user_table() -> None:
+    table = PAPER_OBJECTS.plus([_row("ball", T.PC, T.PC_MOVES, T.PC_ORTHOGONAL_TURN)])
+    elim = Eliminator.for_table(table)
+    elim.apply(T.PC, 0)
+    elim.apply(T.PC_ORTHOGONAL_TURN, 5)
+    assert elim.outcome is None and elim.candidates == ("sphere", "ball")  # undecided, not wrong
+    v = explain([("PC", 0), ("PC takes an orthogonal turn", 5)], table=table)
+    assert v.outcome is None and v.candidates == ("sphere", "ball")
+    assert "undecided between sphere, ball" in v.sentence()
+    v = explain([("LC", 3)], table=table)
+    assert "sphere" not in v.candidates and "ball" not in v.candidates
+    assert any(o == "ball" and t == "LC" for o, t, _, _ in v.eliminated)
