@@ -29,8 +29,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
-from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -38,6 +37,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.errors import InputError
+from taxelkit.experiments.work_units import run_units
 from taxelkit.motion.multi_scenes import frames_from_multi_scene, multi_scene
 from taxelkit.smart.objects import ObjectRecognition, recognise_objects
 from taxelkit.smart.tacteme_table import OBJECTS
@@ -182,32 +182,6 @@ def _run_unit(unit: _Unit) -> SceneOutcome:
         merges=kinds.count("merge"),
         splits=kinds.count("split"),
     )
-
-
-def _local(units: list[_Unit], workers: int) -> Iterator[tuple[int, SceneOutcome]]:
-    if workers == 1:
-        for i, u in enumerate(units):
-            yield i, _run_unit(u)
-        return
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = {pool.submit(_run_unit, u): i for i, u in enumerate(units)}
-        for f in as_completed(futures):
-            yield futures[f], f.result()
-
-
-def _dask(units: list[_Unit], scheduler: str) -> Iterator[tuple[int, SceneOutcome]]:
-    try:
-        import distributed
-    except ImportError:
-        raise InputError(
-            'a Dask scheduler needs the dask extra: pip install "taxelkit[dask]"'
-        ) from None
-    dask: Any = distributed  # untyped: its calls are checked by the tests on a local cluster
-    with dask.Client(scheduler) as client:
-        futures = client.map(_run_unit, units, pure=False)
-        index = {f.key: i for i, f in enumerate(futures)}
-        for f in dask.as_completed(futures):
-            yield index[f.key], f.result()
 
 
 @dataclass(frozen=True, eq=False)
@@ -363,7 +337,7 @@ def run_multi_object(
                 ent = np.random.SeedSequence([int(seed), e_key, int(n), trial]).generate_state(1)
                 units.append(_Unit(engine, int(n), trial, int(ent[0])))
     n_workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
-    stream = _dask(units, scheduler) if scheduler else _local(units, n_workers)
+    stream = run_units(_run_unit, units, workers=n_workers, scheduler=scheduler)
     results: list[SceneOutcome | None] = [None] * len(units)
     for done, (i, res) in enumerate(stream, start=1):
         results[i] = res

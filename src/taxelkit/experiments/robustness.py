@@ -24,14 +24,14 @@ from __future__ import annotations
 import dataclasses
 import importlib.util
 import os
-from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
 from taxelkit.errors import InputError
+from taxelkit.experiments.work_units import run_units
 from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.sensors.array_geometry import TaxelArray
 from taxelkit.sensors.faults import fault_model
@@ -213,32 +213,6 @@ def _units(
                     for t in range(array_trials)
                 )
     return out
-
-
-def _local(units: list[_Unit], workers: int) -> Iterator[tuple[int, list[TrialOutcome]]]:
-    if workers == 1:
-        for i, u in enumerate(units):
-            yield i, _run_unit(u)
-        return
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = {pool.submit(_run_unit, u): i for i, u in enumerate(units)}
-        for f in as_completed(futures):
-            yield futures[f], f.result()
-
-
-def _dask(units: list[_Unit], scheduler: str) -> Iterator[tuple[int, list[TrialOutcome]]]:
-    try:
-        import distributed
-    except ImportError:
-        raise InputError(
-            'a Dask scheduler needs the dask extra: pip install "taxelkit[dask]"'
-        ) from None
-    dask: Any = distributed  # untyped: its calls are checked by the tests on a local cluster
-    with dask.Client(scheduler) as client:
-        futures = client.map(_run_unit, units, pure=False)
-        index = {f.key: i for i, f in enumerate(futures)}
-        for f in dask.as_completed(futures):
-            yield index[f.key], f.result()
 
 
 @dataclass(frozen=True, eq=False)
@@ -432,7 +406,7 @@ def run_robustness(
     per_array = max(1, int(n_trials) // 3) if array_trials is None else int(array_trials)
     units = _units(chosen, rates_hz, int(n_trials), int(seed), arrays, per_array)
     n_workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
-    stream = _dask(units, scheduler) if scheduler else _local(units, n_workers)
+    stream = run_units(_run_unit, units, workers=n_workers, scheduler=scheduler)
     results: list[list[TrialOutcome] | None] = [None] * len(units)
     for done, (i, res) in enumerate(stream, start=1):
         results[i] = res

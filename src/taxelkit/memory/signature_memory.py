@@ -13,22 +13,27 @@ Rules (:data:`SIGNATURE_RULES`)
     stored contour ``k`` over starts ``j`` (1 = the same tangents in the same
     order, up to one rotation). The nearest stored contour is recognised.
 ``"signature-dense"`` (dense associative memory)
-    The stored patterns are all starts of all stored contours (the windows
-    ``u_k^(j)`` aligned with the query); the energy is the exponential one of
+    The stored patterns are the ``K`` contours; as the paper tries every
+    rotation of a chain code at recall, every start and rotation of each
+    stored contour is tried, and contour ``k`` enters at its best one
+    (``j_k``, ``phi_k = arg r_kj``). The energy is the exponential one of
     Demircigil et al. (2017) and Krotov & Hopfield (2016),
-    ``E(xi) = -log sum_kj exp(beta |<xi, u_k^(j)>|)``, with ``beta = 1`` per
-    sample (each sample that agrees multiplies a pattern's weight by ``e``,
-    as one agreeing element does in the exponential DAM on +/-1 codes). One
-    update (Ramsauer et al. 2021, "Hopfield networks is all you need")
-    gives the weights ``w_kj = softmax(|r_kj|)`` and the retrieved state
-    ``sum_kj w_kj exp(i arg r_kj) u_k^(j)``: the completed contour, its
-    unseen rest included (:meth:`SignatureMemory.complete`). The score of
-    contour ``k`` is its share of the weight, ``P_k = sum_j w_kj``: evidence
-    summed over every start that fits, not the best one alone. With this
-    ``beta`` the weights concentrate on one contour as soon as the cue
-    separates it by a few samples, so the verdict is usually the nearest
-    contour's; it differs when one contour fits at several starts (a
-    symmetric shape) or two fit almost equally.
+    ``E(xi) = -log sum_k exp(beta |<xi, u_k^(j_k)>|)``, with ``beta = 1``
+    per sample (:data:`DENSE_BETA_PER_SAMPLE`: each sample that agrees
+    multiplies a contour's weight by ``e``, as one agreeing element does in
+    the exponential DAM on +/-1 codes). One update (Ramsauer et al. 2021,
+    "Hopfield networks is all you need") gives the retrieved state
+    ``xi = sum_k w_k exp(i phi_k) u_k^(j_k)``, ``w = softmax(beta |r_k|)``:
+    a completed contour, its unseen rest included
+    (:meth:`SignatureMemory.complete`). The score of contour ``k`` is the
+    overlap of the *retrieved* state (not the cue) with it, ``|<xi,
+    u_k^(j_k)>| / n_v``, as Eq. 14 compares the recalled ``Z`` with each
+    stored pattern. When the cue separates one contour by a few samples the
+    weights concentrate on it and the verdict is the nearest contour's, as
+    with template matching; the two differ when several contours fit almost
+    equally. (Taking every start of every contour as a separate pattern
+    instead blurs the retrieval: neighbouring starts of one contour are
+    near copies, and the blurred polygon resembles a smooth curve.)
 
 Ties: scores within ``tie_tolerance`` of the best are tied and the verdict is
 "undecided between A and B"; no list order decides.
@@ -52,6 +57,7 @@ from taxelkit.memory.turning_signature import (
 )
 
 __all__ = [
+    "DENSE_BETA_PER_SAMPLE",
     "SIGNATURE_CHUNK_QUERIES",
     "SIGNATURE_RULES",
     "SIGNATURE_TIE_TOLERANCE",
@@ -63,6 +69,8 @@ __all__ = [
 SIGNATURE_RULES: tuple[str, ...] = ("signature", "signature-dense")
 #: Scores (dimensionless, 0 to 1) within this of the best are tied; absorbs rounding only.
 SIGNATURE_TIE_TOLERANCE = 1e-9
+#: Inverse temperature of the dense rule, per sample of overlap (Demircigil et al.'s F = exp).
+DENSE_BETA_PER_SAMPLE = 1.0
 #: Queries per batched FFT product (bounds the ``(chunk, K, F)`` complex temporaries).
 SIGNATURE_CHUNK_QUERIES = 16
 
@@ -103,22 +111,47 @@ class SignatureRecall:
         return tuple(verdict_text(t) for t in self.tied)
 
 
+def _aligned_windows(
+    stored: StoredSignatures, start: NDArray[np.intp], n_samples: int
+) -> NDArray[np.complex128]:
+    """``u_k[(start[q, k] + t) mod n_k]`` for ``t < n_samples``: ``(q, K, n_samples)``."""
+    t = np.arange(n_samples)
+    idx = (start[:, :, None] + t) % stored.lengths[None, :, None]
+    out: NDArray[np.complex128] = stored.padded[np.arange(stored.n_stored)[None, :, None], idx]
+    return out
+
+
+def dense_weights(best: NDArray[np.complex128]) -> NDArray[np.complex128]:
+    """``w_k exp(i phi_k)``: softmax of ``beta |r_k|`` over the contours, with their rotations.
+
+    ``best`` ``(q, K)`` holds each contour's overlap at its best start.
+    """
+    size = np.abs(best)
+    w = np.exp(DENSE_BETA_PER_SAMPLE * (size - size.max(axis=1, keepdims=True)))
+    w /= w.sum(axis=1, keepdims=True)
+    out: NDArray[np.complex128] = w * np.where(size > 0, best / np.where(size > 0, size, 1), 0)
+    return out
+
+
 def _scores(
-    overlaps: NDArray[np.complex128], samples: NDArray[np.int64], valid: NDArray[np.bool_], rule: str
+    stored: StoredSignatures, queries: Sequence[ArrayLike], rule: str
 ) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]]:
-    """Scores, best starts and rotations ``(q, K)`` from overlaps ``(q, K, n_max)``."""
-    size = np.abs(overlaps)  # (q, K, n_max), samples
-    masked = np.where(valid[None], size, -np.inf)
+    """Scores, best starts and rotations ``(q, K)`` of a chunk of queries."""
+    r, samples = signature_overlaps(stored, queries)  # (q, K, n_max)
+    masked = np.where(stored.valid_start[None], np.abs(r), -np.inf)
     start = np.argmax(masked, axis=2)
-    best = np.take_along_axis(overlaps, start[:, :, None], axis=2)[:, :, 0]
-    rotation = np.rad2deg(np.angle(best))
-    if rule == "signature":
-        scores = np.abs(best) / samples[:, None]
+    best = np.take_along_axis(r, start[:, :, None], axis=2)[:, :, 0]  # (q, K)
+    if rule == "signature-dense":
+        # One update (Ramsauer et al.): the retrieved state on the query's window,
+        # then its overlap with every stored contour at that contour's start.
+        n_t = int(samples.max())
+        win = _aligned_windows(stored, start, n_t)
+        win = win * (np.arange(n_t)[None, None, :] < samples[:, None, None])
+        retrieved = np.einsum("qk,qkt->qt", dense_weights(best), win)
+        scores = np.abs(np.einsum("qt,qkt->qk", retrieved, np.conj(win))) / samples[:, None]
     else:
-        top = masked.max(axis=(1, 2), keepdims=True)
-        w = np.where(valid[None], np.exp(masked - top), 0.0)
-        scores = w.sum(axis=2) / w.sum(axis=(1, 2))[:, None]
-    return scores, start.astype(np.int64), rotation
+        scores = np.abs(best) / samples[:, None]
+    return scores, start.astype(np.int64), np.rad2deg(np.angle(best))
 
 
 def _ties(
@@ -231,9 +264,8 @@ class SignatureMemory:
         rotation = np.empty((q, k))
         for lo in range(0, q, SIGNATURE_CHUNK_QUERIES):  # chunks bound memory only
             hi = min(lo + SIGNATURE_CHUNK_QUERIES, q)
-            r, n = signature_overlaps(self.stored, queries[lo:hi])
             scores[lo:hi], start[lo:hi], rotation[lo:hi] = _scores(
-                r, n, self.stored.valid_start, self.rule
+                self.stored, queries[lo:hi], self.rule
             )
         recognised, margin, tied = _ties(self.names, scores, tol)
         return SignatureRecall(self.names, scores, start, rotation, recognised, margin, tied)
@@ -245,11 +277,10 @@ class SignatureMemory:
     def complete(self, query: ArrayLike, n_samples: int) -> NDArray[np.complex128]:
         """The dense memory's one-step retrieval: the query continued for ``n_samples``.
 
-        ``sum_kj w_kj exp(i arg r_kj) u_k[(j + t) mod n_k]`` for ``t <
-        n_samples`` with ``w = softmax(|r|)`` over every start of every stored
-        contour (``beta`` = 1 per sample, see the module docs). Beyond the cue
-        this is the memory's prediction of the rest of the contour, in the
-        query's own frame.
+        ``sum_k w_k exp(i phi_k) u_k[(j_k + t) mod n_k]`` for ``t < n_samples``,
+        ``j_k`` and ``phi_k`` contour ``k``'s best start and rotation, ``w =
+        softmax(beta |r_k|)`` (see the module docs). Beyond the cue this is the
+        memory's prediction of the rest of the contour, in the query's frame.
 
         Parameters
         ----------
@@ -265,12 +296,9 @@ class SignatureMemory:
         if int(n_samples) < 1:
             raise InputError(f"n_samples must be >= 1, got {n_samples!r}")
         r, _ = signature_overlaps(self.stored, [query])
-        size = np.where(self.stored.valid_start, np.abs(r[0]), -np.inf)
-        w = np.exp(size - size.max())
-        w /= w.sum()
-        out = np.zeros(int(n_samples), dtype=np.complex128)
-        t = np.arange(int(n_samples))
-        for k, j in zip(*np.nonzero(w > 1e-12 * w.max()), strict=True):  # the few that matter
-            u = self.signatures[k]
-            out += w[k, j] * np.exp(1j * np.angle(r[0, k, j])) * u[(j + t) % u.size]
+        masked = np.where(self.stored.valid_start[None], np.abs(r), -np.inf)
+        start = np.argmax(masked, axis=2)
+        best = np.take_along_axis(r, start[:, :, None], axis=2)[:, :, 0]
+        win = _aligned_windows(self.stored, start, int(n_samples))
+        out: NDArray[np.complex128] = np.einsum("qk,qkt->qt", dense_weights(best), win)[0]
         return out

@@ -46,6 +46,7 @@ __all__ = [
     "SIGNATURE_HALF_CHORD_MM",
     "SIGNATURE_STEP_MM",
     "StoredSignatures",
+    "overlaps_of_padded",
     "signature_overlaps",
     "tangent_signature",
 ]
@@ -59,7 +60,7 @@ _ZERO_MOVE_MM = 1e-9
 
 
 def _path_points(moves_mm: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Points ``(K + 1, 2)`` of the path from its first point, and their arc lengths ``(K + 1,)``."""
+    """Path points ``(K + 1, 2)`` from the first point, and their arc lengths ``(K + 1,)``."""
     moves = np.asarray(moves_mm, dtype=np.float64)
     if moves.ndim != 2 or moves.shape[1] != 2 or not np.all(np.isfinite(moves)):
         raise InputError(f"moves_mm must be a finite (K, 2) array in mm, got shape {moves.shape}")
@@ -72,7 +73,9 @@ def _path_points(moves_mm: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.f
     return points, arc
 
 
-def _point_at(points: NDArray[np.float64], arc: NDArray[np.float64], t: NDArray[np.float64]) -> NDArray[np.float64]:
+def _point_at(
+    points: NDArray[np.float64], arc: NDArray[np.float64], t: NDArray[np.float64]
+) -> NDArray[np.float64]:
     """Path points ``(S, 2)`` at arc lengths ``t`` (clamped to the path)."""
     x = np.interp(t, arc, points[:, 0])
     y = np.interp(t, arc, points[:, 1])
@@ -135,7 +138,7 @@ def tangent_signature(
         ahead = np.mod(t + half_chord_mm, total)
         behind = np.mod(t - half_chord_mm, total)
     else:
-        n = int(math.floor(total / step_mm + 1e-9)) + 1
+        n = math.floor(total / step_mm + 1e-9) + 1
         t = np.arange(n) * step_mm
         ahead = np.minimum(t + half_chord_mm, total)
         behind = np.maximum(t - half_chord_mm, 0.0)
@@ -182,9 +185,13 @@ class StoredSignatures:
         self.max_query_samples = 2 * n_max if max_query_samples is None else int(max_query_samples)
         if self.max_query_samples < 1:
             raise InputError(f"max_query_samples must be >= 1, got {max_query_samples!r}")
-        self.fft_size = 1 << int(math.ceil(math.log2(n_max + self.max_query_samples)))
+        self.fft_size = 1 << math.ceil(math.log2(n_max + self.max_query_samples))
         tiled = np.stack([np.resize(s, self.fft_size) for s in sigs])  # periodic tiling
         self.spectra: NDArray[np.complex128] = np.fft.fft(np.conj(tiled), axis=-1)
+        #: (K, n_max) the signatures, zero-padded.
+        self.padded: NDArray[np.complex128] = tiled[:, :n_max] * (
+            np.arange(n_max)[None, :] < self.lengths[:, None]
+        )
         self.signatures = tuple(sigs)
         # (K, n_max) True at the valid starts j < n_k of each stored signature.
         self.valid_start: NDArray[np.bool_] = np.arange(n_max)[None, :] < self.lengths[:, None]
@@ -220,7 +227,6 @@ def signature_overlaps(
     InputError
         If a query is empty or not finite.
     """
-    n_max = int(stored.lengths.max())
     f = stored.fft_size
     q = len(queries)
     padded = np.zeros((q, f), dtype=np.complex128)
@@ -231,8 +237,16 @@ def signature_overlaps(
             raise InputError(f"queries[{i}] must be a non-empty finite complex array")
         padded[i, : a.size] = a
         samples[i] = a.size
+    return overlaps_of_padded(stored, padded), samples
+
+
+def overlaps_of_padded(
+    stored: StoredSignatures, padded: NDArray[np.complex128]
+) -> NDArray[np.complex128]:
+    """Overlaps ``(Q, K, n_max)`` of queries already zero-padded to ``(Q, fft_size)``."""
+    n_max = int(stored.lengths.max())
     # r[j] = sum_t v[t] b[t + j], b = conj(u) tiled: cross-correlation by FFT.
     spec_v = np.conj(np.fft.fft(np.conj(padded), axis=-1))  # (Q, F)
     r = np.fft.ifft(spec_v[:, None, :] * stored.spectra[None, :, :], axis=-1)[:, :, :n_max]
     out: NDArray[np.complex128] = np.where(stored.valid_start[None, :, :], r, 0.0)
-    return out, samples
+    return out
