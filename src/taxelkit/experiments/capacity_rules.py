@@ -59,6 +59,8 @@ class CapacityRule:
         Chain-code layout (chain codes only).
     phases : int
         Sector phases (chain codes only).
+    beta_per_sample : float, optional
+        ``beta`` of ``signature-dense`` (None: the default, ``1 + ln(K - 1)``).
     """
 
     label: str
@@ -68,6 +70,7 @@ class CapacityRule:
     faithful: bool = False
     config: ChainCodeConfig = DEFAULT_CHAIN_CODE
     phases: int = 1
+    beta_per_sample: float | None = None
 
 
 def _chain(label: str, rule: str, associative: bool) -> CapacityRule:
@@ -84,6 +87,13 @@ CAPACITY_RULES: dict[str, CapacityRule] = {
     "signature": CapacityRule("template matching, signature", "signature", "signature", False),
     "signature-dense": CapacityRule(
         "dense associative, signature", "signature", "signature-dense", True
+    ),
+    "signature-dense-beta1": CapacityRule(
+        "dense associative, signature, beta = 1",
+        "signature",
+        "signature-dense",
+        True,
+        beta_per_sample=1.0,
     ),
 }
 
@@ -175,7 +185,7 @@ def _score_signature(
     n_shapes, n_trials, n_s = len(sigs), len(sigs[0]), len(sigs[0][0])
     correct = np.zeros((len(groups), n_s))
     undecided = np.zeros((len(groups), n_s))
-    full = memory.with_rule(spec.rule)
+    full = memory.with_rule(spec.rule, spec.beta_per_sample)
     for ki, parts in enumerate(groups.values()):
         for g in parts:
             mem = full.subset(g.tolist())

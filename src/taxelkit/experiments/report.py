@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from taxelkit.errors import InputError
+from taxelkit.experiments.report_capacity import capacity_markdown, capacity_twins_markdown
 
 __all__ = [
     "BLOCKS",
@@ -397,6 +398,8 @@ BLOCKS: dict[str, tuple[tuple[str, ...], Callable[[dict[str, dict[str, Any]]], s
         ("multi-object",),
         lambda docs: multi_object_markdown(docs["multi-object"]),
     ),
+    "capacity": (("capacity",), lambda docs: capacity_markdown(docs["capacity"])),
+    "capacity-twins": (("capacity",), lambda docs: capacity_twins_markdown(docs["capacity"])),
     "trace-robustness": (
         ("trace-robustness",),
         lambda docs: trace_robustness_markdown(docs["trace-robustness"]),

@@ -18,10 +18,8 @@ Rules (:data:`SIGNATURE_RULES`)
     stored contour is tried, and contour ``k`` enters at its best one
     (``j_k``, ``phi_k = arg r_kj``). The energy is the exponential one of
     Demircigil et al. (2017) and Krotov & Hopfield (2016),
-    ``E(xi) = -log sum_k exp(beta |<xi, u_k^(j_k)>|)``, with ``beta = 1``
-    per sample (:data:`DENSE_BETA_PER_SAMPLE`: each sample that agrees
-    multiplies a contour's weight by ``e``, as one agreeing element does in
-    the exponential DAM on +/-1 codes). One update (Ramsauer et al. 2021,
+    ``E(xi) = -log sum_k exp(beta |<xi, u_k^(j_k)>|)``, ``beta`` per
+    sample of overlap. One update (Ramsauer et al. 2021,
     "Hopfield networks is all you need") gives the retrieved state
     ``xi = sum_k w_k exp(i phi_k) u_k^(j_k)``, ``w = softmax(beta |r_k|)``:
     a completed contour, its unseen rest included
@@ -35,12 +33,29 @@ Rules (:data:`SIGNATURE_RULES`)
     instead blurs the retrieval: neighbouring starts of one contour are
     near copies, and the blurred polygon resembles a smooth curve.)
 
-Ties: scores within ``tie_tolerance`` of the best are tied and the verdict is
-"undecided between A and B"; no list order decides.
+    ``beta`` (:func:`dense_beta`): the retrieved state is one contour, not a
+    blend, when the weights of all ``K - 1`` others together stay below
+    ``1/e`` of the best's while each trails it by one sample (the tie
+    tolerance below): ``(K - 1) exp(-beta) <= exp(-1)``, i.e. ``beta = 1 +
+    ln(K - 1)`` per sample (1 for ``K <= 2``). This is Ramsauer et al.'s
+    condition that ``beta`` times the separation exceed ``ln K``; a fixed
+    ``beta = 1`` (each agreeing sample multiplies a weight by ``e``, as in
+    the exponential DAM on +/-1 codes) blends the contours that fit a short
+    cue and names the wrong one more often as ``K`` grows (``capacity``
+    shows both).
+
+Ties
+----
+Scores are overlaps in units of the query's ``n_v`` samples; two contours
+whose overlaps differ by less than :data:`SIGNATURE_TIE_SAMPLES` sample are
+tied (tolerance ``tie_samples / n_v``), and the verdict is "undecided between
+A and B"; no list order decides. A short cue (a few samples of a straight
+edge) fits many contours within a sample and stays undecided.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
@@ -57,22 +72,22 @@ from taxelkit.memory.turning_signature import (
 )
 
 __all__ = [
-    "DENSE_BETA_PER_SAMPLE",
     "SIGNATURE_CHUNK_QUERIES",
     "SIGNATURE_RULES",
-    "SIGNATURE_TIE_TOLERANCE",
+    "SIGNATURE_TIE_SAMPLES",
     "SignatureMemory",
     "SignatureRecall",
+    "dense_beta",
+    "dense_weights",
 ]
 
 #: Recall rules of the signature memory.
 SIGNATURE_RULES: tuple[str, ...] = ("signature", "signature-dense")
-#: Scores (dimensionless, 0 to 1) within this of the best are tied; absorbs rounding only.
-SIGNATURE_TIE_TOLERANCE = 1e-9
-#: Inverse temperature of the dense rule, per sample of overlap (Demircigil et al.'s F = exp).
-DENSE_BETA_PER_SAMPLE = 1.0
+#: Overlaps within this many samples of the best are tied (the tolerance on a
+#: score is this over the query's sample count).
+SIGNATURE_TIE_SAMPLES = 1.0
 #: Queries per batched FFT product (bounds the ``(chunk, K, F)`` complex temporaries).
-SIGNATURE_CHUNK_QUERIES = 16
+SIGNATURE_CHUNK_QUERIES = 4
 
 
 @dataclass(frozen=True, eq=False)
@@ -121,22 +136,28 @@ def _aligned_windows(
     return out
 
 
-def dense_weights(best: NDArray[np.complex128]) -> NDArray[np.complex128]:
+def dense_beta(n_stored: int) -> float:
+    """Inverse temperature per sample of the dense rule: ``1 + ln(K - 1)`` (1 for K <= 2)."""
+    return 1.0 + math.log(max(1, int(n_stored) - 1))
+
+
+def dense_weights(best: NDArray[np.complex128], beta: float) -> NDArray[np.complex128]:
     """``w_k exp(i phi_k)``: softmax of ``beta |r_k|`` over the contours, with their rotations.
 
-    ``best`` ``(q, K)`` holds each contour's overlap at its best start.
+    ``best`` ``(q, K)`` holds each contour's overlap at its best start; ``beta``
+    is per sample.
     """
     size = np.abs(best)
-    w = np.exp(DENSE_BETA_PER_SAMPLE * (size - size.max(axis=1, keepdims=True)))
+    w = np.exp(beta * (size - size.max(axis=1, keepdims=True)))
     w /= w.sum(axis=1, keepdims=True)
     out: NDArray[np.complex128] = w * np.where(size > 0, best / np.where(size > 0, size, 1), 0)
     return out
 
 
 def _scores(
-    stored: StoredSignatures, queries: Sequence[ArrayLike], rule: str
-) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]]:
-    """Scores, best starts and rotations ``(q, K)`` of a chunk of queries."""
+    stored: StoredSignatures, queries: Sequence[ArrayLike], rule: str, beta: float
+) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.float64], NDArray[np.int64]]:
+    """Scores, best starts, rotations ``(q, K)`` and sample counts ``(q,)`` of a chunk."""
     r, samples = signature_overlaps(stored, queries)  # (q, K, n_max)
     masked = np.where(stored.valid_start[None], np.abs(r), -np.inf)
     start = np.argmax(masked, axis=2)
@@ -147,18 +168,18 @@ def _scores(
         n_t = int(samples.max())
         win = _aligned_windows(stored, start, n_t)
         win = win * (np.arange(n_t)[None, None, :] < samples[:, None, None])
-        retrieved = np.einsum("qk,qkt->qt", dense_weights(best), win)
+        retrieved = np.einsum("qk,qkt->qt", dense_weights(best, beta), win)
         scores = np.abs(np.einsum("qt,qkt->qk", retrieved, np.conj(win))) / samples[:, None]
     else:
         scores = np.abs(best) / samples[:, None]
-    return scores, start.astype(np.int64), np.rad2deg(np.angle(best))
+    return scores, start.astype(np.int64), np.rad2deg(np.angle(best)), samples
 
 
 def _ties(
-    names: tuple[str, ...], scores: NDArray[np.float64], tol: float
+    names: tuple[str, ...], scores: NDArray[np.float64], tol: NDArray[np.float64]
 ) -> tuple[tuple[str | None, ...], NDArray[np.float64], tuple[tuple[str, ...], ...]]:
     top = scores.max(axis=1, keepdims=True)
-    is_tied = scores >= top - tol
+    is_tied = scores >= top - tol[:, None] - 1e-12
     tied = tuple(tuple(sorted(names[j] for j in np.flatnonzero(row))) for row in is_tied)
     recognised = tuple(t[0] if len(t) == 1 else None for t in tied)
     if scores.shape[1] == 1:
@@ -181,16 +202,20 @@ class SignatureMemory:
         Closed signatures (:func:`~taxelkit.memory.turning_signature.tangent_signature`).
     rule : str
         One of :data:`SIGNATURE_RULES`.
+    beta_per_sample : float, optional
+        ``beta`` of ``"signature-dense"`` (> 0); default :func:`dense_beta` of ``K``.
 
     Raises
     ------
     InputError
-        For duplicate or missing names, a count mismatch or an unknown rule.
+        For duplicate or missing names, a count mismatch, an unknown rule or a
+        non-positive ``beta_per_sample``.
     """
 
     names: tuple[str, ...]
     signatures: tuple[NDArray[np.complex128], ...]
     rule: str = "signature"
+    beta_per_sample: float | None = None
 
     def __post_init__(self) -> None:
         names = tuple(str(n) for n in self.names)
@@ -202,6 +227,9 @@ class SignatureMemory:
             )
         if self.rule not in SIGNATURE_RULES:
             raise InputError(f"rule must be one of {', '.join(SIGNATURE_RULES)}; got {self.rule!r}")
+        beta = self.beta_per_sample
+        if beta is not None and not (math.isfinite(beta) and beta > 0):
+            raise InputError(f"beta_per_sample must be a finite number > 0, got {beta!r}")
         object.__setattr__(self, "names", names)
         sigs = tuple(np.asarray(s, dtype=np.complex128).ravel() for s in self.signatures)
         object.__setattr__(self, "signatures", sigs)
@@ -216,16 +244,26 @@ class SignatureMemory:
         sigs = tuple(tangent_signature(m, closed=True) for m in moves_mm)
         return cls(tuple(names), sigs, rule)
 
-    def with_rule(self, rule: str) -> SignatureMemory:
-        """The same signatures under another rule."""
-        return SignatureMemory(self.names, self.signatures, rule)
+    def with_rule(self, rule: str, beta_per_sample: float | None = None) -> SignatureMemory:
+        """The same signatures under another rule (and ``beta``)."""
+        return SignatureMemory(self.names, self.signatures, rule, beta_per_sample)
 
     def subset(self, indices: Sequence[int]) -> SignatureMemory:
-        """A memory of the stored contours at ``indices`` (same rule)."""
+        """A memory of the stored contours at ``indices`` (same rule and ``beta`` setting)."""
         idx = list(indices)
         return SignatureMemory(
-            tuple(self.names[i] for i in idx), tuple(self.signatures[i] for i in idx), self.rule
+            tuple(self.names[i] for i in idx),
+            tuple(self.signatures[i] for i in idx),
+            self.rule,
+            self.beta_per_sample,
         )
+
+    @property
+    def beta(self) -> float:
+        """``beta`` per sample of the dense rule (given, or :func:`dense_beta` of ``K``)."""
+        if self.beta_per_sample is not None:
+            return float(self.beta_per_sample)
+        return dense_beta(len(self.names))
 
     @cached_property
     def stored(self) -> StoredSignatures:
@@ -233,7 +271,7 @@ class SignatureMemory:
         return StoredSignatures(self.signatures)
 
     def recall(
-        self, queries: Sequence[ArrayLike], *, tie_tolerance: float = SIGNATURE_TIE_TOLERANCE
+        self, queries: Sequence[ArrayLike], *, tie_samples: float = SIGNATURE_TIE_SAMPLES
     ) -> SignatureRecall:
         """Recognise open query signatures (parts traced so far).
 
@@ -242,8 +280,8 @@ class SignatureMemory:
         queries : sequence of Q arrays (n_q,) complex
             :func:`~taxelkit.memory.turning_signature.tangent_signature` with
             ``closed=False`` of each part.
-        tie_tolerance : float
-            Scores within this of the best are tied (>= 0).
+        tie_samples : float
+            Overlaps within this many samples of the best are tied (>= 0).
 
         Returns
         -------
@@ -254,20 +292,21 @@ class SignatureMemory:
         InputError
             For an empty or invalid query, or a negative tolerance.
         """
-        tol = float(tie_tolerance)
+        tol = float(tie_samples)
         if not (np.isfinite(tol) and tol >= 0):
-            raise InputError(f"tie_tolerance must be a finite number >= 0, got {tie_tolerance!r}")
+            raise InputError(f"tie_samples must be a finite number >= 0, got {tie_samples!r}")
         k = len(self.names)
         q = len(queries)
         scores = np.empty((q, k))
         start = np.empty((q, k), dtype=np.int64)
         rotation = np.empty((q, k))
+        samples = np.empty(q, dtype=np.int64)
         for lo in range(0, q, SIGNATURE_CHUNK_QUERIES):  # chunks bound memory only
             hi = min(lo + SIGNATURE_CHUNK_QUERIES, q)
-            scores[lo:hi], start[lo:hi], rotation[lo:hi] = _scores(
-                self.stored, queries[lo:hi], self.rule
+            scores[lo:hi], start[lo:hi], rotation[lo:hi], samples[lo:hi] = _scores(
+                self.stored, queries[lo:hi], self.rule, self.beta
             )
-        recognised, margin, tied = _ties(self.names, scores, tol)
+        recognised, margin, tied = _ties(self.names, scores, tol / samples)
         return SignatureRecall(self.names, scores, start, rotation, recognised, margin, tied)
 
     def recall_moves(self, moves_mm: Sequence[ArrayLike]) -> SignatureRecall:
@@ -300,5 +339,7 @@ class SignatureMemory:
         start = np.argmax(masked, axis=2)
         best = np.take_along_axis(r, start[:, :, None], axis=2)[:, :, 0]
         win = _aligned_windows(self.stored, start, int(n_samples))
-        out: NDArray[np.complex128] = np.einsum("qk,qkt->qt", dense_weights(best), win)[0]
+        out: NDArray[np.complex128] = np.einsum("qk,qkt->qt", dense_weights(best, self.beta), win)[
+            0
+        ]
         return out

@@ -59,6 +59,22 @@ SIGNATURE_HALF_CHORD_MM = 3.0
 _ZERO_MOVE_MM = 1e-9
 
 
+def _fast_length(n: int) -> int:
+    """The smallest ``2^a 3^b 5^c >= n`` (a length pocketfft transforms fast)."""
+    best = 1 << math.ceil(math.log2(n))
+    p3 = 1
+    while p3 < best:
+        p5 = p3
+        while p5 < best:
+            p2 = p5
+            while p2 < n:
+                p2 *= 2
+            best = min(best, p2)
+            p5 *= 5
+        p3 *= 3
+    return best
+
+
 def _path_points(moves_mm: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Path points ``(K + 1, 2)`` from the first point, and their arc lengths ``(K + 1,)``."""
     moves = np.asarray(moves_mm, dtype=np.float64)
@@ -185,7 +201,7 @@ class StoredSignatures:
         self.max_query_samples = 2 * n_max if max_query_samples is None else int(max_query_samples)
         if self.max_query_samples < 1:
             raise InputError(f"max_query_samples must be >= 1, got {max_query_samples!r}")
-        self.fft_size = 1 << math.ceil(math.log2(n_max + self.max_query_samples))
+        self.fft_size = _fast_length(n_max + self.max_query_samples)
         tiled = np.stack([np.resize(s, self.fft_size) for s in sigs])  # periodic tiling
         self.spectra: NDArray[np.complex128] = np.fft.fft(np.conj(tiled), axis=-1)
         #: (K, n_max) the signatures, zero-padded.
