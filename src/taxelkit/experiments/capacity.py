@@ -129,20 +129,23 @@ class CapacityResult:
     twins: TwinScores
     seed: int
 
-    def best_associative(self, size: int, s: float) -> tuple[str, float]:
-        """The associative rule with the highest accuracy at ``size`` and ``s``."""
+    def best_associative(self, size: int, s: float) -> tuple[str, float] | None:
+        """The best associative rule at ``size`` and ``s``, and its accuracy (None if none ran)."""
         ki, si = self.sizes.index(size), self.s.index(s)
-        best = max(
-            (r for r in self.rules.values() if r.spec.associative),
-            key=lambda r: r.accuracy[ki, si],
-        )
+        candidates = [r for r in self.rules.values() if r.spec.associative]
+        if not candidates:
+            return None
+        best = max(candidates, key=lambda r: r.accuracy[ki, si])
         return best.spec.label, float(best.accuracy[ki, si])
 
     def to_json(self) -> dict[str, Any]:
         """Accuracy and undecided fractions per rule, size and s; twins; the target check."""
         target: dict[str, Any] = {"size": TARGET_SIZE, "s": TARGET_S, "accuracy": TARGET_ACCURACY}
+        found = None
         if TARGET_SIZE in self.sizes and TARGET_S in self.s:
-            label, acc = self.best_associative(TARGET_SIZE, TARGET_S)
+            found = self.best_associative(TARGET_SIZE, TARGET_S)
+        if found is not None:
+            label, acc = found
             target |= {"best_associative": label, "measured": round(acc, 4),
                        "met": bool(acc >= TARGET_ACCURACY)}  # fmt: skip
         return {

@@ -76,7 +76,7 @@ def capacity_twins_markdown(doc: dict[str, Any]) -> str:
     ]
     rows = [(p, tw["named_queries"][p], v) for p, v in tw["named"].items()]
     rows += [
-        (f"generated, equal {code} codes ({len(tw['generator_pairs'][code])} pairs)",
+        (f"generated, {code} ({len(tw['generator_pairs'][code])} pairs)",
          tw["generator_queries"][code], v)
         for code, v in tw["generator"].items()
     ]  # fmt: skip
@@ -88,7 +88,7 @@ def capacity_twins_markdown(doc: dict[str, Any]) -> str:
                 )
     empty = [c for c, ps in tw["generator_pairs"].items() if not ps]
     if empty:
-        lines += ["", f"No generated pair has equal {' or '.join(empty)} codes."]
+        lines += ["", f"No generated pair found with {' or '.join(empty)}."]
     t = tw["target"]
     if t["measured_min_full_contour"] is not None:
         verdict = "met" if t["met"] else "missed"
