@@ -28,7 +28,7 @@ def plot_capacity(result: Any) -> Figure:
     """
     doc = result.to_json()
     sizes, s = doc["sizes"], doc["s"]
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6))
+    fig, axes = plt.subplots(1, 3, figsize=(15, 5.6))
     panels = [(axes[0], 0.6), (axes[1], 1.0)]
     for k, (name, rule) in enumerate(doc["rules"].items()):
         acc = np.asarray(rule["accuracy"])  # (sizes, S)
@@ -43,7 +43,7 @@ def plot_capacity(result: Any) -> Figure:
         ax.set_xscale("log")
         ax.set_xticks(sizes, [str(n) for n in sizes])
         ax.set_xlabel("stored shapes")
-        ax.set_title(f"partial traces, s = {s_at:g}", fontsize=10)
+        ax.set_title(f"{'whole' if s_at == 1.0 else 'partial'} traces, s = {s_at:g}", fontsize=10)
     axes[2].set_xlabel("traced fraction s (known after the fact)")
     axes[2].set_title(f"{doc['target']['size']} stored shapes", fontsize=10)
     t = doc["target"]
@@ -52,11 +52,12 @@ def plot_capacity(result: Any) -> Figure:
         ax.set_ylim(-0.02, 1.02)
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("fraction named right (ties count wrong)")
-    axes[0].legend(fontsize=7, loc="lower left")
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=7, loc="lower center", ncol=3, frameon=False)
     fig.suptitle(
         f"capacity: {doc['n_shapes']} generated shapes, {doc['n_queries']} traced queries "
         "(solid: associative, dashed: template matching, o: order-aware signature)",
         fontsize=10,
     )
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.16, 1, 1))
     return fig
