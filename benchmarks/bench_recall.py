@@ -92,7 +92,9 @@ def main() -> None:
         parts.append(moves[: max(2, int(rng.uniform(0.3, 1.0) * len(moves)))])
 
     print(f"{len(names)} stored shapes, {args.queries} partial queries (s in [0.3, 1]), 1 thread")
-    head = f"{'rule':<18} {'code':<10} {'batched q/s':>12} {'loop q/s':>10} {'ratio':>8} {'right':>7}"
+    head = (
+        f"{'rule':<18} {'code':<10} {'batched q/s':>12} {'loop q/s':>10} {'ratio':>8} {'right':>7}"
+    )
     print(head)
     print("-" * len(head))
     codes: dict[tuple[int, int], np.ndarray] = {}
