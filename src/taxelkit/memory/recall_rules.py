@@ -57,6 +57,10 @@ Rules (:data:`RECALL_RULES`):
     by a margin of a few elements, however many patterns are stored and
     however correlated they are (:mod:`taxelkit.memory.dense_recall`). An
     associative rule: ``Z`` is a completed stored pattern, not the cue.
+    Because nearly every cyclic shift of a cue recalls *some* stored pattern
+    exactly, several patterns reach ``c = 1`` over the shifts; they are then
+    ranked by the evidence (:mod:`taxelkit.memory.recall`), so in practice
+    the verdicts are those of ``"matched"`` (``capacity`` measures both).
 
 Every real-valued rule uses :data:`FIELD_TOLERANCE` as ``epsilon`` so that
 fields that are zero in exact arithmetic give 0, not a random sign.
