@@ -54,6 +54,7 @@ __all__ = [
     "STEP_HEIGHT_UM",
     "THRESHOLD",
     "TIMEOUT_S",
+    "TRACE_RULE",
     "FiniteFloat",
     "NameChoice",
     "Numbers",
@@ -246,6 +247,10 @@ SOLID = NameChoice("taxelkit.world.solids:SOLID_NAMES")
 ROLL_OBJECT = NameChoice("taxelkit.motion.scenarios:SCENARIO_NAMES")
 #: ``--rule``: the Associatron recall rules.
 RECALL_RULE = NameChoice("taxelkit.memory.recall_rules:RECALL_RULES")
+#: ``trace --rule``: the chain-code rules and the order-aware signature rules.
+TRACE_RULE = NameChoice(
+    "taxelkit.memory.recall_rules:RECALL_RULES", extra=("signature", "signature-dense")
+)
 #: ``--sensor``: the sensor presets.
 SENSOR = NameChoice("taxelkit.sensors.presets:SENSORS")
 #: ``reproduce NAME``: the registered experiments, or ``all``.

@@ -25,7 +25,14 @@ from taxelkit.cli.options import (
     EXPERIMENT,
     RECALL_RULE,
     SEED,
+    TRACE_RULE,
     relief_options,
+)
+from taxelkit.cli.trace_signature import (
+    SIGNATURE_RULE_NAMES,
+    check_signature_options,
+    echo_trace,
+    signature_trace_doc,
 )
 from taxelkit.cli.view import ViewTarget, view_options, with_view
 from taxelkit.errors import InputError
@@ -85,7 +92,8 @@ def _check_applies(option: str, given: bool, names: list[str], takes: set[str]) 
     "--scheduler",
     default=None,
     metavar="tcp://HOST:PORT",
-    help="Run the robustness sweep on this Dask scheduler (needs taxelkit[dask]).",
+    help="Run the sweeps that take it (robustness, multi-object, capacity) on this Dask "
+    "scheduler (needs taxelkit[dask]).",
 )
 @click.option(
     "--readme",
@@ -220,10 +228,11 @@ def _open_set_fields(
 )
 @click.option(
     "--rule",
-    type=RECALL_RULE,
+    type=TRACE_RULE,
     default="matched",
     show_default=True,
-    help="Recall rule: hebbian is the paper's (12 x 4 code); the others use a 24 x 8 code.",
+    help="Recall rule: hebbian is the paper's (12 x 4 code); the others use a 24 x 8 code; "
+    "signature and signature-dense use the order-aware tangent signature (built-in shapes).",
 )
 @click.option(
     "--memory",
@@ -273,15 +282,21 @@ def trace(
         check_outputs([plot], force)
     if view.save_path is not None:
         check_outputs([view.save_path], force)
+    by_signature = rule in SIGNATURE_RULE_NAMES
+    if by_signature:
+        check_signature_options(memory, plot, view.wanted)
     relief, centre = specimen_from_options(
         shape, specimen, rotate_deg, offset_mm, diameter_mm, step_height_um
     )
-    mem = _load_memory(memory, rule)
+    mem: Any = None if by_signature else _load_memory(memory, rule)
     probe = SimulatedProbe(relief, rng=seed)
     start = start_mm
     if start is None:
         start = tuple(find_edge(probe, centre))
     tr = trace_edge(probe, start)
+    if by_signature:
+        echo_trace(tr, signature_trace_doc(tr, rule), as_json)
+        return
     phases = 1 if rule == "hebbian" else 2
     curve = recall_curve(tr.moves_mm, mem, phases=phases)
     final = {n: float(c) for n, c in zip(curve.names, curve.correlations[-1], strict=True)}
@@ -311,15 +326,7 @@ def trace(
         from taxelkit.plotting.paper000 import plot_trace_recall
 
         save_figure(plot_trace_recall(tr, curve, rule=rule), plot, force=force)
-    if as_json:
-        click.echo(json.dumps(doc))
-    else:
-        click.echo(
-            f"traced {tr.n_sections} sections ({'closed' if tr.closed else tr.stop_reason}); "
-            f"recognised: {doc['verdict']}"
-        )
-        for n, c in sorted(final.items(), key=lambda kv: -kv[1]):
-            click.echo(f"  {n:16s} c = {c:+.3f}")
+    echo_trace(tr, doc, as_json)
 
 
 @click.command()

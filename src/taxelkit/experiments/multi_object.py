@@ -37,7 +37,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.errors import InputError
-from taxelkit.experiments._parallel import run_units
+from taxelkit.experiments.work_units import run_units
 from taxelkit.motion.multi_scenes import frames_from_multi_scene, multi_scene
 from taxelkit.smart.objects import ObjectRecognition, recognise_objects
 from taxelkit.smart.tacteme_table import OBJECTS

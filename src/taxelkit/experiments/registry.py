@@ -94,6 +94,12 @@ def _trace_robustness(**kw: Any) -> ExperimentResult:
     return run_trace_robustness(**kw)
 
 
+def _capacity(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.capacity import run_capacity
+
+    return run_capacity(**kw)
+
+
 def _cylinder(**kw: Any) -> ExperimentResult:
     from taxelkit.experiments.paper001 import run_cylinder
 
@@ -184,6 +190,15 @@ EXPERIMENTS: dict[str, Experiment] = {
             "specimen",
             trials=2,
             workers=True,
+        ),
+        Experiment(
+            "capacity",
+            "Paper 000 beyond five shapes: recall against stored shapes and s, every rule",
+            _capacity,
+            "trace",
+            trials=2,
+            workers=True,
+            scheduler=True,
         ),
         Experiment(
             "contact-classes", "Paper 001 Level 2: hand-set and trained", _contact_classes, "stage"

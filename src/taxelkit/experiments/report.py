@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from taxelkit.errors import InputError
+from taxelkit.experiments.report_capacity import capacity_markdown, capacity_twins_markdown
 from taxelkit.experiments.report_slip import slip_markdown
 
 __all__ = [
@@ -451,6 +452,8 @@ BLOCKS: dict[str, tuple[tuple[str, ...], Callable[[dict[str, dict[str, Any]]], s
     ),
     "slip": (("slip",), lambda docs: slip_markdown(docs["slip"])),
     "new-objects": (("new-objects",), lambda docs: new_objects_markdown(docs["new-objects"])),
+    "capacity": (("capacity",), lambda docs: capacity_markdown(docs["capacity"])),
+    "capacity-twins": (("capacity",), lambda docs: capacity_twins_markdown(docs["capacity"])),
     "trace-robustness": (
         ("trace-robustness",),
         lambda docs: trace_robustness_markdown(docs["trace-robustness"]),

@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from taxelkit.errors import InputError
-from taxelkit.experiments._parallel import run_units
+from taxelkit.experiments.work_units import run_units
 from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.sensors.array_geometry import TaxelArray
 from taxelkit.sensors.faults import fault_model

@@ -34,8 +34,8 @@ from typing import Any
 import numpy as np
 
 from taxelkit.errors import InputError
-from taxelkit.experiments._parallel import run_units
 from taxelkit.experiments.paper000_common import IMPROVED, SHAPE_DIAMETER_MM, reference_memory
+from taxelkit.experiments.work_units import run_units
 from taxelkit.memory.contour_recall import recall_curve
 from taxelkit.motion.probe import ScanConfig, SimulatedProbe
 from taxelkit.tracing.presets import TRACER_PRESETS

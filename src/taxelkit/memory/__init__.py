@@ -5,8 +5,12 @@ sector histogram), :mod:`~taxelkit.memory.chain_code` (Eq. 13),
 :mod:`~taxelkit.memory.partial_code` (0 = unknown for partial traces),
 :mod:`~taxelkit.memory.code_rotation` (cyclic shifts),
 :mod:`~taxelkit.memory.recall_rules` (Hebbian and improved rules),
+:mod:`~taxelkit.memory.dense_recall` (dense associative memory),
 :mod:`~taxelkit.memory.recall` (all-shift recall, Eq. 12 and 14) and
 :mod:`~taxelkit.memory.associatron` (the memory object).
+:mod:`~taxelkit.memory.turning_signature` and
+:mod:`~taxelkit.memory.signature_memory` hold the order-aware code (tangent
+signature) and its memory.
 ``ternary`` is Phi of Eq. 9, shared with :mod:`taxelkit.neuron`.
 """
 
@@ -21,6 +25,7 @@ from taxelkit.memory.chain_code import (
     rounding_thresholds,
 )
 from taxelkit.memory.code_rotation import all_cyclic_shifts, cyclic_shift_index
+from taxelkit.memory.dense_recall import DenseRecall
 from taxelkit.memory.direction_histogram import (
     DEFAULT_SECTORS,
     SECTOR_BOUNDARY_TOLERANCE,
@@ -54,6 +59,17 @@ from taxelkit.memory.recall_rules import (
     get_recall_rule,
     hebbian_matrix,
 )
+from taxelkit.memory.signature_memory import (
+    SIGNATURE_RULES,
+    SignatureMemory,
+    SignatureRecall,
+)
+from taxelkit.memory.turning_signature import (
+    SIGNATURE_STEP_MM,
+    StoredSignatures,
+    signature_overlaps,
+    tangent_signature,
+)
 from taxelkit.neuron.quantisers import ternary
 
 __all__ = [
@@ -67,15 +83,21 @@ __all__ = [
     "RECALL_CHUNK_QUERIES",
     "RECALL_RULES",
     "SECTOR_BOUNDARY_TOLERANCE",
+    "SIGNATURE_RULES",
+    "SIGNATURE_STEP_MM",
     "TIE_TOLERANCE",
     "ZERO_MOVE_TOLERANCE_MM",
     "AssociativeMemory",
     "ChainCodeConfig",
+    "DenseRecall",
     "LinearRecall",
     "MaskedProjectionRecall",
     "RecallOperator",
     "RecallResult",
     "RecallRuleSpec",
+    "SignatureMemory",
+    "SignatureRecall",
+    "StoredSignatures",
     "all_cyclic_shifts",
     "chain_code_from_directions",
     "chain_code_from_histogram",
@@ -93,6 +115,8 @@ __all__ = [
     "recall_with_operator",
     "relative_frequency",
     "rounding_thresholds",
+    "signature_overlaps",
+    "tangent_signature",
     "ternary",
     "verdict_text",
 ]

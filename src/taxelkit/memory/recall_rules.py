@@ -51,6 +51,17 @@ Rules (:data:`RECALL_RULES`):
     (all correlations negative); matching the evidence directly cannot, and it
     is the most reliable rule on partial contours in ``recall-vs-s``.
 
+``"dense"`` (dense associative memory; Krotov & Hopfield 2016, Demircigil et al. 2017)
+    Energy ``-sum_k exp(x_k . y)`` instead of the Hebbian quadratic one; one
+    update recalls the stored pattern whose overlap with the cue is largest
+    by a margin of a few elements, however many patterns are stored and
+    however correlated they are (:mod:`taxelkit.memory.dense_recall`). An
+    associative rule: ``Z`` is a completed stored pattern, not the cue.
+    Because nearly every cyclic shift of a cue recalls *some* stored pattern
+    exactly, several patterns reach ``c = 1`` over the shifts; they are then
+    ranked by the evidence (:mod:`taxelkit.memory.recall`), so in practice
+    the verdicts are those of ``"matched"`` (``capacity`` measures both).
+
 Every real-valued rule uses :data:`FIELD_TOLERANCE` as ``epsilon`` so that
 fields that are zero in exact arithmetic give 0, not a random sign.
 """
@@ -66,6 +77,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.errors import InputError
+from taxelkit.memory.dense_recall import DenseRecall
 from taxelkit.neuron.quantisers import ternary
 
 __all__ = [
@@ -228,6 +240,10 @@ def _masked_projection(patterns: NDArray[np.float64]) -> RecallOperator:
     return MaskedProjectionRecall(patterns=patterns.copy(), epsilon=FIELD_TOLERANCE)
 
 
+def _dense(patterns: NDArray[np.float64]) -> RecallOperator:
+    return DenseRecall(patterns=patterns.copy())
+
+
 @dataclass(frozen=True)
 class RecallRuleSpec:
     """A named recall rule.
@@ -284,6 +300,13 @@ RECALL_RULES: Mapping[str, RecallRuleSpec] = MappingProxyType(
             _matched,
             False,
             "identity memory: template matching on the known elements (taxelkit)",
+        ),
+        "dense": RecallRuleSpec(
+            "dense",
+            _dense,
+            False,
+            "dense associative memory, F = exp: Krotov & Hopfield, NeurIPS 2016; "
+            "Demircigil et al., J. Stat. Phys. 168 (2017)",
         ),
     }
 )

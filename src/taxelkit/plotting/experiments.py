@@ -12,6 +12,7 @@ __all__ = ["plot_experiment"]
 
 
 def _plotters() -> dict[str, Callable[[Any], Figure]]:
+    from taxelkit.plotting.capacity import plot_capacity
     from taxelkit.plotting.multi_object import plot_multi_object
     from taxelkit.plotting.new_objects import plot_new_objects
     from taxelkit.plotting.paper000 import plot_fig7, plot_fig8, plot_fig9, plot_recall_vs_s
@@ -21,6 +22,7 @@ def _plotters() -> dict[str, Callable[[Any], Figure]]:
     from taxelkit.plotting.trace_robustness import plot_trace_robustness
 
     return {
+        "capacity": plot_capacity,
         "contact-classes": _plot_contact_classes,
         "cylinder": plot_cylinder,
         "smart-sensor": plot_smart_sensor,

@@ -3,6 +3,7 @@
 from taxelkit.world.base import Relief, Solid
 from taxelkit.world.mesh_solid import MeshSolid, load_mesh_solid
 from taxelkit.world.pose import matrix_from_axis_angle, matrix_from_euler_xyz_deg
+from taxelkit.world.random_shapes import GeneratedShape, generate_shapes
 from taxelkit.world.relief import (
     SHAPE_NAMES,
     CircleRelief,
@@ -34,6 +35,7 @@ __all__ = [
     "Cube",
     "Cylinder",
     "EdgeRelief",
+    "GeneratedShape",
     "HeightmapRelief",
     "MeshSolid",
     "PolygonRelief",
@@ -42,6 +44,7 @@ __all__ = [
     "Sphere",
     "Tetrahedron",
     "TruncatedCone",
+    "generate_shapes",
     "heightmap_from_relief",
     "load_heightmap",
     "load_mesh_solid",

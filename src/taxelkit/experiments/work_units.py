@@ -1,8 +1,11 @@
-"""Run an experiment's independent units in-process, in worker processes or on a Dask cluster.
+"""Units of work on a local process pool or a Dask cluster (shared by the sweeps).
 
-Each unit carries its own seed (a :class:`numpy.random.SeedSequence` child or
-entropy), so the results do not depend on where or in which order the units
-run; the caller puts each result back at its unit's index.
+An experiment cuts its work into picklable *units* and a module-level
+function that runs one; :func:`run_units` runs them in-process, on a
+:class:`~concurrent.futures.ProcessPoolExecutor`, or on a Dask scheduler
+(``dask.distributed``, optional extra ``taxelkit[dask]``) and yields
+``(index, result)`` as units finish. Callers store results by index, so the
+outcome never depends on where or in which order units ran.
 """
 
 from __future__ import annotations
@@ -46,24 +49,30 @@ def _dask(fn: Callable[[U], R], units: Sequence[U], scheduler: str) -> Iterator[
 
 
 def run_units(
-    fn: Callable[[U], R], units: Sequence[U], *, workers: int, scheduler: str | None = None
+    fn: Callable[[U], R],
+    units: Sequence[U],
+    *,
+    workers: int = 1,
+    scheduler: str | None = None,
 ) -> Iterator[tuple[int, R]]:
-    """``(index, fn(unit))`` for every unit, in the order they finish.
+    """Run ``fn`` on every unit; yield ``(index, result)`` as each finishes.
 
     Parameters
     ----------
     fn : callable
-        A module-level function (it is pickled to the workers).
+        A module-level function (picklable) of one unit.
     units : sequence
-        Its arguments, one call each.
+        Picklable units.
     workers : int
-        Local worker processes; 1 runs in this process, in order.
+        Local worker processes (1 runs in this process, in order).
     scheduler : str, optional
-        Address of a Dask scheduler: run the units there instead.
+        Address of a Dask scheduler (``tcp://HOST:PORT``); overrides ``workers``.
 
     Raises
     ------
     InputError
-        For a scheduler without the dask extra installed.
+        If a scheduler is given and ``distributed`` is not installed.
     """
-    return _dask(fn, units, scheduler) if scheduler else _local(fn, units, workers)
+    if scheduler:
+        return _dask(fn, units, scheduler)
+    return _local(fn, units, max(1, int(workers)))
