@@ -37,12 +37,18 @@ SLIDING_TACTEMES = frozenset(
     {Tacteme.AC_MOVES, Tacteme.AC_ROTATES, Tacteme.LC_SLIDES, Tacteme.LC_SPINS}
 )
 
-#: What a slip going on can fake besides the sliding tactemes: a line sliding along
-#: itself moves its middle, by which the pivot of its turn is judged (about one end or
-#: in an arc); it does not move the line across itself or turn it (LCM, LCMP, LCMT
-#: stay true). A face sliding fakes only the sliding tactemes.
+#: What a slip going on can fake besides the sliding tactemes (held back from
+#: elimination while it lasts): nothing, today. A line sliding along itself moves its
+#: middle, by which the pivot of its turn is judged (about one end or in an arc), so
+#: the two pivot tactemes were held back during a line's slip at first; on the
+#: robustness trials (seed 0, 20 per cell, 5 and 20 frames/s, every imperfection)
+#: that left 27 and 13 more of 160 MuJoCo cone trials undecided (the ends of a cone's
+#: short line jitter enough to read as a line slip) and changed nothing on the 560
+#: sliding trials (none identified either way), so nothing is held back. A face
+#: sliding fakes only the sliding tactemes. The mapping stays so that a kind of slip
+#: can be given tactemes it fakes.
 FAKED_BY_SLIP: dict[str, frozenset[Tacteme]] = {
-    SLIP_KINDS[int(ContactClass.LINE)]: frozenset({Tacteme.LCMT_ABOUT_END, Tacteme.LCMT_ARC}),
+    SLIP_KINDS[int(ContactClass.LINE)]: frozenset(),
     SLIP_KINDS[int(ContactClass.AREA)]: frozenset(),
 }
 
