@@ -135,20 +135,10 @@ def test_multi_object_scenes_equal_the_committed_scenes(n_objects: int) -> None:
         assert now == {k: scene[k] for k in now}, scene["trial"]
 
 
-#: The committed trace-robustness.json predates the rule that a tie at the top is
-#: undecided (commit 6173f73, merged after it was generated): 10 of its 336 traces,
-#: all by the faithful tracer and all wrong names, now recall a tie (``recognised``
-#: None). Its summary and the README block are unchanged (checked by re-running the
-#: whole experiment); regenerating it removes the xfail (strict: it then fails).
-STALE_TIE = pytest.mark.xfail(
-    strict=True, reason="trace-robustness.json predates the tie rule: regenerate it"
-)
-
-
 @pytest.mark.parametrize(
     ("condition", "shape"),
     [
-        pytest.param("200 um, noise 10 um", "star", marks=STALE_TIE),
+        ("200 um, noise 10 um", "star"),
         ("200 um, noise 10 um", "triangle"),
     ],
 )
