@@ -25,7 +25,8 @@ same run:
 
 scikit-image is in the ``test`` extra; it is imported here only.
 
-Usage: ``python benchmarks/bench_segment_track.py [--scenes N] [--repeat N]``.
+Usage: ``python benchmarks/bench_segment_track.py [--scenes N] [--repeat N] [--record]``
+(``--record`` writes the README row, ``docs/results/bench/bench_segment_track.json``).
 """
 
 from __future__ import annotations
@@ -42,6 +43,7 @@ from collections.abc import Callable  # noqa: E402
 import numpy as np  # noqa: E402
 from skimage.measure import label, regionprops  # noqa: E402
 
+from _record import add_record_option, record  # noqa: E402
 from taxelkit.frames import TactileFrames  # noqa: E402
 from taxelkit.motion.multi_scenes import frames_from_multi_scene, multi_scene  # noqa: E402
 from taxelkit.smart.cleaning import clean_images  # noqa: E402
@@ -154,8 +156,8 @@ def tiled(scenes: int) -> TactileFrames:
     return TactileFrames(frames, t_s=t_s, pitch_mm=PITCH_MM, units="mm")
 
 
-def measure(title: str, rec: TactileFrames, repeat: int) -> None:
-    """Print the timings of one set of frames."""
+def measure(title: str, rec: TactileFrames, repeat: int) -> dict[str, float]:
+    """Print and return the timings of one set of frames (frames/s)."""
     images = clean_images(rec.frames > THRESHOLD_MM, rec.t_s)
     t_s = np.asarray(rec.t_s)
     n = images.shape[0]
@@ -185,15 +187,58 @@ def measure(title: str, rec: TactileFrames, repeat: int) -> None:
         f"  whole recogniser, Levels 1-4 per track: {n / many:,.0f} frames/s; single-object "
         f"recognise: {n / one:,.0f} frames/s ({many / one:.1f}x the time)"
     )
+    return {
+        "frames": float(n),
+        "regions_per_frame": float(per_frame.mean()),
+        "segmentation": n / seg_only,
+        "tracking_batch": n / batch,
+        "tracking_stream": n / stream,
+        "skimage": n / base,
+        "recognise_objects": n / many,
+        "recognise": n / one,
+    }
+
+
+def record_row(small: dict[str, float], wide: dict[str, float]) -> None:
+    """Write the README row from the figures of this run (16 x 16, then 16 x 48)."""
+
+    def pair(key: str, fmt: str = ",.0f") -> str:
+        return f"{small[key]:{fmt}} / {wide[key]:{fmt}}"
+
+    def ratio(key: str) -> str:
+        return f"{small[key] / small['skimage']:.2g}x / {wide[key] / wide['skimage']:.2g}x"
+
+    cost = ""
+    if small["tracking_batch"] < small["skimage"] < small["segmentation"]:
+        cost = ": the tracker's per-frame Python step is the cost"
+    slower = f"{small['recognise'] / small['recognise_objects']:.0f}x / "
+    slower += f"{wide['recognise'] / wide['recognise_objects']:.0f}x"
+    record(
+        __file__,
+        figure="3 objects (kinematic scenes) on 16 x 16 (tiles overlaid: "
+        f"{small['regions_per_frame']:.1f} regions a frame; they touch) and on 16 x 48 (side "
+        f"by side: {wide['regions_per_frame']:.1f} a frame): segmentation alone "
+        f"{pair('segmentation')} frames/s batch; segmentation + tracking "
+        f"{pair('tracking_batch')} frames/s batch, {pair('tracking_stream')} streaming; the "
+        f"whole per-track recogniser {pair('recognise_objects')} frames/s ({slower} the time "
+        "of the single-object `recognise`)",
+        ratio=f"{ratio('segmentation')} (segmentation), {ratio('tracking_batch')} "
+        f"(segmentation + tracking, batch), {ratio('tracking_stream')} (streaming) "
+        f"scikit-image `label` + `regionprops` per frame, which does no tracking{cost}",
+        measured={"16x16_overlaid": small, "16x48_side_by_side": wide},
+    )
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--scenes", type=int, default=20)
     ap.add_argument("--repeat", type=int, default=3)
+    add_record_option(ap)
     args = ap.parse_args()
-    measure("16 x 16, three objects overlaid", overlaid(args.scenes), args.repeat)
-    measure("16 x 48, three objects side by side", tiled(args.scenes), args.repeat)
+    small = measure("16 x 16, three objects overlaid", overlaid(args.scenes), args.repeat)
+    wide = measure("16 x 48, three objects side by side", tiled(args.scenes), args.repeat)
+    if args.record:
+        record_row(small, wide)
 
 
 if __name__ == "__main__":

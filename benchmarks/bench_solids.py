@@ -17,13 +17,16 @@ seeded random poses (uniform rotations, positions within +-5 mm, indentation
 * ``rays`` (the baseline, with ``rtree``): the same ray casting as a trimesh
   user would batch it, every ray of every pose of a body in one
   ``intersects_location`` call (rays sent into the body frame);
-* ``per-call``: ``displacement_from_solid`` called once per frame (P = 1).
+* ``per-call``: ``displacement_from_solid`` called once per frame (P = 1);
+* ``normal``: NumPy's normal generator alone, drawing one float32 16 x 16
+  frame of noise per pose as the noise model does (the cost of ``+noise``).
 
 It also checks that the ray-cast baseline and the batched path give the same
 contact images (fraction of equal taxels, expected > 99 %: they differ only by
 the tessellation's sagitta).
 
-Run ``python benchmarks/bench_solids.py --help`` for options.
+Run ``python benchmarks/bench_solids.py --help`` for options; ``--record`` writes
+the README row (``docs/results/bench/bench_solids.json``).
 """
 
 from __future__ import annotations
@@ -41,6 +44,7 @@ from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
 
+from _record import add_record_option, record  # noqa: E402
 from taxelkit.sensors.presets import BONNEVILLE_16X16, Sensor  # noqa: E402
 from taxelkit.sensors.press import displacement_from_solid, sample_offsets_mm  # noqa: E402
 from taxelkit.sensors.skin import (  # noqa: E402
@@ -200,6 +204,7 @@ def main(argv: list[str] | None = None) -> int:
         "--baseline-frames", type=int, default=50, help="frames for the per-frame baselines"
     )
     parser.add_argument("--seed", type=int, default=0)
+    add_record_option(parser)
     args = parser.parse_args(argv)
     sensor = BONNEVILLE_16X16
     rng = np.random.default_rng(args.seed)
@@ -221,6 +226,7 @@ def main(argv: list[str] | None = None) -> int:
     print("-" * len(header))
     cases = [(name, np.full(n, k)) for k, name in enumerate(SOLID_NAMES)]
     cases.append(("mix", rng.integers(0, len(solids), size=n)))
+    rows: dict[str, dict[str, float]] = {}
     for name, which in cases:
         rot, pos, indent = random_poses(rng, n)
 
@@ -281,6 +287,15 @@ def main(argv: list[str] | None = None) -> int:
         fps_call = nb / best_time(per_call, 1)
         ours = run(False)[sub]
         agree = float(np.mean(ours == base))
+        rows[name] = {
+            "batched": fps,
+            "noise": fps_noise,
+            "geometry": fps_geo,
+            "ray": fps_ray,
+            "rays": fps_rays,
+            "per_call": fps_call,
+            "agree": agree,
+        }
         print(
             f"{name:<15}{fps:>11,.0f}{fps_noise:>11,.0f}{fps_geo:>11,.0f}{fps_ray:>9,.0f}"
             f"{fps_rays:>10,.0f}{fps_call:>10,.0f}{fps / fps_ray:>13,.0f}"
@@ -300,10 +315,45 @@ def main(argv: list[str] | None = None) -> int:
     def run_plain() -> None:
         batched_frames(plain, solids, which, rot, pos, indent, noise=False, seed=args.seed)
 
-    print(
-        f"mix without the point/edge dimple: {n / best_time(run_plain, args.repeat):,.0f} frames/s"
-    )
+    fps_plain = n / best_time(run_plain, args.repeat)
+    print(f"mix without the point/edge dimple: {fps_plain:,.0f} frames/s")
+    gen = np.random.default_rng(args.seed)
+    shape = (n, *sensor.array.shape)
+    t_normal = best_time(lambda: gen.standard_normal(shape, dtype=np.float32), args.repeat)
+    normal_us = 1e6 * t_normal / n
+    print(f"NumPy's normal generator alone: {normal_us:.2f} us per 16 x 16 frame (float32)")
+    if args.record:
+        record_row(rows, fps_plain, normal_us, args.poses)
     return 0
+
+
+def record_row(
+    rows: dict[str, dict[str, float]], fps_plain: float, normal_us: float, poses: int
+) -> None:
+    """Write the README row from the figures of this run."""
+    mix = rows["mix"]
+    per_solid = [v["batched"] for k, v in rows.items() if k != "mix"]
+    base = (
+        "trimesh ray casting (rtree) with all rays of all poses in one call"
+        if HAVE_RTREE
+        else "per-frame NumPy ray casting (rtree missing: trimesh's batched rays not timed)"
+    )
+    ratio_rays = mix["batched"] / (mix["rays"] if HAVE_RTREE else mix["ray"])
+    record(
+        __file__,
+        figure=f"16 x 16 solid frames, batched: {mix['batched']:,.0f}/s (mix, noise-free; "
+        f"{mix['noise']:,.0f}/s with noise, NumPy's normal generator alone "
+        f"{normal_us:.1f} us a frame; {min(per_solid):,.0f}-{max(per_solid):,.0f}/s per solid)",
+        ratio=f"{ratio_rays:,.0f}x {base}; {mix['batched'] / mix['per_call']:,.0f}x per-frame "
+        "calls",
+        measured={
+            "poses_per_case": poses,
+            "rtree": HAVE_RTREE,
+            "frames_s": rows,
+            "mix_without_dimple_frames_s": fps_plain,
+            "normal_generator_us_per_frame": normal_us,
+        },
+    )
 
 
 if __name__ == "__main__":

@@ -18,8 +18,10 @@ frames/s to under 1,000 after 200,000 frames (issue 12).
 Times are CPU seconds of this process (``time.process_time``), so that other
 work on a shared machine does not count.
 
-Usage: ``python benchmarks/bench_streaming_flat.py [--frames N] [--kind area|line|point]
-[--batch-frames B]`` (``--batch-frames 1``: one frame at a time, slow over 10^6 frames).
+Usage: ``python benchmarks/bench_streaming_flat.py [--frames N] [--kind area|line|point|all]
+[--batch-frames B] [--record]`` (``--batch-frames 1``: one frame at a time, slow over 10^6
+frames; ``--record`` writes the README row, ``docs/results/bench/bench_streaming_flat.json``,
+and needs ``--kind all``, the default).
 """
 
 from __future__ import annotations
@@ -34,11 +36,13 @@ import time  # noqa: E402
 
 import numpy as np  # noqa: E402
 
+from _record import add_record_option, record  # noqa: E402
 from taxelkit.smart.streaming import SmartSensor  # noqa: E402
 
 RATE_HZ = 240.0
 PITCH_MM = 1.7625
 WINDOW = 10_000
+KINDS = ("area", "line", "point")
 
 
 def held_frames(kind: str, n: int, rng: np.random.Generator) -> np.ndarray:
@@ -71,23 +75,19 @@ def scanner_bytes(sensor: SmartSensor) -> int:
     return total
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--frames", type=int, default=1_000_000)
-    ap.add_argument("--kind", choices=("area", "line", "point"), default="area")
-    ap.add_argument("--batch-frames", type=int, default=2000)  # 5 per window
-    args = ap.parse_args()
+def run_kind(kind: str, n: int, batch_frames: int) -> dict[str, float]:
+    """Stream one held contact of ``kind``; print and return its figures."""
     rng = np.random.default_rng(0)
-    sensor = SmartSensor((16, 16), pitch_mm=PITCH_MM, batch_frames=args.batch_frames)
+    sensor = SmartSensor((16, 16), pitch_mm=PITCH_MM, batch_frames=batch_frames)
     for j in range(10):
         sensor.push(np.zeros((16, 16), bool), j / RATE_HZ)
-    n, j0 = args.frames, 10
+    j0 = 10
     rates: list[float] = []
     memory: list[int] = []
     t_all = 0.0
     for start in range(0, n, WINDOW):
         m = min(WINDOW, n - start)
-        block = held_frames(args.kind, m, rng)
+        block = held_frames(kind, m, rng)
         times = ((j0 + start + np.arange(m)) / RATE_HZ).tolist()
         push = sensor.push
         t0 = time.process_time()
@@ -101,8 +101,8 @@ def main() -> None:
     classes = sensor.classes.runs()
     first, last = rates[0], rates[-1]
     print(
-        f"held {args.kind} contact: {n:,} frames of 16 x 16 at 240 frames/s "
-        f"({n / RATE_HZ / 3600:.2f} h), batch_frames={args.batch_frames}"
+        f"held {kind} contact: {n:,} frames of 16 x 16 at 240 frames/s "
+        f"({n / RATE_HZ / 3600:.2f} h), batch_frames={batch_frames}"
     )
     print(f"class runs: {len(classes)}; events: {len(sensor.result().events)}")
     print(f"first {WINDOW:,} frames: {first:12,.0f} frames/s (baseline)")
@@ -113,6 +113,48 @@ def main() -> None:
     print(
         f"open segment's scanner: {memory[0]:,} bytes after {WINDOW:,}, {memory[-1]:,} at the end"
     )
+    return {
+        "first_frames_s": first,
+        "last_frames_s": last,
+        "all_frames_s": n / t_all,
+        "last_over_first": last / first,
+        "slowest_over_fastest": min(rates) / max(rates),
+        "scanner_bytes_min": float(min(memory)),
+        "scanner_bytes_max": float(max(memory)),
+    }
+
+
+def record_row(runs: dict[str, dict[str, float]], n: int, batch_frames: int) -> None:
+    """Write the README row from the figures of this run."""
+    rates = ", ".join(f"{k} {v['all_frames_s']:,.0f}" for k, v in runs.items())
+    ratios = ", ".join(f"{k} {v['last_over_first']:.2f}" for k, v in runs.items())
+    lo = min(v["scanner_bytes_min"] for v in runs.values()) / 1000.0
+    hi = max(v["scanner_bytes_max"] for v in runs.values()) / 1000.0
+    ok = all(0.8 <= v["last_over_first"] <= 1.25 for v in runs.values())
+    record(
+        __file__,
+        figure=f"a contact held {n:,} frames ({n / RATE_HZ / 3600:.2f} h at 240 Hz), "
+        f"`SmartSensor` with `batch_frames={batch_frames}`, CPU time: {rates} frames/s over the "
+        f"whole contact; the open segment's state stays at {lo:.0f}-{hi:.0f} kB",
+        ratio=f"last / first {WINDOW:,} frames of the same run: {ratios} (target 0.8-1.25 "
+        f"{'met' if ok else 'missed'})",
+        measured={"frames": n, "batch_frames": batch_frames, "kinds": runs},
+    )
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--frames", type=int, default=1_000_000)
+    ap.add_argument("--kind", choices=(*KINDS, "all"), default="all")
+    ap.add_argument("--batch-frames", type=int, default=2000)  # 5 per window
+    add_record_option(ap)
+    args = ap.parse_args()
+    kinds = KINDS if args.kind == "all" else (args.kind,)
+    if args.record and len(kinds) < len(KINDS):
+        ap.error("--record needs --kind all (the README row covers every kind)")
+    runs = {kind: run_kind(kind, args.frames, args.batch_frames) for kind in kinds}
+    if args.record:
+        record_row(runs, args.frames, args.batch_frames)
 
 
 if __name__ == "__main__":
