@@ -24,13 +24,13 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from functools import cache
 from typing import Any
 
 import numpy as np
 
+from taxelkit.experiments.work_units import map_in_order
 from taxelkit.learn.check import DEFAULT_CHECK_ROLLS, learn_solid
 from taxelkit.learn.derive import derive_row
 from taxelkit.learn.examples import EXAMPLE_OBJECTS, OUTSIDE_OBJECTS, example_mesh
@@ -262,18 +262,7 @@ def run_new_objects(
     seqs = np.random.SeedSequence(seed).spawn(len(names))
     jobs = [(n, s, table) for n, s in zip(names, seqs, strict=True)]
     n_workers = min(4, os.cpu_count() or 1) if workers is None else max(1, int(workers))
-    results = []
-    if n_workers == 1:
-        for k, job in enumerate(jobs):
-            results.append(_trial(job))
-            if progress is not None:
-                progress(k + 1, len(jobs))
-    else:
-        with ProcessPoolExecutor(max_workers=n_workers) as pool:
-            for k, res in enumerate(pool.map(_trial, jobs, chunksize=4)):
-                results.append(res)
-                if progress is not None:
-                    progress(k + 1, len(jobs))
+    results = map_in_order(_trial, jobs, workers=n_workers, chunksize=4, progress=progress)
     confusion: dict[str, dict[str, int]] = {}
     baseline: dict[str, dict[str, int]] = {}
     dec: dict[str, tuple[int, int]] = {name: (0, 0) for name in table.objects}

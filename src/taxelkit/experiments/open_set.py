@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from typing import Any
 
@@ -35,6 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.experiments.paper000_common import IMPROVED, reference_memory, reference_traces
+from taxelkit.experiments.work_units import map_in_order
 from taxelkit.memory.associatron import AssociativeMemory
 from taxelkit.memory.contour_recall import prefix_codes
 from taxelkit.memory.open_set import (
@@ -313,18 +313,9 @@ def run_open_set(
             for i in range(n)
         ]
     n_workers = min(4, os.cpu_count() or 1) if workers is None else max(1, int(workers))
-    rows: list[_Row] = []
-    if n_workers == 1:
-        for done, (_, job) in enumerate(jobs, 1):
-            rows.append(_trace_job(job))
-            if progress is not None:
-                progress(done, len(jobs))
-    else:
-        with ProcessPoolExecutor(max_workers=n_workers) as pool:
-            for done, row in enumerate(pool.map(_trace_job, [j for _, j in jobs], chunksize=2), 1):
-                rows.append(row)
-                if progress is not None:
-                    progress(done, len(jobs))
+    rows = map_in_order(
+        _trace_job, [j for _, j in jobs], workers=n_workers, chunksize=2, progress=progress
+    )
     splits = [split for split, _ in jobs]
     memory = reference_memory(IMPROVED)
     names = memory.names

@@ -9,13 +9,13 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit.experiments.work_units import map_in_order
 from taxelkit.frames import TactileFrames
 from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.motion.scenarios import cylinder_fig3_scenario, make_scenario
@@ -108,19 +108,7 @@ def _run_trials(
     seqs = np.random.SeedSequence(seed).spawn(len(names))
     jobs = list(zip(names, seqs, strict=True))
     n_workers = min(4, os.cpu_count() or 1) if workers is None else max(1, int(workers))
-    out = []
-    if n_workers == 1:
-        for k, job in enumerate(jobs):
-            out.append(_trial(job))
-            if progress is not None:
-                progress(k + 1, len(jobs))
-    else:
-        with ProcessPoolExecutor(max_workers=n_workers) as pool:
-            for k, res in enumerate(pool.map(_trial, jobs, chunksize=8)):
-                out.append(res)
-                if progress is not None:
-                    progress(k + 1, len(jobs))
-    return out
+    return map_in_order(_trial, jobs, workers=n_workers, chunksize=8, progress=progress)
 
 
 @dataclass(frozen=True, eq=False)

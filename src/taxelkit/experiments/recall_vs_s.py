@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from typing import Any
 
@@ -27,6 +26,7 @@ from taxelkit.experiments.paper000_common import (
     reference_memory,
     trace_shape,
 )
+from taxelkit.experiments.work_units import map_in_order
 from taxelkit.memory.contour_recall import recall_curve
 from taxelkit.world.relief import SHAPE_NAMES
 
@@ -158,23 +158,14 @@ def run_recall_vs_s(
     closed = np.zeros((n_shapes, n_trials), bool)
     n_workers = min(4, os.cpu_count() or 1) if workers is None else max(1, int(workers))
 
-    def record(res: tuple[int, int, list[Any], bool], done: int) -> None:
-        i, t, rows, was_closed = res
+    for i, t, rows, was_closed in map_in_order(
+        _trial, jobs, workers=n_workers, chunksize=4, progress=progress
+    ):
         for setup, (ok, tie, gap) in zip(setups, rows, strict=True):
             correct[setup.label][i, t] = ok
             tied[setup.label][i, t] = tie
             margin[setup.label][i, t] = gap
         closed[i, t] = was_closed
-        if progress is not None:
-            progress(done, len(jobs))
-
-    if n_workers == 1:
-        for k, job in enumerate(jobs):
-            record(_trial(job), k + 1)
-    else:
-        with ProcessPoolExecutor(max_workers=n_workers) as pool:
-            for k, res in enumerate(pool.map(_trial, jobs, chunksize=4)):
-                record(res, k + 1)
     return RecallVsSResult(
         tuple(SHAPE_NAMES), RECALL_S_GRID, n_trials, correct, tied, margin, closed
     )

@@ -36,10 +36,8 @@ Scoring
 
 from __future__ import annotations
 
-import importlib.util
 import os
-from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -58,7 +56,8 @@ from taxelkit.experiments.slip_result import (
     SlipResult,
     SlipTrial,
 )
-from taxelkit.motion.engines.registry import scenarios_from_engine
+from taxelkit.experiments.work_units import run_units
+from taxelkit.motion.engines.registry import engines_to_run, scenarios_from_engine
 from taxelkit.motion.rolling import Scenario, frames_from_scenario
 from taxelkit.motion.slip_scenarios import make_partial_slip_scenario
 from taxelkit.sensors.presets import BONNEVILLE_16X16
@@ -178,32 +177,6 @@ def _run_unit(unit: _Unit) -> list[SlipTrial]:
     return [_trial(unit, sc, r, rng) for sc, r in zip(scenes, RATES_HZ, strict=True)]
 
 
-def _local(units: list[_Unit], workers: int) -> Iterator[tuple[int, list[SlipTrial]]]:
-    if workers == 1:
-        for i, u in enumerate(units):
-            yield i, _run_unit(u)
-        return
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = {pool.submit(_run_unit, u): i for i, u in enumerate(units)}
-        for f in as_completed(futures):
-            yield futures[f], f.result()
-
-
-def _engines(engines: Sequence[str] | None) -> tuple[list[str], dict[str, str]]:
-    wanted = ["kinematic", "mujoco"] if engines is None else [str(e) for e in engines]
-    chosen, skipped = [], {}
-    for e in wanted:
-        if e not in ("kinematic", "mujoco"):
-            raise InputError(f"unknown engine {e!r}; known: kinematic, mujoco")
-        if e == "mujoco" and importlib.util.find_spec("mujoco") is None:
-            skipped[e] = 'not installed (pip install "taxelkit[mujoco]")'
-            continue
-        chosen.append(e)
-    if not chosen:
-        raise InputError("no engine available")
-    return chosen, skipped
-
-
 def run_slip(
     *,
     seed: int = 0,
@@ -239,7 +212,7 @@ def run_slip(
     """
     if int(n_trials) < 1:
         raise InputError(f"n_trials must be >= 1, got {n_trials!r}")
-    chosen, skipped = _engines(engines)
+    chosen, skipped = engines_to_run(engines)
     n_mj = int(n_trials) if mujoco_trials is None else int(mujoco_trials)
     units = []
     for engine in chosen:
@@ -253,7 +226,8 @@ def run_slip(
                     units.append(_Unit(engine, kind, obj, trial, int(ent[0])))
     n_workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
     results: list[list[SlipTrial]] = [[] for _ in units]
-    for done, (i, res) in enumerate(_local(units, n_workers), start=1):
+    stream = run_units(_run_unit, units, workers=n_workers)
+    for done, (i, res) in enumerate(stream, start=1):
         results[i] = res
         if progress is not None:
             progress(done, len(units))

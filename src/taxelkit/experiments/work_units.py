@@ -10,13 +10,13 @@ outcome never depends on where or in which order units ran.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import Any, TypeVar
 
 from taxelkit.errors import InputError
 
-__all__ = ["run_units"]
+__all__ = ["map_in_order", "run_units"]
 
 U = TypeVar("U")
 R = TypeVar("R")
@@ -76,3 +76,43 @@ def run_units(
     if scheduler:
         return _dask(fn, units, scheduler)
     return _local(fn, units, max(1, int(workers)))
+
+
+def map_in_order(
+    fn: Callable[[U], R],
+    jobs: Sequence[U],
+    *,
+    workers: int,
+    chunksize: int = 1,
+    progress: Callable[[int, int], None] | None = None,
+) -> list[R]:
+    """``[fn(job) for job in jobs]``, in this process or on a local process pool.
+
+    Parameters
+    ----------
+    fn : callable
+        A module-level function (it is pickled to the workers).
+    jobs : sequence
+        Its arguments, one call each.
+    workers : int
+        Local worker processes; 1 runs in this process.
+    chunksize : int
+        Jobs sent to a worker at a time (``ProcessPoolExecutor.map``).
+    progress : callable, optional
+        ``progress(done, total)`` after each result, in the jobs' order.
+    """
+    if workers == 1:
+        return _collect(map(fn, jobs), len(jobs), progress)
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        return _collect(pool.map(fn, jobs, chunksize=chunksize), len(jobs), progress)
+
+
+def _collect(
+    results: Iterable[R], total: int, progress: Callable[[int, int], None] | None
+) -> list[R]:
+    out: list[R] = []
+    for res in results:
+        out.append(res)
+        if progress is not None:
+            progress(len(out), total)
+    return out

@@ -418,6 +418,46 @@ def contact_bounds(
     return low, high
 
 
+def fit_on_array(
+    xy: NDArray[np.float64],
+    margin: NDArray[np.float64],
+    half_mm: NDArray[np.float64],
+    shift_fraction: NDArray[np.float64],
+    *,
+    yaw: float = 0.0,
+    tries: int = 8,
+) -> tuple[float, NDArray[np.float64]] | None:
+    """The first yaw (``yaw + k pi / tries``) that fits the contact on the array, and the shift.
+
+    Parameters
+    ----------
+    xy : (N, 2) float, mm
+        Contact points (:func:`contact_xy`).
+    margin : (N,) float, mm
+        The room each point needs around it.
+    half_mm : (2,) float, mm
+        Half the array's width and height.
+    shift_fraction : (2,) float
+        Where in the slack the contact goes, 0 (low edge) to 1 (high edge).
+    yaw, tries
+        The first yaw tried, rad, and how many are tried.
+
+    Returns
+    -------
+    (turn, shift) or None
+        The yaw, rad, and the xy shift, mm, to add after turning; None if no
+        yaw tried fits.
+    """
+    for k in range(tries):
+        turn = yaw + k * math.pi / tries
+        low, high = contact_bounds(xy, margin, turn)
+        slack = 2.0 * half_mm - (high - low)
+        if np.all(slack >= 0.0):
+            shift: NDArray[np.float64] = -half_mm - low + shift_fraction * slack
+            return turn, shift
+    return None
+
+
 def yawed(
     rots: NDArray[np.float64], cents: NDArray[np.float64], yaw: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

@@ -49,8 +49,8 @@ from taxelkit.motion._script import (
     balance_angle,
     begin_contact,
     bottom_polygon,
-    contact_bounds,
     end_contact,
+    fit_on_array,
     landing_angle,
     unit_h,
     yawed,
@@ -178,8 +178,14 @@ def _down_face(solid: MeshSolid, feats: MeshFeatures, pose: Pose) -> int:
     return int(np.argmin(normals[:, 2]))
 
 
-def _tip(b: Builder, feats: MeshFeatures, d: Draws, edge: int, over: bool) -> None:
-    """Tip onto bottom edge ``edge``, hold, then back onto the face or over onto the next."""
+def _edge_pivot(
+    b: Builder, edge: int
+) -> tuple[MeshSolid, NDArray[np.float64], NDArray[np.float64]]:
+    """The mesh, the middle of bottom edge ``edge``, mm, and the outward horizontal unit normal.
+
+    Tipping about that edge turns the body about the horizontal line through
+    the middle, perpendicular to the normal.
+    """
     solid = b.solid
     assert isinstance(solid, MeshSolid)
     poly = bottom_polygon(solid, b.pose)  # type: ignore[arg-type]
@@ -187,7 +193,12 @@ def _tip(b: Builder, feats: MeshFeatures, d: Draws, edge: int, over: bool) -> No
     pivot = 0.5 * (v1 + v2)
     e = unit_h(v2 - v1)
     w = pivot - b.pose.centroid_mm
-    u = unit_h(w - (w @ e) * e)
+    return solid, pivot, unit_h(w - (w @ e) * e)
+
+
+def _tip(b: Builder, feats: MeshFeatures, d: Draws, edge: int, over: bool) -> None:
+    """Tip onto bottom edge ``edge``, hold, then back onto the face or over onto the next."""
+    solid, pivot, u = _edge_pivot(b, edge)
     balance = balance_angle(b.pose, pivot, u)
     landing = landing_angle(b.pose.world_mm(solid.vertices_mm), pivot, u)
     k = np.cross(E_Z, u)
@@ -200,14 +211,7 @@ def _tip(b: Builder, feats: MeshFeatures, d: Draws, edge: int, over: bool) -> No
 
 def _landing_face(b: Builder, feats: MeshFeatures, edge: int) -> int:
     """The face the body lands on when tipped over bottom edge ``edge``."""
-    solid = b.solid
-    assert isinstance(solid, MeshSolid)
-    poly = bottom_polygon(solid, b.pose)  # type: ignore[arg-type]
-    v1, v2 = poly[edge % len(poly)], poly[(edge + 1) % len(poly)]
-    pivot = 0.5 * (v1 + v2)
-    e = unit_h(v2 - v1)
-    w = pivot - b.pose.centroid_mm
-    u = unit_h(w - (w @ e) * e)
+    solid, pivot, u = _edge_pivot(b, edge)
     landing = landing_angle(b.pose.world_mm(solid.vertices_mm), pivot, u)
     rots, cents = rotate_about_line(b.pose, pivot, np.cross(E_Z, u), landing)
     return _down_face(solid, feats, Pose(rots[0], cents[0]))
@@ -329,15 +333,12 @@ def _fit(
     xy = world[..., :2][pressed]
     margin = np.full(xy.shape[0], EDGE_MARGIN_MM)
     half = 0.5 * np.array([sensor.array.width_mm, sensor.array.height_mm])
-    for k in range(_YAW_TRIES):
-        turn = yaw + k * math.pi / _YAW_TRIES
-        low, high = contact_bounds(xy, margin, turn)
-        slack = 2.0 * half - (high - low)
-        if np.all(slack >= 0.0):
-            r, c = yawed(rots, cents, turn)
-            c[:, :2] += -half - low + shift_fraction * slack
-            return r, c, indent
-    return None
+    fit = fit_on_array(xy, margin, half, shift_fraction, yaw=yaw, tries=_YAW_TRIES)
+    if fit is None:
+        return None
+    r, c = yawed(rots, cents, fit[0])
+    c[:, :2] += fit[1]
+    return r, c, indent
 
 
 def make_mesh_scenario(

@@ -83,6 +83,7 @@ from taxelkit.motion._script import (
     contact_bounds,
     contact_xy,
     end_contact,
+    fit_on_array,
     landing_angle,
     lay_silently,
     rest_pose,
@@ -345,6 +346,23 @@ def _random_solid(name: str, gen: np.random.Generator, jitter: float) -> Analyti
     return make_solid(name, **sizes)
 
 
+def _draw_body(
+    name: str, gen: np.random.Generator, size_jitter: float, depth_mm: float, depth_jitter: float
+) -> tuple[str, AnalyticSolid, float, bool]:
+    """The object (drawn for the sliding script), its sizes, its press depth, mm, and the flip.
+
+    ``flip``: a slid truncated cone stands on its top face (drawn only then).
+    """
+    slides = name == "sliding"
+    object_name = SLIDING_OBJECTS[int(gen.integers(len(SLIDING_OBJECTS)))] if slides else name
+    solid = _random_solid(object_name, gen, size_jitter)
+    depth = depth_mm * gen.uniform(1.0 - depth_jitter, 1.0 + depth_jitter)
+    if isinstance(solid, Sphere):  # a rolling ball is pressed lightly: a point contact
+        depth = min(depth, SPHERE_MAX_CONTACT_RADIUS_MM**2 / (2.0 * solid.radius_mm))
+    flip = slides and isinstance(solid, TruncatedCone) and bool(gen.integers(2))
+    return object_name, solid, depth, flip
+
+
 def _scenario_from(
     name: str,
     b: Builder,
@@ -396,14 +414,10 @@ def _assemble(
         script(b, Draws(draws), _limits(attempt))
         rots0, cents0, indent = b.arrays()
         xy, margin = contact_xy(solid, rots0, cents0, indent)
-        for k in range(_YAW_TRIES):
-            turn = yaw + k * math.pi / _YAW_TRIES
-            low, high = contact_bounds(xy, margin, turn)
-            slack = 2.0 * half - (high - low)
-            if np.all(slack >= 0.0):
-                rots, cents = yawed(rots0, cents0, turn)
-                shift = -half - low + shift_fraction * slack
-                return _scenario_from(name, b, rots, cents, indent, shift, rate_hz, slides=slides)
+        fit = fit_on_array(xy, margin, half, shift_fraction, yaw=yaw, tries=_YAW_TRIES)
+        if fit is not None:
+            rots, cents = yawed(rots0, cents0, fit[0])
+            return _scenario_from(name, b, rots, cents, indent, fit[1], rate_hz, slides=slides)
     raise InputError(
         f"cannot fit a {solid!r} script on the {sensor.name} array; reduce size_jitter"
     )
@@ -468,12 +482,7 @@ def make_scenario(
     rate = check_positive("rate_hz", rate_hz)
     gen = np.random.default_rng(rng)
     slides = name == "sliding"
-    object_name = SLIDING_OBJECTS[int(gen.integers(len(SLIDING_OBJECTS)))] if slides else name
-    solid = _random_solid(object_name, gen, jitter)
-    depth = depth0 * gen.uniform(1.0 - djit, 1.0 + djit)
-    if isinstance(solid, Sphere):  # a rolling ball is pressed lightly: a point contact
-        depth = min(depth, SPHERE_MAX_CONTACT_RADIUS_MM**2 / (2.0 * solid.radius_mm))
-    flip = slides and isinstance(solid, TruncatedCone) and bool(gen.integers(2))
+    object_name, solid, depth, flip = _draw_body(name, gen, jitter, depth0, djit)
     rotation0 = matrix_from_axis_angle([1.0, 0.0, 0.0], math.pi if flip else 0.0)
     return _assemble(
         name,

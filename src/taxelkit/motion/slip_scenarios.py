@@ -56,11 +56,10 @@ from taxelkit.motion._script import (
 from taxelkit.motion.rolling import DEFAULT_DEPTH_MM, DEFAULT_RATE_HZ, E_Z, Scenario, translate
 from taxelkit.motion.scenarios import (
     _N_DRAWS,
-    SPHERE_MAX_CONTACT_RADIUS_MM,
     _assemble,
+    _draw_body,
     _Limits,
     _polyhedron_tips,
-    _random_solid,
 )
 from taxelkit.sensors.noise import RngLike
 from taxelkit.sensors.presets import BONNEVILLE_16X16, Sensor
@@ -205,10 +204,8 @@ def make_partial_slip_scenario(
         raise InputError(f"unknown solid {name!r}; known: {', '.join(SOLID_NAMES)}")
     rate = check_positive("rate_hz", rate_hz)
     gen = np.random.default_rng(rng)
-    solid = _random_solid(name, gen, float(size_jitter))
-    depth = check_positive("depth_mm", depth_mm) * gen.uniform(1 - depth_jitter, 1 + depth_jitter)
-    if isinstance(solid, Sphere):  # a rolling ball is pressed lightly: a point contact
-        depth = min(depth, SPHERE_MAX_CONTACT_RADIUS_MM**2 / (2.0 * solid.radius_mm))
+    depth0 = check_positive("depth_mm", depth_mm)
+    _, solid, depth, _ = _draw_body(name, gen, float(size_jitter), depth0, depth_jitter)
     return _assemble(
         f"{name}-slip",
         solid,

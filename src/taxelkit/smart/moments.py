@@ -427,6 +427,27 @@ class ImageStats:
         )
 
 
+def _index_basis(rows: int, cols: int) -> NDArray[np.float64]:
+    """``(rows * cols, 6)``: ``1, u, v, u^2, v^2, u v`` at every taxel, row-major.
+
+    ``u`` (columns) and ``v`` (rows) are centred index coordinates
+    (:func:`_centred_index`); one frame's row-major ravel times this basis
+    gives the six sums of :func:`_index_sums`.
+    """
+    uu, vv = np.meshgrid(_centred_index(cols), _centred_index(rows))
+    return np.stack(
+        [
+            np.ones(uu.size),
+            uu.ravel(),
+            vv.ravel(),
+            uu.ravel() ** 2,
+            vv.ravel() ** 2,
+            (uu * vv).ravel(),
+        ],
+        axis=1,
+    )
+
+
 def _index_sums(images: NDArray[np.bool_]) -> NDArray[np.float64]:
     """``(6, T)``: ``n, sum u, sum v, sum u^2, sum v^2, sum u v`` over the taxels in contact.
 
@@ -443,19 +464,7 @@ def _index_sums(images: NDArray[np.bool_]) -> NDArray[np.float64]:
     v = _centred_index(rows)
     if rows * cols * max(rows, cols) ** 2 >= 2**22 and cols < _SEPARABLE_MAX_COLS:
         return _index_sums_by_rows(images, u, v)
-    uu, vv = np.meshgrid(u, v)
-    # one (rows * cols, 6) basis: 1, u, v, u^2, v^2, u v at every taxel
-    basis = np.stack(
-        [
-            np.ones(uu.size),
-            uu.ravel(),
-            vv.ravel(),
-            uu.ravel() ** 2,
-            vv.ravel() ** 2,
-            (uu * vv).ravel(),
-        ],
-        axis=1,
-    )
+    basis = _index_basis(rows, cols)
     exact32 = rows * cols * max(rows, cols) ** 2 < 2**22  # every partial sum exact in float32
     dtype: type[np.floating[Any]] = np.float32 if exact32 else np.float64
     basis_t: NDArray[np.floating[Any]] = basis.astype(dtype)

@@ -47,7 +47,7 @@ from taxelkit.smart.levels12 import (
     ChunkLevels12,
 )
 from taxelkit.smart.levels34 import Recognition
-from taxelkit.smart.moments import CELL_SECOND_MOMENT
+from taxelkit.smart.moments import CELL_SECOND_MOMENT, _index_basis
 from taxelkit.smart.stream_state import ArrayStream, ClassHistory
 from taxelkit.smart.tactemes import TactemeConfig
 
@@ -68,20 +68,7 @@ class _FrameLevels12:
         rows, cols = sensor.shape
         self.pitch_mm, self.threshold = sensor.pitch_mm, sensor.threshold
         self.confidence, self.limits = sensor.confidence, sensor.limits
-        u = np.arange(cols) - (cols - 1) / 2.0
-        v = np.arange(rows) - (rows - 1) / 2.0
-        uu, vv = np.meshgrid(u, v)
-        basis = np.stack(
-            [
-                np.ones(rows * cols),
-                uu.ravel(),
-                vv.ravel(),
-                uu.ravel() ** 2,
-                vv.ravel() ** 2,
-                (uu * vv).ravel(),
-            ],
-            axis=1,
-        )
+        basis = _index_basis(rows, cols)
         net = sensor.network
         # the network as plain floats: per hidden unit (w_area, w_elong, bias),
         # per output its weight column and bias (one frame is too small for NumPy)

@@ -12,6 +12,7 @@ from taxelkit.motion.engines.kinematic import kinematic_scenario
 from taxelkit.motion.engines.registry import (
     ENGINE_NAMES,
     MUJOCO_INSTALL_HINT,
+    engines_to_run,
     scenario_from_engine,
     scenarios_from_engine,
 )
@@ -19,6 +20,7 @@ from taxelkit.motion.engines.registry import (
 __all__ = [
     "ENGINE_NAMES",
     "MUJOCO_INSTALL_HINT",
+    "engines_to_run",
     "kinematic_scenario",
     "scenario_from_engine",
     "scenarios_from_engine",

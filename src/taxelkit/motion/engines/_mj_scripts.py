@@ -21,10 +21,10 @@ from taxelkit.motion.engines import _mj_hand as mh
 from taxelkit.motion.engines import _mj_tip as mt
 from taxelkit.motion.engines._mjcf import DENSITY_KG_M3, ROLLING_FRICTION, SLIDING_FRICTION
 from taxelkit.motion.rolling import E_Z
-from taxelkit.motion.scenarios import SLIDING_OBJECTS, SPHERE_MAX_CONTACT_RADIUS_MM, _random_solid
+from taxelkit.motion.scenarios import _draw_body
 from taxelkit.world.pose import matrix_from_axis_angle
 from taxelkit.world.solids import AnalyticSolid
-from taxelkit.world.solids_round import Cone, Cylinder, Sphere, TruncatedCone
+from taxelkit.world.solids_round import Cone, Cylinder, TruncatedCone
 
 #: Each scene draws its random choices from this many uniform numbers.
 N_DRAWS = 256
@@ -181,12 +181,7 @@ def draw_plan(
     name: str, gen: np.random.Generator, size_jitter: float, depth_mm: float, depth_jitter: float
 ) -> Plan:
     slides = name == "sliding"
-    object_name = SLIDING_OBJECTS[int(gen.integers(len(SLIDING_OBJECTS)))] if slides else name
-    solid = _random_solid(object_name, gen, size_jitter)
-    depth = depth_mm * gen.uniform(1.0 - depth_jitter, 1.0 + depth_jitter)
-    if isinstance(solid, Sphere):  # a rolling ball is pressed lightly: a point contact
-        depth = min(depth, SPHERE_MAX_CONTACT_RADIUS_MM**2 / (2.0 * solid.radius_mm))
-    flip = slides and isinstance(solid, TruncatedCone) and bool(gen.integers(2))
+    object_name, solid, depth, flip = _draw_body(name, gen, size_jitter, depth_mm, depth_jitter)
     return Plan(
         object_name=object_name,
         solid=solid,

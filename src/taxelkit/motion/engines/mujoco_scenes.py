@@ -276,13 +276,7 @@ def _fit(
     rots = matrices_from_quats(rec.quats[idx])
     xy, margin = contact_footprint_mm(plan.solid, rots, rec.centroids_mm[idx, :2], plan.depth_mm)
     half = 0.5 * np.array([sensor.array.width_mm, sensor.array.height_mm])
-    for k in range(_YAW_TRIES):
-        turn = k * math.pi / _YAW_TRIES
-        low, high = sc.contact_bounds(xy, margin, turn)
-        slack = 2.0 * half - (high - low)
-        if np.all(slack >= 0.0):
-            return turn, -half - low + plan.shift_fraction * slack
-    return None
+    return sc.fit_on_array(xy, margin, half, plan.shift_fraction, tries=_YAW_TRIES)
 
 
 def mujoco_scene(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 from collections.abc import Sequence
 from typing import Any
 
@@ -15,6 +16,7 @@ from taxelkit.sensors.presets import BONNEVILLE_16X16, Sensor
 __all__ = [
     "ENGINE_NAMES",
     "MUJOCO_INSTALL_HINT",
+    "engines_to_run",
     "scenario_from_engine",
     "scenarios_from_engine",
 ]
@@ -24,6 +26,40 @@ ENGINE_NAMES: tuple[str, ...] = ("kinematic", "mujoco")
 
 #: How to install the optional physics engine (quoted in error messages).
 MUJOCO_INSTALL_HINT = 'pip install "taxelkit[mujoco]"'
+
+
+def engines_to_run(engines: Sequence[str] | None) -> tuple[list[str], dict[str, str]]:
+    """The engines asked for that can run here, and those skipped with the reason.
+
+    Parameters
+    ----------
+    engines : sequence of str, optional
+        Names from :data:`ENGINE_NAMES` (default: all of them).
+
+    Returns
+    -------
+    chosen : list of str
+        In the order asked.
+    skipped : dict of str to str
+        MuJoCo, when it is not installed: ``'not installed (pip install ...)'``.
+
+    Raises
+    ------
+    InputError
+        For an unknown engine, or when none of them can run.
+    """
+    wanted = list(ENGINE_NAMES) if engines is None else [str(e) for e in engines]
+    chosen, skipped = [], {}
+    for e in wanted:
+        if e not in ENGINE_NAMES:
+            raise InputError(f"unknown engine {e!r}; known: {', '.join(ENGINE_NAMES)}")
+        if e == "mujoco" and importlib.util.find_spec("mujoco") is None:
+            skipped[e] = f"not installed ({MUJOCO_INSTALL_HINT})"
+            continue
+        chosen.append(e)
+    if not chosen:
+        raise InputError("no engine available")
+    return chosen, skipped
 
 
 def scenario_from_engine(
