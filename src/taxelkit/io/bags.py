@@ -17,6 +17,7 @@ import contextlib
 import os
 import secrets
 import shutil
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, Literal
 
@@ -125,18 +126,24 @@ def raw_from_rosbag2(path: Path, *, topic: str | None = None) -> RawRecording:
         from rosbags.rosbag2 import Reader
     except ImportError:
         raise _import_error() from None
+    with _unreadable_as_corrupt(path, "rosbag2 bag"), Reader(path) as reader:
+        topics = {c.topic: c.msgtype for c in reader.connections}
+        chosen = select_topic(path, topics, topic)
+        wanted = [c for c in reader.connections if c.topic in (chosen, chosen + "/info")]
+        stream = ((c.topic, t, bytes(data)) for c, t, data in reader.messages(wanted))
+        return raw_from_messages(path, topics, stream, chosen)
+
+
+@contextlib.contextmanager
+def _unreadable_as_corrupt(path: Path, what: str) -> Iterator[None]:
+    """Any error but taxelkit's own, raised inside, as :class:`CorruptRecordingError`."""
     try:
-        with Reader(path) as reader:
-            topics = {c.topic: c.msgtype for c in reader.connections}
-            chosen = select_topic(path, topics, topic)
-            wanted = [c for c in reader.connections if c.topic in (chosen, chosen + "/info")]
-            stream = ((c.topic, t, bytes(data)) for c, t, data in reader.messages(wanted))
-            return raw_from_messages(path, topics, stream, chosen)
+        yield
     except TaxelkitError:
         raise
     except Exception as exc:
         raise fail(
-            CorruptRecordingError, path, f"unreadable rosbag2 bag ({describe_exception(exc)})"
+            CorruptRecordingError, path, f"unreadable {what} ({describe_exception(exc)})"
         ) from exc
 
 
@@ -274,29 +281,22 @@ def raw_from_mcap(path: Path, *, topic: str | None = None) -> RawRecording:
         from mcap.reader import make_reader
     except ImportError:
         raise _import_error() from None
-    try:
-        with path.open("rb") as fh:
-            reader = make_reader(fh)
-            summary = reader.get_summary()
-            if summary is None:
-                raise fail(CorruptRecordingError, path, "MCAP file without a summary section")
-            # A compressed chunk is inflated whole: check its declared size first.
-            budget = ReadBudget(path)
-            for index in summary.chunk_indexes:
-                budget.check_block("an MCAP chunk", int(index.uncompressed_size))
-            topics = _mcap_topics(path, summary)
-            chosen = select_topic(path, topics, topic)
-            stream = (
-                (channel.topic, int(msg.log_time), bytes(msg.data))
-                for _, channel, msg in reader.iter_messages(topics=[chosen, chosen + "/info"])
-            )
-            return raw_from_messages(path, topics, stream, chosen)
-    except TaxelkitError:
-        raise
-    except Exception as exc:
-        raise fail(
-            CorruptRecordingError, path, f"unreadable MCAP file ({describe_exception(exc)})"
-        ) from exc
+    with _unreadable_as_corrupt(path, "MCAP file"), path.open("rb") as fh:
+        reader = make_reader(fh)
+        summary = reader.get_summary()
+        if summary is None:
+            raise fail(CorruptRecordingError, path, "MCAP file without a summary section")
+        # A compressed chunk is inflated whole: check its declared size first.
+        budget = ReadBudget(path)
+        for index in summary.chunk_indexes:
+            budget.check_block("an MCAP chunk", int(index.uncompressed_size))
+        topics = _mcap_topics(path, summary)
+        chosen = select_topic(path, topics, topic)
+        stream = (
+            (channel.topic, int(msg.log_time), bytes(msg.data))
+            for _, channel, msg in reader.iter_messages(topics=[chosen, chosen + "/info"])
+        )
+        return raw_from_messages(path, topics, stream, chosen)
 
 
 def _mcap_topics(path: Path, summary: Any) -> dict[str, str]:

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from typing import Any
 
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
+
+from taxelkit.plotting._axes import axes_pair
 
 __all__ = ["plot_multi_object"]
 
@@ -36,11 +37,7 @@ def plot_multi_object(result: Any, ax: Any = None) -> Figure:
     Figure
     """
     doc = result.to_json()
-    if ax is None:
-        fig, axes = plt.subplots(1, 2, figsize=(11.0, 3.6))
-    else:
-        axes = ax
-        fig = axes[0].figure
+    fig, axes = axes_pair(ax, (11.0, 3.6))
     left, right = axes
     summaries = doc["summaries"]
     labels = [f"{s['engine']}\n{s['n_objects']} objects" for s in summaries]

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from typing import Any
 
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
+
+from taxelkit.plotting._axes import axes_pair
 
 __all__ = ["plot_new_objects"]
 
@@ -50,11 +51,7 @@ def plot_new_objects(result: Any, ax: Any = None) -> Figure:
     objects = list(doc["objects"])
     rows = objects + sorted(doc["outside"])
     cols = [*objects, "unknown", "undecided"]
-    if ax is None:
-        fig, axes = plt.subplots(1, 2, figsize=(13.0, 5.6))
-    else:
-        axes = ax
-        fig = axes[0].figure
+    fig, axes = axes_pair(ax, (13.0, 5.6))
     ten = {**doc["confusion"], **doc["outside"]}
     six = {**doc["baseline"], **doc["outside_baseline"]}
     s = doc["summary"]

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from typing import Any
 
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
+
+from taxelkit.plotting._axes import axes_pair
 
 __all__ = ["plot_slip"]
 
@@ -26,11 +27,7 @@ def plot_slip(result: Any, ax: Any = None) -> Figure:
     Figure
     """
     doc = result.to_json()
-    if ax is None:
-        fig, axes = plt.subplots(1, 2, figsize=(11.0, 3.6))
-    else:
-        axes = ax
-        fig = axes[0].figure
+    fig, axes = axes_pair(ax, (11.0, 3.6))
     left, right = axes
     grid = np.linspace(0.0, 1.0, 101)
     detectable = set(doc["detectable_kinds"])
