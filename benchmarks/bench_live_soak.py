@@ -59,7 +59,8 @@ def main() -> None:
         record(
             __file__,
             figure=f"{run.sent:,} frames offered at {args.rate:,.0f}/s with {pct:g} % damaged "
-            f"packets: {run.processed:,} of {valid:,} valid frames processed ({lost}), RSS "
+            f"packets: {run.processed:,} of {valid:,} valid frames processed ({lost}; target "
+            f"all {'met' if run.processed == valid else 'missed'}), RSS "
             f"{growth:+.1f} MB after 2 s of traffic (target < 10 MB "
             f"{'met' if growth < 10.0 else 'missed'})",
             ratio="the targets themselves (every valid frame, < 10 MB growth); the live path "

@@ -23,6 +23,8 @@ same run:
   (:func:`taxelkit.smart.objects.recognise_objects`) against the
   single-object :func:`taxelkit.smart.recogniser.recognise` on the same frames.
 
+Times are CPU seconds of this process (``time.process_time``, best of
+``--repeat``), so that other work on a shared machine does not count.
 scikit-image is in the ``test`` extra; it is imported here only.
 
 Usage: ``python benchmarks/bench_segment_track.py [--scenes N] [--repeat N] [--record]``
@@ -61,12 +63,12 @@ TILE_SHIFTS = ((-5, -5), (0, 0), (5, 5))
 
 
 def best_of(repeat: int, fn: Callable[[], object]) -> float:
-    """Fastest of ``repeat`` timed calls, s."""
+    """Fastest of ``repeat`` timed calls, CPU seconds of this process."""
     times = []
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0 = time.process_time()
         fn()
-        times.append(time.perf_counter() - t0)
+        times.append(time.process_time() - t0)
     return min(times)
 
 
@@ -205,8 +207,11 @@ def record_row(small: dict[str, float], wide: dict[str, float]) -> None:
     def pair(key: str, fmt: str = ",.0f") -> str:
         return f"{small[key]:{fmt}} / {wide[key]:{fmt}}"
 
+    def times(v: float) -> str:
+        return f"{v:.0f}x" if v >= 10.0 else f"{v:.1f}x" if v >= 1.0 else f"{v:.2f}x"
+
     def ratio(key: str) -> str:
-        return f"{small[key] / small['skimage']:.2g}x / {wide[key] / wide['skimage']:.2g}x"
+        return f"{times(small[key] / small['skimage'])} / {times(wide[key] / wide['skimage'])}"
 
     cost = ""
     if small["tracking_batch"] < small["skimage"] < small["segmentation"]:
@@ -217,7 +222,7 @@ def record_row(small: dict[str, float], wide: dict[str, float]) -> None:
         __file__,
         figure="3 objects (kinematic scenes) on 16 x 16 (tiles overlaid: "
         f"{small['regions_per_frame']:.1f} regions a frame; they touch) and on 16 x 48 (side "
-        f"by side: {wide['regions_per_frame']:.1f} a frame): segmentation alone "
+        f"by side: {wide['regions_per_frame']:.1f} a frame), CPU time: segmentation alone "
         f"{pair('segmentation')} frames/s batch; segmentation + tracking "
         f"{pair('tracking_batch')} frames/s batch, {pair('tracking_stream')} streaming; the "
         f"whole per-track recogniser {pair('recognise_objects')} frames/s ({slower} the time "
