@@ -9,7 +9,12 @@ import pytest
 
 from taxelkit.cli import run
 from taxelkit.errors import InputError
-from taxelkit.motion.engines import ENGINE_NAMES, MUJOCO_INSTALL_HINT, scenario_from_engine
+from taxelkit.motion.engines import (
+    ENGINE_NAMES,
+    MUJOCO_INSTALL_HINT,
+    engines_to_run,
+    scenario_from_engine,
+)
 from taxelkit.motion.engines._sampling import (
     matrices_from_quats,
     motion_measures,
@@ -22,6 +27,24 @@ from taxelkit.world.pose import matrix_from_axis_angle
 
 def test_engine_names() -> None:
     assert ENGINE_NAMES == ("kinematic", "mujoco")
+
+
+def test_engines_to_run_skips_a_missing_mujoco(monkeypatch: pytest.MonkeyPatch) -> None:
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(
+        importlib.util, "find_spec", lambda name, *a: None if name == "mujoco" else real(name, *a)
+    )
+    assert engines_to_run(None) == (
+        ["kinematic"],
+        {"mujoco": f"not installed ({MUJOCO_INSTALL_HINT})"},
+    )
+    with pytest.raises(InputError, match="no engine available"):
+        engines_to_run(["mujoco"])
+    with pytest.raises(InputError, match="unknown engine 'bullet'; known: kinematic, mujoco"):
+        engines_to_run(["kinematic", "bullet"])
+    assert engines_to_run(["kinematic"]) == (["kinematic"], {})
 
 
 def test_kinematic_engine_is_make_scenario() -> None:

@@ -370,3 +370,19 @@ def test_fig3_motion_is_rolling_without_slip() -> None:
     assert np.all(slip[ok] <= bound[ok])
     axis = sc.rotations[17:, :, 2]
     assert np.allclose(axis, axis[0]) and abs(float(axis[0] @ E_Z)) < 1e-12
+
+
+def test_fit_on_array_turns_until_the_contact_fits() -> None:
+    from taxelkit.motion._script import fit_on_array
+
+    half = np.array([10.0, 2.0])  # a 20 x 4 mm array
+    xy = np.array([[0.0, -8.0], [0.0, 8.0]])  # a 16 mm line along y: fits only turned by pi / 2
+    margin = np.zeros(2)
+    fit = fit_on_array(xy, margin, half, np.array([0.5, 0.5]), tries=8)
+    assert fit is not None
+    turn, shift = fit
+    assert turn == pytest.approx(math.pi / 2)
+    c, s = math.cos(turn), math.sin(turn)
+    placed = xy @ np.array([[c, s], [-s, c]]) + shift
+    assert np.all(np.abs(placed) <= half + 1e-9)
+    assert fit_on_array(xy * 2.0, margin, half, np.array([0.5, 0.5]), tries=8) is None
