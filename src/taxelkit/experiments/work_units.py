@@ -90,10 +90,8 @@ def map_in_order(
 
     Parameters
     ----------
-    fn : callable
-        A module-level function (it is pickled to the workers).
-    jobs : sequence
-        Its arguments, one call each.
+    fn, jobs
+        As ``fn`` and ``units`` of :func:`run_units`.
     workers : int
         Local worker processes; 1 runs in this process.
     chunksize : int
