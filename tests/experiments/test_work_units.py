@@ -1,10 +1,10 @@
-"""The shared runners of experiments/_parallel.py: results in the jobs' order, progress counted."""
+"""The shared runners of experiments/work_units.py: results in the jobs' order, progress counted."""
 
 from __future__ import annotations
 
 import pytest
 
-from taxelkit.experiments._parallel import map_in_order, run_units
+from taxelkit.experiments.work_units import map_in_order, run_units
 
 
 def _square(x: int) -> int:
