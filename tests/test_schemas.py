@@ -261,6 +261,27 @@ def test_committed_results_and_timings_match_their_schemas() -> None:
             assert doc["experiment"] == path.stem
 
 
+def test_object_table_matches_its_schema(tmp_path: Path) -> None:
+    from taxelkit.smart.object_table import ObjectRow, ObjectTable, dumps, read_object_table
+    from taxelkit.smart.tacteme_table import Tacteme
+
+    row = ObjectRow(
+        "hex-prism",
+        frozenset({Tacteme.LC, Tacteme.AC}),
+        ((Tacteme.LC, "its edges"),),
+        "hex_prism.stl",
+        {"trials": 2},
+    )
+    path = tmp_path / "objects.json"
+    path.write_text(dumps(ObjectTable((row,))), encoding="utf-8")
+    doc = json.loads(path.read_text(encoding="utf-8"))
+    assert_valid("object-table", doc)
+    assert read_object_table(path).objects == ("hex-prism",)
+    assert errors("object-table", {**doc, "version": 2})  # newer versions are refused
+    bad = {**doc, "objects": [{**doc["objects"][0], "name": "cube"}]}
+    assert errors("object-table", bad)  # one of the six
+
+
 def test_benchmark_records_match_their_schema() -> None:
     records = sorted((RESULTS / "bench").glob("*.json"))
     assert records
