@@ -33,6 +33,14 @@ def _window_means(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
     return out
 
 
+def _window_range(a: NDArray[np.float64], w: int) -> tuple[NDArray[np.float64], ...]:
+    """Least and greatest of each ``w`` consecutive values ``(n - w + 1,)`` each."""
+    if a.shape[0] < w:
+        return np.zeros(0), np.zeros(0)
+    view = np.lib.stride_tricks.sliding_window_view(a, w)
+    return view.min(axis=1), view.max(axis=1)
+
+
 class SlipScanner:
     """Slip phases of one contact segment, fed a chunk of frames at a time.
 
@@ -56,9 +64,9 @@ class SlipScanner:
     >>> import numpy as np
     >>> scan = SlipScanner(int(ContactClass.AREA), SlipConfig(), k=2)
     >>> rows = np.zeros((40, 9)); rows[:, 3] = 50.0; rows[:, 4] = 1.0
-    >>> rows[:, 8] = np.arange(40) / 20; rows[20:, 0] = np.arange(20) * 0.25  # 5 mm/s from 0.95 s
+    >>> rows[:, 8] = np.arange(40) / 20; rows[20:, 0] = np.arange(20) * 0.25  # 5 mm/s from 1 s
     >>> [(s.first_frame, s.detected_frame) for s in scan.extend(np.arange(40), rows)]
-    [(20, 21)]
+    [(21, 23)]
     """
 
     def __init__(self, cls: int, config: SlipConfig, *, k: int = 2) -> None:
@@ -209,6 +217,7 @@ class SlipScanner:
         cur_m = _window_means(x, c)  # cur_m[p - c + 1]: frames p - c + 1 .. p
         ref_m = _window_means(x, r)  # full reference windows
         end_m = _window_means(x, e)
+        area_lo, area_hi = _window_range(x[:, _AREA_COL], c)  # each frame of the current window
         out: list[Slip] = []
         cfg = self.config
         for p in range(first, x.shape[0]):
@@ -222,8 +231,12 @@ class SlipScanner:
                 if math.isnan(motion):
                     self._anchor, self._above = i - c + 1, []
                     continue
+                # every frame of the current window keeps the reference's area (a face that
+                # starts to tip loses a third of it in a frame, which the mean hides)
+                a_ref = float(ref[_AREA_COL]) * np.array([1.0 - cfg.area_step, 1.0 + cfg.area_step])
+                kept = a_ref[0] <= area_lo[p - c + 1] and area_hi[p - c + 1] <= a_ref[1]
                 keep = self._above[max(0, len(self._above) + 1 - self.hold) :]
-                self._above = [*keep, motion > self._limit_mm]
+                self._above = [*keep, kept and motion > self._limit_mm]
                 if self._above[-1] and sum(self._above) >= self.hold_needed:
                     q = max(0, p - self.hold - c + 2)
                     onset, self._open_i = int(fr[q]), base + q
