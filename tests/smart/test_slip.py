@@ -176,7 +176,7 @@ def test_the_hold_spans_the_same_time_at_any_rate(rate_hz: float) -> None:
     (slip,) = scan.extend(np.arange(rows.shape[0]), rows)
     latency_s = slip.detected_frame / rate_hz - 1.0
     assert 0.1 <= latency_s <= 0.2 + 1.0 / 20.0
-    assert (scan.cur, scan.hold) == ((2, 2) if rate_hz == 20.0 else (5, 6))
+    assert (scan.cur, scan.hold) == ((2, 2) if rate_hz == 20.0 else (5, 8))
 
 
 class _ScriptedMotion(SlipScanner):

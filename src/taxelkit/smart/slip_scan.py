@@ -99,7 +99,7 @@ class SlipScanner:
         self.cur = frames(cfg.current_s, 2)
         self.ref = frames(cfg.reference_s, 2)
         self.end = frames(cfg.end_s, 2)
-        self.hold = frames(cfg.hold_s, 0) + 1  # frames spanning hold_s
+        self.hold = max(0, round(cfg.hold_s / dt)) + 1 if dt > 0 else 1  # frames spanning hold_s
         self.hold_needed = max(1, math.ceil(cfg.hold_fraction * self.hold - 1e-9))
         self._limit_mm = cfg.line_slip_mm if self.cls == _LINE else cfg.slip_mm
         self.keep = max(self.cur + self.ref, 2 * self.end)
