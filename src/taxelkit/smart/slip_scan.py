@@ -33,14 +33,6 @@ def _window_means(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
     return out
 
 
-def _window_range(a: NDArray[np.float64], w: int) -> tuple[NDArray[np.float64], ...]:
-    """Least and greatest of each ``w`` consecutive values ``(n - w + 1,)`` each."""
-    if a.shape[0] < w:
-        return np.zeros(0), np.zeros(0)
-    view = np.lib.stride_tricks.sliding_window_view(a, w)
-    return view.min(axis=1), view.max(axis=1)
-
-
 class SlipScanner:
     """Slip phases of one contact segment, fed a chunk of frames at a time.
 
@@ -217,7 +209,6 @@ class SlipScanner:
         cur_m = _window_means(x, c)  # cur_m[p - c + 1]: frames p - c + 1 .. p
         ref_m = _window_means(x, r)  # full reference windows
         end_m = _window_means(x, e)
-        area_lo, area_hi = _window_range(x[:, _AREA_COL], c)  # each frame of the current window
         out: list[Slip] = []
         cfg = self.config
         for p in range(first, x.shape[0]):
@@ -231,12 +222,8 @@ class SlipScanner:
                 if math.isnan(motion):
                     self._anchor, self._above = i - c + 1, []
                     continue
-                # every frame of the current window keeps the reference's area (a face that
-                # starts to tip loses a third of it in a frame, which the mean hides)
-                a_ref = float(ref[_AREA_COL]) * np.array([1.0 - cfg.area_step, 1.0 + cfg.area_step])
-                kept = a_ref[0] <= area_lo[p - c + 1] and area_hi[p - c + 1] <= a_ref[1]
                 keep = self._above[max(0, len(self._above) + 1 - self.hold) :]
-                self._above = [*keep, kept and motion > self._limit_mm]
+                self._above = [*keep, motion > self._limit_mm]
                 if self._above[-1] and sum(self._above) >= self.hold_needed:
                     q = max(0, p - self.hold - c + 2)
                     onset, self._open_i = int(fr[q]), base + q
