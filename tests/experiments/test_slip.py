@@ -41,5 +41,11 @@ def test_smoke_run_and_readme_block() -> None:
     for o in doc["overall"].values():
         assert o["sliding_identified"] == 0
         assert o["detectable"]["phases"] >= 5  # five partial slips of faces and lines, and slides
+        bands = o["detectable_by_speed"]
+        assert sum(b["phases"] for b in bands) == o["detectable"]["phases"]
+        assert sum(b["in_time"] for b in bands) == o["detectable"]["in_time"]
+    speeds = [p["speed_mm_s"] for t in doc["trials"] if t["kind"] == "slide" for p in t["phases"]]
+    assert speeds and all(2.5 < v < 12.0 for v in speeds)  # the scripts slide at 3-6 mm/s
     block = render_block("slip", {"slip": doc})
     assert "| kinematic | 20 | partial | 6 |" in block and "Acceptance:" in block
+    assert "below 4 mm/s, 4-5 mm/s, from 5 mm/s" in block

@@ -156,3 +156,47 @@ def test_recognize_json_lists_each_tracks_slips(
     assert run(["recognize", str(path)]) == 0
     text = capsys.readouterr().out
     assert "slip-end" in text and "withheld" in text and "slip phase(s)" in text
+
+
+def _dragged_rows(rate_hz: float, speed_mm_s: float) -> np.ndarray:
+    """Rows of a face held 1 s, then dragged at ``speed_mm_s``, for 2 s."""
+    n = round(2.0 * rate_hz)
+    t = np.arange(n) / rate_hz
+    rows = np.zeros((n, 9))
+    rows[:, 0] = speed_mm_s * np.clip(t - 1.0, 0.0, None)
+    rows[:, 3], rows[:, 4], rows[:, 8] = 50.0, 1.0, t
+    return rows
+
+
+@pytest.mark.parametrize("rate_hz", [20.0, 100.0])
+def test_the_hold_spans_the_same_time_at_any_rate(rate_hz: float) -> None:
+    # a smooth drag at 5 mm/s: decided at the same time (within a frame at 20 frames/s)
+    rows = _dragged_rows(rate_hz, 5.0)
+    scan = SlipScanner(int(ContactClass.AREA), SlipConfig(), k=2)
+    (slip,) = scan.extend(np.arange(rows.shape[0]), rows)
+    latency_s = slip.detected_frame / rate_hz - 1.0
+    assert 0.1 <= latency_s <= 0.2 + 1.0 / 20.0
+    assert (scan.cur, scan.hold) == ((2, 2) if rate_hz == 20.0 else (5, 8))
+
+
+class _ScriptedMotion(SlipScanner):
+    """A scanner whose motion measure reads a scripted series (one value per decided frame)."""
+
+    def __init__(self, series: list[float], config: SlipConfig) -> None:
+        super().__init__(int(ContactClass.AREA), config, k=2)
+        self.series = iter(series)
+
+    def motion_mm(self, ref: np.ndarray, cur: np.ndarray) -> float:
+        return next(self.series)
+
+
+def test_one_noisy_dip_does_not_restart_the_hold() -> None:
+    rows = _dragged_rows(100.0, 0.0)
+    series = [0.0] * 50 + [1.0] * 3 + [0.2] + [1.0] * 200  # one dip below 0.35 mm
+    tolerant = _ScriptedMotion(series, SlipConfig())
+    strict = _ScriptedMotion(series, SlipConfig(hold_fraction=1.0))
+    (a,) = tolerant.extend(np.arange(200), rows)
+    (b,) = strict.extend(np.arange(200), rows)
+    assert b.detected_frame - a.detected_frame == 4  # the strict hold restarts after the dip
+    with pytest.raises(ValueError, match="hold_fraction"):
+        SlipConfig(hold_fraction=0.0)

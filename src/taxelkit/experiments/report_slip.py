@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 from typing import Any
 
 __all__ = ["slip_markdown"]
@@ -44,14 +45,22 @@ def slip_markdown(doc: dict[str, Any]) -> str:
             f"| {v['identified']} / {v['wrong']} / {v['not_identified']} ({s['slid']}) "
             f"| {w['identified']} / {w['wrong']} |"
         )
-    lines += ["", "| rate | faces and lines in time | rolls with a false alarm "
+    bands = next(iter(doc["overall"].values()))["detectable_by_speed"]
+    edges = [b["from_mm_s"] for b in bands] + [None]
+    band_names = [
+        f"from {lo:g} mm/s" if hi is None else f"{lo:g}-{hi:g} mm/s" if lo else f"below {hi:g} mm/s"
+        for lo, hi in itertools.pairwise(edges)
+    ]
+    lines += ["", "| rate | faces and lines in time | in time by the phase's speed: "
+              + ", ".join(band_names) + " | rolls with a false alarm "
               "| partial slip identified (without slip detection) | slides identified |",
-              "| --- | --- | --- | --- | --- |"]  # fmt: skip
+              "| --- | --- | --- | --- | --- | --- |"]  # fmt: skip
     for rate, o in doc["overall"].items():
         det, part, base = o["detectable"], o["partial"], o["partial_without_slip"]
         n_part = sum(part.values())
+        by_speed = ", ".join(_pct(b["in_time"], b["phases"]) for b in o["detectable_by_speed"])
         lines.append(
-            f"| {rate} frames/s | {_pct(det['in_time'], det['phases'])} "
+            f"| {rate} frames/s | {_pct(det['in_time'], det['phases'])} | {by_speed} "
             f"| {100 * o['roll_false_alarm_trial_rate']:.1f} % "
             f"| {_pct(part['identified'], n_part)} ({base['identified']}), "
             f"{part['wrong']} wrong | {o['sliding_identified']} |"

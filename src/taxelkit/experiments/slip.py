@@ -154,8 +154,11 @@ def _trial(unit: _Unit, sc: Scenario, rate_hz: float, rng: np.random.Generator) 
     res = recognise(rec, threshold=thr)
     without = recognise(rec, threshold=thr, config=TactemeConfig(slip=None))
     t = np.asarray(sc.t_s)
-    phases, false_alarms = score_trial(t, slip_phases(sc), [s.detected_frame for s in res.slips])
+    truth = slip_phases(sc)
+    phases, false_alarms = score_trial(t, truth, [s.detected_frame for s in res.slips])
     dt = float(np.median(np.diff(t)))
+    slid_mm = np.nan_to_num(sc.slip_mm(), nan=0.0)
+    speeds = tuple(float(slid_mm[a:b].sum() / (t[b] - t[a])) for a, b, _ in truth)
     return SlipTrial(
         engine=unit.engine,
         kind=unit.kind,
@@ -166,6 +169,7 @@ def _trial(unit: _Unit, sc: Scenario, rate_hz: float, rng: np.random.Generator) 
         reason=res.verdict.reason,
         identified_without=without.identified,
         phases=tuple(phases),
+        phase_speeds_mm_s=speeds,
         false_alarms=false_alarms,
         contact_s=float(np.count_nonzero(sc.in_contact)) * dt,
     )

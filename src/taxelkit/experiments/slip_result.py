@@ -15,6 +15,7 @@ __all__ = [
     "GT_SLIP_MM_S",
     "LATENCY_S",
     "RATES_HZ",
+    "SPEED_BANDS_MM_S",
     "TRIAL_KINDS",
     "SlipResult",
     "SlipTrial",
@@ -32,6 +33,10 @@ GT_MERGE_S = 0.1
 GT_MIN_S = 0.1
 #: Acceptance: a phase detected within this time of its start, s.
 LATENCY_S = 0.2
+#: Bands of a phase's mean speed for the rate in time, mm/s (lower edges; the
+#: scripted slides run at 3-6 mm/s, and a smooth motion reaches the detector's
+#: 0.35 mm within 0.2 s only above about 3.7 mm/s, :mod:`taxelkit.smart.slip`).
+SPEED_BANDS_MM_S: tuple[float, ...] = (0.0, 4.0, 5.0)
 #: A detection may precede a phase's start by this much (the onset is estimated), s.
 EARLY_S = 0.1
 #: ... or follow its end by this much (a slip too slow to decide at once), s.
@@ -56,6 +61,8 @@ class SlipTrial:
         The verdict without slip detection.
     phases : tuple of (kind, latency_s or None)
         Every ground-truth phase and its detection latency (None: missed).
+    phase_speeds_mm_s : tuple of float
+        Each phase's mean speed of the contact points along the plane, mm/s.
     false_alarms : int
         Detected slips matching no phase.
     contact_s : float
@@ -71,6 +78,7 @@ class SlipTrial:
     reason: str | None
     identified_without: str | None
     phases: tuple[tuple[str, float | None], ...]
+    phase_speeds_mm_s: tuple[float, ...]
     false_alarms: int
     contact_s: float
 
@@ -90,6 +98,22 @@ def _phase_stats(trials: Sequence[SlipTrial], kinds: Sequence[str] | None) -> di
         "in_time_rate": in_time / len(lat) if lat else float("nan"),
         "median_latency_s": float(np.median(found)) if found else float("nan"),
     }
+
+
+def _by_speed(trials: Sequence[SlipTrial]) -> list[dict[str, Any]]:
+    """The detectable phases in time per band of :data:`SPEED_BANDS_MM_S`."""
+    rows = [
+        (v, x)
+        for t in trials
+        for (k, x), v in zip(t.phases, t.phase_speeds_mm_s, strict=True)
+        if k in DETECTABLE
+    ]
+    out = []
+    for lo, hi in zip(SPEED_BANDS_MM_S, (*SPEED_BANDS_MM_S[1:], float("inf")), strict=True):
+        lat = [x for v, x in rows if lo <= v < hi]
+        in_time = sum(x is not None and x <= LATENCY_S + 1e-9 for x in lat)
+        out.append({"from_mm_s": lo, "phases": len(lat), "in_time": in_time})
+    return out
 
 
 def _verdicts(trials: Sequence[SlipTrial], *, without: bool = False) -> dict[str, int]:
@@ -181,6 +205,7 @@ class SlipResult:
             overall[f"{r:g}"] = {
                 "detectable": _phase_stats(slipping, DETECTABLE),
                 "all_kinds": _phase_stats(slipping, None),
+                "detectable_by_speed": _by_speed(slipping),
                 "roll_false_alarm_trial_rate": fa,
                 "roll_false_alarms_per_s": sum(t.false_alarms for t in rolling)
                 / max(1e-9, sum(t.contact_s for t in rolling)),
@@ -220,7 +245,10 @@ class SlipResult:
                     "identified": t.identified,
                     "reason": t.reason,
                     "identified_without_slip": t.identified_without,
-                    "phases": [{"kind": k, "latency_s": x} for k, x in t.phases],
+                    "phases": [
+                        {"kind": k, "latency_s": x, "speed_mm_s": round(v, 3)}
+                        for (k, x), v in zip(t.phases, t.phase_speeds_mm_s, strict=True)
+                    ],
                     "false_alarms": t.false_alarms,
                 }
                 for t in self.trials

@@ -56,9 +56,9 @@ class SlipScanner:
     >>> import numpy as np
     >>> scan = SlipScanner(int(ContactClass.AREA), SlipConfig(), k=2)
     >>> rows = np.zeros((40, 9)); rows[:, 3] = 50.0; rows[:, 4] = 1.0
-    >>> rows[:, 8] = np.arange(40) / 20; rows[20:, 0] = np.arange(20) * 0.25  # 5 mm/s from 0.95 s
+    >>> rows[:, 8] = np.arange(40) / 20; rows[20:, 0] = np.arange(20) * 0.25  # 5 mm/s from 1 s
     >>> [(s.first_frame, s.detected_frame) for s in scan.extend(np.arange(40), rows)]
-    [(20, 21)]
+    [(21, 23)]
     """
 
     def __init__(self, cls: int, config: SlipConfig, *, k: int = 2) -> None:
@@ -74,7 +74,7 @@ class SlipScanner:
         self._buf_frames = np.zeros(0, np.intp)
         self._n = 0  # frames seen
         self._anchor = 0  # segment index where the reference may start
-        self._count = 0  # frames in a row above slip_mm
+        self._above: list[bool] = []  # the last ``hold`` decided frames: motion above the limit
         self._open: Slip | None = None
         self._open_i = 0  # segment index of the open slip's first frame
 
@@ -91,7 +91,8 @@ class SlipScanner:
         self.cur = frames(cfg.current_s, 2)
         self.ref = frames(cfg.reference_s, 2)
         self.end = frames(cfg.end_s, 2)
-        self.hold = frames(cfg.hold_s, 1)
+        self.hold = max(0, round(cfg.hold_s / dt)) + 1 if dt > 0 else 1  # frames spanning hold_s
+        self.hold_needed = max(1, math.ceil(cfg.hold_fraction * self.hold - 1e-9))
         self._limit_mm = cfg.line_slip_mm if self.cls == _LINE else cfg.slip_mm
         self.keep = max(self.cur + self.ref, 2 * self.end)
         self._ready = True
@@ -219,14 +220,15 @@ class SlipScanner:
                 ref = ref_m[lo - base]
                 motion = self.motion_mm(ref, cur_m[p - c + 1])
                 if math.isnan(motion):
-                    self._anchor, self._count = i - c + 1, 0
+                    self._anchor, self._above = i - c + 1, []
                     continue
-                self._count = self._count + 1 if motion > self._limit_mm else 0
-                if self._count >= self.hold:
+                keep = self._above[max(0, len(self._above) + 1 - self.hold) :]
+                self._above = [*keep, motion > self._limit_mm]
+                if self._above[-1] and sum(self._above) >= self.hold_needed:
                     q = max(0, p - self.hold - c + 2)
                     onset, self._open_i = int(fr[q]), base + q
                     self._open = Slip(SLIP_KINDS[self.cls], onset, int(fr[p]))
-                    self._count = 0
+                    self._above = []
                     out.append(self._open)
             elif p - 2 * e + 1 >= 0 and i - e + 1 >= self._open_i:  # the last window: all slip
                 step = self.motion_mm(end_m[p - 2 * e + 1], end_m[p - e + 1])
