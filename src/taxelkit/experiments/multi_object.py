@@ -27,7 +27,6 @@ child, so the result does not depend on where or in which order units ran.
 
 from __future__ import annotations
 
-import importlib.util
 import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -38,6 +37,7 @@ from numpy.typing import NDArray
 
 from taxelkit.errors import InputError
 from taxelkit.experiments.work_units import run_units
+from taxelkit.motion.engines import engines_to_run
 from taxelkit.motion.multi_scenes import frames_from_multi_scene, multi_scene
 from taxelkit.smart.objects import ObjectRecognition, recognise_objects
 from taxelkit.smart.tacteme_table import OBJECTS
@@ -267,22 +267,6 @@ class MultiObjectResult:
         }
 
 
-def _choose_engines(engines: Sequence[str] | None) -> tuple[list[str], dict[str, str]]:
-    skipped: dict[str, str] = {}
-    wanted = ["kinematic", "mujoco"] if engines is None else [str(e) for e in engines]
-    chosen = []
-    for e in wanted:
-        if e not in ("kinematic", "mujoco"):
-            raise InputError(f"unknown engine {e!r}; known: kinematic, mujoco")
-        if e == "mujoco" and importlib.util.find_spec("mujoco") is None:
-            skipped[e] = 'not installed (pip install "taxelkit[mujoco]")'
-            continue
-        chosen.append(e)
-    if not chosen:
-        raise InputError("no engine available")
-    return chosen, skipped
-
-
 def run_multi_object(
     *,
     seed: int = 0,
@@ -327,7 +311,7 @@ def run_multi_object(
     for c in counts:
         if not 1 <= int(c) <= len(OBJECTS):
             raise InputError(f"counts must lie in 1..{len(OBJECTS)}, got {c!r}")
-    chosen, skipped = _choose_engines(engines)
+    chosen, skipped = engines_to_run(engines)
     n_mujoco = max(1, int(n_trials) // 5) if mujoco_trials is None else int(mujoco_trials)
     units = []
     for engine in chosen:
