@@ -33,6 +33,35 @@ def _window_means(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
     return out
 
 
+#: Motions this close to a decision's limit are recomputed by the scalar rule, mm.
+_GUARD_MM = 1e-9
+
+
+def _motions_line(ref: NDArray[np.float64], cur: NDArray[np.float64]) -> NDArray[np.float64]:
+    """A line's motion (:meth:`SlipScanner.motion_mm`), vectorised; NaN not yet applied."""
+    dx, dy = cur[:, _CX] - ref[:, _CX], cur[:, _CY] - ref[:, _CY]
+    th = 0.5 * np.arctan2(ref[:, _S2] + cur[:, _S2], ref[:, _C2] + cur[:, _C2])
+    ax, ay = np.cos(th), np.sin(th)
+    e1, e2 = cur[:, _END1] - ref[:, _END1], cur[:, _END2] - ref[:, _END2]
+    d1, d2 = e1[:, 0] * ax + e1[:, 1] * ay, e2[:, 0] * ax + e2[:, 1] * ay
+    a1, a2 = np.abs(d1), np.abs(d2)
+    both = np.where(d1 * d2 > 0.0, np.where(a2 < a1, a2, a1), 0.0)  # min(|d1|, |d2|)
+    centre = np.abs(dx * ax + dy * ay) - np.abs(cur[:, _HALF] - ref[:, _HALF])
+    return np.where(np.isnan(d1 + d2), centre, both)
+
+
+class _Windows:
+    """Means of ``w`` consecutive rows of ``x`` from row ``start`` on (computed once)."""
+
+    def __init__(self, x: NDArray[np.float64], w: int, start: int) -> None:
+        self.start = start
+        self.means = _window_means(x[start:], w)
+
+    def rows(self, a: int, b: int) -> NDArray[np.float64]:
+        """The windows starting at rows ``a .. b - 1`` of ``x``."""
+        return self.means[a - self.start : b - self.start]
+
+
 class SlipScanner:
     """Slip phases of one contact segment, fed a chunk of frames at a time.
 
@@ -48,8 +77,9 @@ class SlipScanner:
     Notes
     -----
     Keeps the last ``reference + current + end`` frames' features and a few
-    numbers; a scalar step per frame after vectorised window means (a
-    16 x 16 stream is at most 240 frames/s).
+    numbers. The rule is a scalar step per frame (:meth:`motion_mm` and the
+    onset and end counts); a chunk's motions are computed at once and the
+    steps jump from one decision to the next.
 
     Examples
     --------
@@ -168,6 +198,45 @@ class SlipScanner:
             moved = max(moved, turn * float(ref[_HALF]))
         return moved
 
+    def _motions(
+        self, ref: NDArray[np.float64], cur: NDArray[np.float64], limit_mm: float
+    ) -> NDArray[np.float64]:
+        """:meth:`motion_mm` of rows ``ref``, ``cur`` ``(K, F)``, to be compared with ``limit_mm``.
+
+        Vectorised with the scalar's operations in its order; the few values
+        within :data:`_GUARD_MM` of ``limit_mm`` (where a last-bit difference
+        of a library's ``atan2`` or ``hypot`` could flip the comparison) are
+        recomputed by :meth:`motion_mm`, so every decision is the scalar's.
+        """
+        out = _motions_line(ref, cur) if self.cls == _LINE else self._motions_area(ref, cur)
+        ratio = cur[:, _AREA_COL] / ref[:, _AREA_COL] - 1.0
+        out[~(ref[:, _AREA_COL] > 0) | (np.abs(ratio) > self.config.area_step)] = np.nan
+        for i in np.flatnonzero(np.abs(out - limit_mm) <= _GUARD_MM).tolist():
+            out[i] = self.motion_mm(ref[i], cur[i])
+        return out
+
+    def _motions_area(
+        self, ref: NDArray[np.float64], cur: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """The face's motion (:meth:`motion_mm`), vectorised; NaN not yet applied."""
+        dx, dy = cur[:, _CX] - ref[:, _CX], cur[:, _CY] - ref[:, _CY]
+        moved = np.hypot(dx, dy)
+        pos = moved > 0.0
+        with np.errstate(invalid="ignore", divide="ignore"):
+            nx, ny = dx / moved, dy / moved
+        size = []
+        for v in (ref[:, _COV], cur[:, _COV]):
+            q = v[:, 0] * nx * nx + v[:, 1] * ny * ny + 2 * v[:, 2] * nx * ny
+            size.append(np.sqrt(12.0 * np.where(q > 0.0, q, 0.0)))  # max(0.0, q)
+        moved = np.where(pos, moved - 0.5 * np.abs(size[1] - size[0]), moved)
+        th_ref = 0.5 * np.arctan2(ref[:, _S2], ref[:, _C2])
+        th_cur = 0.5 * np.arctan2(cur[:, _S2], cur[:, _C2])
+        turn = np.abs(np.mod(th_cur - th_ref + 0.5 * math.pi, math.pi) - 0.5 * math.pi)
+        far = turn * ref[:, _HALF]
+        e_ref, e_cur = ref[:, _ELONG], cur[:, _ELONG]
+        elongated = np.where(e_cur < e_ref, e_cur, e_ref) >= self.config.min_elongation
+        return np.where(elongated & (far > moved), far, moved)  # max(moved, far)
+
     # -- feeding ---------------------------------------------------------------------------------
     def extend(self, frames: NDArray[np.intp], rows: NDArray[np.float64]) -> list[Slip]:
         """Add frames ``(m,)`` with their rows ``(m, 9)``; the slips opened or closed by them.
@@ -203,44 +272,111 @@ class SlipScanner:
     def _scan(
         self, x: NDArray[np.float64], fr: NDArray[np.intp], base: int, first: int
     ) -> list[Slip]:
-        """Decide frames ``x[first:]``; ``x[0]`` is segment frame ``base``."""
-        c, r, e = self.cur, self.ref, self.end
-        cur_m = _window_means(x, c)  # cur_m[p - c + 1]: frames p - c + 1 .. p
-        ref_m = _window_means(x, r)  # full reference windows
-        end_m = _window_means(x, e)
+        """Decide frames ``x[first:]``; ``x[0]`` is segment frame ``base``.
+
+        The rule is a scalar step per frame (:meth:`_scan_frames`); here the
+        motions are computed for all frames at once and the steps jump from
+        one decision (re-anchor, onset, end) to the next.
+        """
+        c, r, e, n = self.cur, self.ref, self.end, x.shape[0]
         out: list[Slip] = []
-        cfg = self.config
-        for p in range(first, x.shape[0]):
-            i = base + p  # segment index of this frame
+        p = first
+        lo_x = max(0, first - c - r + 1)  # earliest row a window read here starts at
+        search = end = None
+        while p < n:
             if self._open is None:
-                lo = i - c - r + 1  # the reference: a full window, all after the anchor
-                if lo < self._anchor:
-                    continue
-                ref = ref_m[lo - base]
-                motion = self.motion_mm(ref, cur_m[p - c + 1])
-                if math.isnan(motion):
-                    self._anchor, self._count = i - c + 1, 0
-                    continue
-                self._count = self._count + 1 if motion > self._limit_mm else 0
-                if self._count >= self.hold:
-                    q = max(0, p - self.hold - c + 2)
-                    onset, self._open_i = int(fr[q]), base + q
-                    self._open = Slip(SLIP_KINDS[self.cls], onset, int(fr[p]))
-                    self._count = 0
-                    out.append(self._open)
-            elif p - 2 * e + 1 >= 0 and i - e + 1 >= self._open_i:  # the last window: all slip
-                step = self.motion_mm(end_m[p - 2 * e + 1], end_m[p - e + 1])
-                if not step > cfg.still_mm:  # still (or the contact changed): the slip ended
-                    done = Slip(
-                        self._open.kind,
-                        self._open.first_frame,
-                        self._open.detected_frame,
-                        max(self._open.first_frame, int(fr[p - e - e // 2])),
-                        int(fr[p]),
-                    )
-                    self._replace(out, done)
-                    self._open, self._anchor = None, i - e + 1
+                if search is None:
+                    search = self._search_motions(x[lo_x:], first - lo_x)
+                p = self._search(search, p - first, first, base, fr, out)
+            else:
+                if end is None:
+                    end = _Windows(x, e, max(0, p - 2 * e + 1))
+                p = self._watch_end(end, p, base, fr, out)
         return out
+
+    def _search_motions(self, x: NDArray[np.float64], first: int) -> NDArray[np.float64]:
+        """Motion of frames ``x[first:]`` against their reference (NaN where none), mm."""
+        c, r = self.cur, self.ref
+        n = x.shape[0]
+        out = np.full(n - first, np.nan)
+        q0 = max(first, c + r - 1)  # the first frame with a full reference in x
+        if q0 < n:
+            cur_m = _window_means(x[q0 - c + 1 :], c)
+            ref_m = _window_means(x[q0 - c - r + 1 : n - c], r)
+            out[q0 - first :] = self._motions(ref_m, cur_m, self._limit_mm)
+        return out
+
+    def _search(
+        self,
+        motion: NDArray[np.float64],
+        k: int,
+        first: int,
+        base: int,
+        fr: NDArray[np.intp],
+        out: list[Slip],
+    ) -> int:
+        """No slip open: step frames ``first + k ...`` to the next decision; the next frame."""
+        c, r, hold = self.cur, self.ref, self.hold
+        m = motion.size
+        while k < m:
+            k = max(k, self._anchor + c + r - 1 - base - first)  # a full reference after the anchor
+            if k >= m:
+                break
+            seg = motion[k:]
+            nan = np.flatnonzero(np.isnan(seg))
+            stop = seg.size if nan.size == 0 else int(nan[0])
+            above = seg[:stop] > self._limit_mm
+            # frames in a row above the limit at each frame, the count carried in
+            below = np.flatnonzero(~above)
+            run = np.arange(1, stop + 1) + self._count
+            if below.size:
+                last_below = np.maximum.accumulate(np.where(~above, np.arange(stop), -1))
+                run = np.where(last_below >= 0, np.arange(stop) - last_below, run)
+            onset = np.flatnonzero(run >= hold)
+            if onset.size:
+                q = k + int(onset[0])
+                p = first + q
+                q0 = max(0, p - hold - c + 2)
+                self._open_i = base + q0
+                self._open = Slip(SLIP_KINDS[self.cls], int(fr[q0]), int(fr[p]))
+                self._count = 0
+                out.append(self._open)
+                return p + 1
+            if nan.size == 0:
+                self._count = int(run[-1]) if stop else self._count
+                return first + m
+            self._anchor, self._count = base + first + k + stop - c + 1, 0
+            k += stop + 1
+        return first + m
+
+    def _watch_end(
+        self, end: _Windows, p: int, base: int, fr: NDArray[np.intp], out: list[Slip]
+    ) -> int:
+        """A slip open: step frames ``p ...`` to its end; the next frame to decide."""
+        assert self._open is not None
+        e, n = self.end, fr.size
+        p = max(p, 2 * e - 1, self._open_i - base + e - 1)  # the last window: all slip
+        if p >= n:
+            return n
+        step = self._motions(
+            end.rows(p - 2 * e + 1, n - 2 * e + 1),
+            end.rows(p - e + 1, n - e + 1),
+            self.config.still_mm,
+        )
+        still = np.flatnonzero(~(step > self.config.still_mm))
+        if still.size == 0:
+            return n
+        p += int(still[0])
+        done = Slip(
+            self._open.kind,
+            self._open.first_frame,
+            self._open.detected_frame,
+            max(self._open.first_frame, int(fr[p - e - e // 2])),
+            int(fr[p]),
+        )
+        self._replace(out, done)
+        self._open, self._anchor = None, base + p - e + 1
+        return p + 1
 
     def _replace(self, out: list[Slip], done: Slip) -> None:
         self.slips.append(done)
