@@ -110,6 +110,25 @@ class ChunkCleaner:
         Arrays whose frames are all clear and whose state is at rest are
         skipped (their output is clear): a quiet array costs a test.
         """
+        sel, cleaned = self.push_busy(images, t_s)
+        if sel.size == images.shape[0]:
+            return cleaned
+        out = np.zeros_like(images)
+        out[sel] = cleaned
+        return out
+
+    def push_busy(
+        self, images: NDArray[np.bool_], t_s: NDArray[np.float64]
+    ) -> tuple[NDArray[np.intp], NDArray[np.bool_]]:
+        """As :meth:`push`, but only the arrays that may not be clear: their indices and images.
+
+        Returns
+        -------
+        sel : (m,) int
+            Arrays cleaned (every other array's output is clear), increasing.
+        images : (m, T, rows, cols) bool
+            Their cleaned frames.
+        """
         img = np.asarray(images)
         if img.ndim != 4 or img.shape[0] != self.n or img.shape[2:] != self.shape:
             raise InputError(
@@ -117,21 +136,23 @@ class ChunkCleaner:
                 f"got {img.shape}"
             )
         n, t = img.shape[:2]
-        out = np.zeros_like(img)
         if t == 0:
-            return out
+            return np.arange(n), img.astype(bool, copy=True)
         self._timing(np.asarray(t_s, dtype=np.float64).reshape(n, t))
         self._seen += t
         sel = np.flatnonzero(self._busy | img.reshape(n, -1).any(axis=1))
         longest = int(self._n_stuck.max())
         if sel.size == 0:
             self._resize_hist(longest)
-            return out
+            return sel, np.zeros((0, *img.shape[1:]), bool)
         group = max(1, GROUP_FRAMES // t)  # arrays per pass: the temporaries stay in cache
+        if sel.size <= group:  # one pass
+            return sel, self._clean(img if sel.size == n else img[sel], sel, longest)
+        out = np.empty((sel.size, *img.shape[1:]), bool)
         for a in range(0, sel.size, group):
             g = sel[a : a + group]
-            out[g] = self._clean(img if g.size == n else img[g], g, longest)
-        return out
+            out[a : a + g.size] = self._clean(img if g.size == n else img[g], g, longest)
+        return sel, out
 
     def _resize_hist(self, longest: int) -> None:
         keep = max(0, longest - 1)

@@ -189,19 +189,25 @@ class ChunkLevels12:
             if frames.dtype == bool
             else np.asarray(frames, dtype=np.float64) > self.threshold
         )
-        if self._cleaner is not None:
-            images = self._cleaner.push(images, t_s)
+        if self._cleaner is not None:  # only the arrays that may have contact
+            busy, images = self._cleaner.push_busy(images, t_s)
+        else:
+            busy = np.arange(n)
         classes = np.zeros((n, t), dtype=np.int8)  # NONE
         rows = np.empty((n, t, 9))  # read only where there is contact
-        sel = np.flatnonzero(images.reshape(n, -1).any(axis=1))  # arrays touched in the chunk
+        touched = images.reshape(busy.size, -1).any(axis=1)  # arrays touched in the chunk
+        sel = busy[touched]
         quiet = np.ones(n, bool)
         quiet[sel] = False
         self._long[quiet] = False  # no contact: no length, no area
         self._big[quiet] = False
         if sel.size == 0:
             return classes, rows
+        if sel.size < busy.size:
+            images = images[touched]
         group = max(1, GROUP_FRAMES // t)  # arrays per pass: the temporaries stay in cache
         for a in range(0, sel.size, group):
             g = sel[a : a + group]
-            classes[g], rows[g] = self._levels(images if g.size == n else images[g], t_s, g)
+            part = images if g.size == sel.size else images[a : a + group]
+            classes[g], rows[g] = self._levels(part, t_s, g)
         return classes, rows
