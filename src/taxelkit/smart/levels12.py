@@ -195,7 +195,8 @@ class ChunkLevels12:
             busy = np.arange(n)
         classes = np.zeros((n, t), dtype=np.int8)  # NONE
         rows = np.empty((n, t, 9))  # read only where there is contact
-        touched = images.reshape(busy.size, -1).any(axis=1)  # arrays touched in the chunk
+        # arrays touched in the chunk
+        touched = images.reshape(busy.size, t * self.shape[0] * self.shape[1]).any(axis=1)
         sel = busy[touched]
         quiet = np.ones(n, bool)
         quiet[sel] = False
