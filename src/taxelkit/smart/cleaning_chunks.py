@@ -84,6 +84,7 @@ class ChunkCleaner:
         self.shape = (int(shape[0]), int(shape[1]))
         self.config = CleaningConfig() if config is None else config
         self._ops = _backend(self.shape[1])
+        self._taxels = self.shape[0] * self.shape[1]
         self.reset()
 
     def reset(self) -> None:
@@ -118,9 +119,16 @@ class ChunkCleaner:
         return out
 
     def push_busy(
-        self, images: NDArray[np.bool_], t_s: NDArray[np.float64]
+        self,
+        images: NDArray[np.bool_],
+        t_s: NDArray[np.float64],
+        among: NDArray[np.intp] | None = None,
     ) -> tuple[NDArray[np.intp], NDArray[np.bool_]]:
         """As :meth:`push`, but only the arrays that may not be clear: their indices and images.
+
+        ``among``: the arrays whose frames ``images`` holds, ``(m, T, rows,
+        cols)`` (default: all); every other array's frames are clear and it
+        must not be :meth:`busy`.
 
         Returns
         -------
@@ -130,29 +138,36 @@ class ChunkCleaner:
             Their cleaned frames.
         """
         img = np.asarray(images)
-        if img.ndim != 4 or img.shape[0] != self.n or img.shape[2:] != self.shape:
+        idx = np.arange(self.n) if among is None else np.asarray(among, dtype=np.intp)
+        if img.ndim != 4 or img.shape[0] != idx.size or img.shape[2:] != self.shape:
             raise InputError(
-                f"images must have shape ({self.n}, T, {self.shape[0]}, {self.shape[1]}), "
+                f"images must have shape ({idx.size}, T, {self.shape[0]}, {self.shape[1]}), "
                 f"got {img.shape}"
             )
-        n, t = img.shape[:2]
+        m, t = img.shape[:2]
         if t == 0:
-            return np.arange(n), img.astype(bool, copy=True)
-        self._timing(np.asarray(t_s, dtype=np.float64).reshape(n, t))
+            return idx, img.astype(bool, copy=True)
+        self._timing(np.asarray(t_s, dtype=np.float64).reshape(self.n, t))
         self._seen += t
-        sel = np.flatnonzero(self._busy | img.reshape(n, -1).any(axis=1))
+        local = np.flatnonzero(self._busy[idx] | img.reshape(m, t * self._taxels).any(axis=1))
+        sel = idx[local]
         longest = int(self._n_stuck.max())
         if sel.size == 0:
             self._resize_hist(longest)
             return sel, np.zeros((0, *img.shape[1:]), bool)
         group = max(1, GROUP_FRAMES // t)  # arrays per pass: the temporaries stay in cache
         if sel.size <= group:  # one pass
-            return sel, self._clean(img if sel.size == n else img[sel], sel, longest)
+            return sel, self._clean(img if sel.size == m else img[local], sel, longest)
         out = np.empty((sel.size, *img.shape[1:]), bool)
         for a in range(0, sel.size, group):
-            g = sel[a : a + group]
-            out[a : a + g.size] = self._clean(img if g.size == n else img[g], g, longest)
+            part = local[a : a + group]
+            out[a : a + part.size] = self._clean(img[part], sel[a : a + group], longest)
         return sel, out
+
+    @property
+    def busy(self) -> NDArray[np.bool_]:
+        """``(N,)``: arrays whose state a clear chunk would change (they must be cleaned)."""
+        return self._busy.copy()
 
     def _resize_hist(self, longest: int) -> None:
         keep = max(0, longest - 1)

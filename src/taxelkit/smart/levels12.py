@@ -189,10 +189,42 @@ class ChunkLevels12:
             if frames.dtype == bool
             else np.asarray(frames, dtype=np.float64) > self.threshold
         )
+        return self._process(images, t_s, n, None)
+
+    def process_time_major(
+        self, frames: NDArray[np.generic], t_s: NDArray[np.float64]
+    ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
+        """As :meth:`process`, frames given time first, ``(T, N, rows, cols)``.
+
+        Only the arrays touched in the chunk (or whose cleaning state is not
+        at rest) are gathered array by array; the others cost a test.
+        """
+        t, n = frames.shape[:2]
+        images: NDArray[np.bool_] = (
+            np.asarray(frames, dtype=bool)
+            if frames.dtype == bool
+            else np.asarray(frames, dtype=np.float64) > self.threshold
+        )
+        hit = images.reshape(t, n, -1).any(axis=2).any(axis=0)
+        if self._cleaner is not None:
+            hit |= self._cleaner.busy
+        among = np.flatnonzero(hit)
+        compact = np.ascontiguousarray(images[:, among].transpose(1, 0, 2, 3))
+        return self._process(compact, t_s, n, among)
+
+    def _process(
+        self,
+        images: NDArray[np.bool_],
+        t_s: NDArray[np.float64],
+        n: int,
+        among: NDArray[np.intp] | None,
+    ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
+        """Levels 1-2 of images ``(m, T, rows, cols)`` of arrays ``among`` (None: all)."""
+        t = images.shape[1]
         if self._cleaner is not None:  # only the arrays that may have contact
-            busy, images = self._cleaner.push_busy(images, t_s)
+            busy, images = self._cleaner.push_busy(images, t_s, among)
         else:
-            busy = np.arange(n)
+            busy = np.arange(n) if among is None else among
         classes = np.zeros((n, t), dtype=np.int8)  # NONE
         rows = np.empty((n, t, 9))  # read only where there is contact
         # arrays touched in the chunk
