@@ -111,7 +111,7 @@ class SegmentScanner:
         self._head_frames: list[int] = []
         self._head_t: list[float] = []
         self._head_theta: list[float] = []
-        self._head_xy: list[tuple[float, float]] = []
+        self._head_xy: list[list[float]] = []
         self._head_cap: int | None = None
         self._dt: dict[int, float] = {}  # frame interval of the first frames, per k
         self._early: list[tuple[NDArray[np.intp], NDArray[np.float64]]] = []
@@ -196,7 +196,7 @@ class SegmentScanner:
             self._head_frames += frames[:room].tolist()
             self._head_t += rows[:room, 8].tolist()
             self._head_theta += rows[:room, 2].tolist()
-            self._head_xy += [(float(x), float(y)) for x, y in rows[:room, 0:2]]
+            self._head_xy += rows[:room, 0:2].tolist()
         self.size += m
         if not self._ready:
             self._early.append((frames, rows))
