@@ -111,58 +111,45 @@ class ChunkCleaner:
         Arrays whose frames are all clear and whose state is at rest are
         skipped (their output is clear): a quiet array costs a test.
         """
-        sel, cleaned = self.push_busy(images, t_s)
-        if sel.size == images.shape[0]:
-            return cleaned
-        out = np.zeros_like(images)
-        out[sel] = cleaned
-        return out
-
-    def push_busy(
-        self,
-        images: NDArray[np.bool_],
-        t_s: NDArray[np.float64],
-        among: NDArray[np.intp] | None = None,
-    ) -> tuple[NDArray[np.intp], NDArray[np.bool_]]:
-        """As :meth:`push`, but only the arrays that may not be clear: their indices and images.
-
-        ``among``: the arrays whose frames ``images`` holds, ``(m, T, rows,
-        cols)`` (default: all); every other array's frames are clear and it
-        must not be :meth:`busy`.
-
-        Returns
-        -------
-        sel : (m,) int
-            Arrays cleaned (every other array's output is clear), increasing.
-        images : (m, T, rows, cols) bool
-            Their cleaned frames.
-        """
         img = np.asarray(images)
-        idx = np.arange(self.n) if among is None else np.asarray(among, dtype=np.intp)
-        if img.ndim != 4 or img.shape[0] != idx.size or img.shape[2:] != self.shape:
+        if img.ndim != 4 or img.shape[0] != self.n or img.shape[2:] != self.shape:
             raise InputError(
-                f"images must have shape ({idx.size}, T, {self.shape[0]}, {self.shape[1]}), "
+                f"images must have shape ({self.n}, T, {self.shape[0]}, {self.shape[1]}), "
                 f"got {img.shape}"
             )
-        m, t = img.shape[:2]
+        n, t = img.shape[:2]
+        out = np.zeros_like(img)
         if t == 0:
-            return idx, img.astype(bool, copy=True)
-        self._timing(np.asarray(t_s, dtype=np.float64).reshape(self.n, t))
-        self._seen += t
-        local = np.flatnonzero(self._busy[idx] | img.reshape(m, t * self._taxels).any(axis=1))
-        sel = idx[local]
-        longest = int(self._n_stuck.max())
-        if sel.size == 0:
-            self._resize_hist(longest)
-            return sel, np.zeros((0, *img.shape[1:]), bool)
+            return out
+        touched: NDArray[np.bool_] = np.any(img.reshape(n, t * self._taxels), axis=1)
+        sel, longest = self.select(t_s, touched)
         group = max(1, GROUP_FRAMES // t)  # arrays per pass: the temporaries stay in cache
-        if sel.size <= group:  # one pass
-            return sel, self._clean(img if sel.size == m else img[local], sel, longest)
-        out = np.empty((sel.size, *img.shape[1:]), bool)
         for a in range(0, sel.size, group):
-            part = local[a : a + group]
-            out[a : a + part.size] = self._clean(img[part], sel[a : a + group], longest)
-        return sel, out
+            g = sel[a : a + group]
+            out[g] = self.clean(img if g.size == n else img[g], g, longest)
+        return out
+
+    def select(
+        self, t_s: NDArray[np.float64], touched: NDArray[np.bool_]
+    ) -> tuple[NDArray[np.intp], int]:
+        """Start a chunk taken at ``t_s`` ``(N, T)``: the arrays to :meth:`clean`, and a length.
+
+        ``touched`` ``(N,)``: arrays with a taxel on in the chunk. Returns the
+        arrays touched or :attr:`busy` (every other array's output is clear,
+        and it needs nothing more), increasing, and the ``longest`` argument of
+        :meth:`clean`. Every array returned must then be cleaned, once.
+        """
+        t = np.asarray(t_s, dtype=np.float64).reshape(self.n, -1)
+        self._timing(t)
+        self._seen += t.shape[1]
+        longest = int(self._n_stuck.max())
+        sel = np.flatnonzero(self._busy | touched)
+        self._resize_hist(longest)
+        return sel, longest
+
+    def clean(self, img: NDArray[np.bool_], sel: NDArray[np.intp], longest: int) -> NDArray[Any]:
+        """Cleaned frames ``(m, T, rows, cols)`` of arrays ``sel`` (from :meth:`select`)."""
+        return self._clean(img, sel, longest)
 
     @property
     def busy(self) -> NDArray[np.bool_]:

@@ -173,7 +173,8 @@ def _row_ends(
     rows_first = on.transpose(1, 0, 2)
     first = np.argmax(rows_first, axis=2)
     last = cols - 1 - np.argmax(rows_first[:, :, ::-1], axis=2)
-    return first, last, rows_first.any(axis=2)
+    has: NDArray[np.bool_] = np.any(rows_first, axis=2)
+    return first, last, has
 
 
 def line_extents(
