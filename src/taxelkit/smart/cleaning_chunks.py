@@ -285,8 +285,15 @@ class ChunkCleaner:
         )
         last_seed = np.maximum.accumulate(np.where(s, idx, np.where(was, -1, -2)[:, None]), axis=1)
         masked = o & (last_seed > last_release)
-        mq, mt = np.nonzero(masked)
-        np.bitwise_or.at(out, (ii[mq], mt, jj[mq]), bits[mq])
+        # the masked bits of each word: the taxels sorted by word, OR-ed per word
+        word = ii * n_words + jj
+        order = np.argsort(word, kind="stable")
+        w_sorted = word[order]
+        starts = np.flatnonzero(np.diff(w_sorted, prepend=-1))
+        bitmap = np.where(masked[order], bits[order, None], on_f.dtype.type(0))
+        words = np.bitwise_or.reduceat(bitmap, starts, axis=0)  # (words, T)
+        wi = w_sorted[starts]
+        out[wi // n_words, :, wi % n_words] = words
         still = last_seed[:, -1] > last_release[:, -1]
         frames_off = (t - 1 - last_on[:, -1]).astype(np.int64)
         kept = (sel[ii[still]].astype(np.int64), jj[still], bit_no[still], frames_off[still])
