@@ -155,9 +155,11 @@ def one_stream(pool: list[np.ndarray], batch_frames: int) -> dict[str, float]:
     return {"frames": s, "batched": s / t_one, "one_at_a_time": s / t_slow, "batch": s / t_batch}
 
 
-def span(values: list[float], scale: float = 1.0, digits: int = 0) -> str:
-    """``lo-hi`` (or one value) of ``values / scale``, with thousands separators."""
+def span(values: list[float], scale: float = 1.0, digits: int = 0, step: float = 0.0) -> str:
+    """``lo-hi`` (or one value) of ``values / scale`` (rounded to ``step``), thousands separated."""
     lo, hi = min(values) / scale, max(values) / scale
+    if step:
+        lo, hi = step * round(lo / step), step * round(hi / step)
     fmt = f"{{:,.{digits}f}}"
     return (
         fmt.format(lo) if fmt.format(lo) == fmt.format(hi) else f"{fmt.format(lo)}-{fmt.format(hi)}"
@@ -234,7 +236,7 @@ def write_record(
         rates = [r["rate"] for r in skin["runs"]]
         name = FRACTION_NAMES.get(active, f"{active:.0%}")
         push = skin["runs"]
-        text = f"{name} touched: {span(rates)} frames/s"
+        text = f"{name} touched: {span(rates, step=1000)} frames/s"
         if k == 0:
             mean = span([r["push_mean_ms"] for r in push], digits=2)
             longest = span([r["push_max_ms"] for r in push])
@@ -250,7 +252,8 @@ def write_record(
     figure = (
         "; ".join(parts)
         + f" ({args.runs} runs each, CPU time; target 2,000,000 {'met' if hit else 'missed'}); "
-        f"one stream, `batch_frames={args.stream_batch_frames}`: {span(batched)} frames/s "
+        f"one stream, `batch_frames={args.stream_batch_frames}`: {span(batched, step=1000)} "
+        "frames/s "
         f"(target 200,000 {'met' if min(batched) >= 2e5 else 'missed'})"
     )
     one = [r["batched"] / r["one_at_a_time"] for r in streams]

@@ -81,11 +81,14 @@ def bank_rate(frames: np.ndarray, rate_hz: float, arrays: int, per_push: int = 2
     return arrays * n / (time.process_time() - t0)
 
 
-def span(values: list[float], digits: int = 0) -> str:
-    """``lo-hi`` (or one value) with thousands separators."""
-    fmt = f"{{:,.{digits}f}}"
-    lo, hi = fmt.format(min(values)), fmt.format(max(values))
-    return lo if lo == hi else f"{lo}-{hi}"
+def span(values: list[float], digits: int = 0, step: float = 0.0, sign: str = "") -> str:
+    """``lo-hi`` (or one value), rounded to ``step`` if given, with thousands separators."""
+    fmt = f"{{:{sign},.{digits}f}}"
+    a, b = min(values), max(values)
+    if step:
+        a, b = step * round(a / step), step * round(b / step)
+    lo, hi = fmt.format(a), fmt.format(b)
+    return lo if lo == hi else f"{lo}{' to ' if sign else '-'}{hi}"
 
 
 def live_runs(
@@ -185,7 +188,7 @@ def write_record(
             f"{res['rate'] / arrays:,.0f} frames/s, {int(res['rate'] * res['seconds']):,} frames)"
         )
         parts.append(
-            f"{what}: {span(lost, 3)} % lost, RSS {span(growth, 1)} MB "
+            f"{what}: {span(lost, 3)} % lost, RSS {span(growth, 1, sign='+')} MB "
             f"({len(runs)} runs, load average {span(load, 1)})"
         )
         sustained = [r["sustained"] / one for r in runs]
