@@ -26,7 +26,8 @@ from taxelkit.smart.cleaning import _backend, _crowded
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.recogniser import recognise
 from taxelkit.smart.slip import SLIP_KINDS, Slip, SlipConfig
-from taxelkit.smart.slip_scan import SlipScanner, _window_means
+from taxelkit.smart.slip_motion import window_means
+from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.track_geometry import line_extents
 
 PITCH = 1.7625
@@ -37,7 +38,7 @@ class PerFrameSlipScanner(SlipScanner):
 
     def _scan(self, x: np.ndarray, fr: np.ndarray, base: int, first: int) -> list[Slip]:
         c, r, e = self.cur, self.ref, self.end
-        cur_m, ref_m, end_m = _window_means(x, c), _window_means(x, r), _window_means(x, e)
+        cur_m, ref_m, end_m = window_means(x, c), window_means(x, r), window_means(x, e)
         out: list[Slip] = []
         for p in range(first, x.shape[0]):
             i = base + p

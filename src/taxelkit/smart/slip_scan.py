@@ -9,57 +9,28 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.slip import SLIP_KINDS, Slip, SlipConfig
+from taxelkit.smart.slip_motion import AREA as _AREA_COL
+from taxelkit.smart.slip_motion import C2 as _C2
+from taxelkit.smart.slip_motion import COV as _COV
+from taxelkit.smart.slip_motion import CX as _CX
+from taxelkit.smart.slip_motion import CY as _CY
+from taxelkit.smart.slip_motion import ELONG as _ELONG
+from taxelkit.smart.slip_motion import END1 as _END1
+from taxelkit.smart.slip_motion import END2 as _END2
+from taxelkit.smart.slip_motion import (
+    GUARD_MM,
+    Windows,
+    motions_area,
+    motions_line,
+    window_means,
+)
+from taxelkit.smart.slip_motion import HALF as _HALF
+from taxelkit.smart.slip_motion import N_FEATURES as _N_FEATURES
+from taxelkit.smart.slip_motion import S2 as _S2
 
 __all__ = ["SlipScanner"]
 
 _LINE = int(ContactClass.LINE)
-
-# Feature columns averaged over the windows (from the rows of segment_scan.ROW_COLUMNS).
-_CX, _CY, _AREA_COL, _C2, _S2, _HALF, _ELONG = range(7)
-_END1, _END2 = slice(7, 9), slice(9, 11)  # a line's two ends, x y (mm), in a consistent order
-_COV = slice(11, 14)  # second central moments xx, yy, xy, mm^2
-_N_FEATURES = 14
-
-
-def _window_means(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
-    """Mean of each ``w`` consecutive rows ``(n - w + 1, F)``; empty when ``n < w``."""
-    n = x.shape[0] - w + 1
-    if n <= 0:
-        return np.zeros((0, x.shape[1]))
-    out = x[:n].copy()
-    for j in range(1, w):  # in a fixed order: the same floats whatever the chunking
-        out += x[j : j + n]
-    out /= w
-    return out
-
-
-#: Motions this close to a decision's limit are recomputed by the scalar rule, mm.
-_GUARD_MM = 1e-9
-
-
-def _motions_line(ref: NDArray[np.float64], cur: NDArray[np.float64]) -> NDArray[np.float64]:
-    """A line's motion (:meth:`SlipScanner.motion_mm`), vectorised; NaN not yet applied."""
-    dx, dy = cur[:, _CX] - ref[:, _CX], cur[:, _CY] - ref[:, _CY]
-    th = 0.5 * np.arctan2(ref[:, _S2] + cur[:, _S2], ref[:, _C2] + cur[:, _C2])
-    ax, ay = np.cos(th), np.sin(th)
-    e1, e2 = cur[:, _END1] - ref[:, _END1], cur[:, _END2] - ref[:, _END2]
-    d1, d2 = e1[:, 0] * ax + e1[:, 1] * ay, e2[:, 0] * ax + e2[:, 1] * ay
-    a1, a2 = np.abs(d1), np.abs(d2)
-    both = np.where(d1 * d2 > 0.0, np.where(a2 < a1, a2, a1), 0.0)  # min(|d1|, |d2|)
-    centre = np.abs(dx * ax + dy * ay) - np.abs(cur[:, _HALF] - ref[:, _HALF])
-    return np.where(np.isnan(d1 + d2), centre, both)
-
-
-class _Windows:
-    """Means of ``w`` consecutive rows of ``x`` from row ``start`` on (computed once)."""
-
-    def __init__(self, x: NDArray[np.float64], w: int, start: int) -> None:
-        self.start = start
-        self.means = _window_means(x[start:], w)
-
-    def rows(self, a: int, b: int) -> NDArray[np.float64]:
-        """The windows starting at rows ``a .. b - 1`` of ``x``."""
-        return self.means[a - self.start : b - self.start]
 
 
 class SlipScanner:
@@ -211,39 +182,23 @@ class SlipScanner:
     ) -> NDArray[np.float64]:
         """:meth:`motion_mm` of rows ``ref``, ``cur`` ``(K, F)``, to be compared with ``limit_mm``.
 
-        Vectorised with the scalar's operations in its order; the few values
-        within :data:`_GUARD_MM` of ``limit_mm`` (where a last-bit difference
-        of a library's ``atan2`` or ``hypot`` could flip the comparison) are
-        recomputed by :meth:`motion_mm`, so every decision is the scalar's.
+        Vectorised with the scalar's operations in its order
+        (:mod:`~taxelkit.smart.slip_motion`); the few values within
+        :data:`~taxelkit.smart.slip_motion.GUARD_MM` of ``limit_mm`` (where a
+        last-bit difference of a library's ``atan2`` or ``hypot`` could flip the
+        comparison) are recomputed by :meth:`motion_mm`, so every decision is
+        the scalar's.
         """
-        out = _motions_line(ref, cur) if self.cls == _LINE else self._motions_area(ref, cur)
+        out = (
+            motions_line(ref, cur)
+            if self.cls == _LINE
+            else motions_area(ref, cur, self.config.min_elongation)
+        )
         ratio = cur[:, _AREA_COL] / ref[:, _AREA_COL] - 1.0
         out[~(ref[:, _AREA_COL] > 0) | (np.abs(ratio) > self.config.area_step)] = np.nan
-        for i in np.flatnonzero(np.abs(out - limit_mm) <= _GUARD_MM).tolist():
+        for i in np.flatnonzero(np.abs(out - limit_mm) <= GUARD_MM).tolist():
             out[i] = self.motion_mm(ref[i], cur[i])
         return out
-
-    def _motions_area(
-        self, ref: NDArray[np.float64], cur: NDArray[np.float64]
-    ) -> NDArray[np.float64]:
-        """The face's motion (:meth:`motion_mm`), vectorised; NaN not yet applied."""
-        dx, dy = cur[:, _CX] - ref[:, _CX], cur[:, _CY] - ref[:, _CY]
-        moved = np.hypot(dx, dy)
-        pos = moved > 0.0
-        with np.errstate(invalid="ignore", divide="ignore"):
-            nx, ny = dx / moved, dy / moved
-        size = []
-        for v in (ref[:, _COV], cur[:, _COV]):
-            q = v[:, 0] * nx * nx + v[:, 1] * ny * ny + 2 * v[:, 2] * nx * ny
-            size.append(np.sqrt(12.0 * np.where(q > 0.0, q, 0.0)))  # max(0.0, q)
-        moved = np.where(pos, moved - 0.5 * np.abs(size[1] - size[0]), moved)
-        th_ref = 0.5 * np.arctan2(ref[:, _S2], ref[:, _C2])
-        th_cur = 0.5 * np.arctan2(cur[:, _S2], cur[:, _C2])
-        turn = np.abs(np.mod(th_cur - th_ref + 0.5 * math.pi, math.pi) - 0.5 * math.pi)
-        far = turn * ref[:, _HALF]
-        e_ref, e_cur = ref[:, _ELONG], cur[:, _ELONG]
-        elongated = np.where(e_cur < e_ref, e_cur, e_ref) >= self.config.min_elongation
-        return np.where(elongated & (far > moved), far, moved)  # max(moved, far)
 
     # -- feeding ---------------------------------------------------------------------------------
     def extend(self, frames: NDArray[np.intp], rows: NDArray[np.float64]) -> list[Slip]:
@@ -298,7 +253,7 @@ class SlipScanner:
                 p = self._search(search, p - first, first, base, fr, out)
             else:
                 if end is None:
-                    end = _Windows(x, e, max(0, p - 2 * e + 1))
+                    end = Windows(x, e, max(0, p - 2 * e + 1))
                 p = self._watch_end(end, p, base, fr, out)
         return out
 
@@ -309,8 +264,8 @@ class SlipScanner:
         out = np.full(n - first, np.nan)
         q0 = max(first, c + r - 1)  # the first frame with a full reference in x
         if q0 < n:
-            cur_m = _window_means(x[q0 - c + 1 :], c)
-            ref_m = _window_means(x[q0 - c - r + 1 : n - c], r)
+            cur_m = window_means(x[q0 - c + 1 :], c)
+            ref_m = window_means(x[q0 - c - r + 1 : n - c], r)
             out[q0 - first :] = self._motions(ref_m, cur_m, self._limit_mm)
         return out
 
@@ -358,7 +313,7 @@ class SlipScanner:
         return first + m
 
     def _watch_end(
-        self, end: _Windows, p: int, base: int, fr: NDArray[np.intp], out: list[Slip]
+        self, end: Windows, p: int, base: int, fr: NDArray[np.intp], out: list[Slip]
     ) -> int:
         """A slip open: step frames ``p ...`` to its end; the next frame to decide."""
         assert self._open is not None
