@@ -23,8 +23,12 @@ Times are CPU seconds of this process (``time.process_time``; BLAS on one
 thread), so that other work on a shared machine does not count; the wall-clock
 rate of the bank is printed beside.
 
+Each skin (``--active``: one or more fractions) is run ``--runs`` times and
+the range is quoted; ``--record`` writes the README row
+(``docs/results/bench/bench_bank.json``).
+
 Usage: ``python benchmarks/bench_bank.py [--arrays N] [--frames T] [--batch-frames B]
-[--active F]``.
+[--active F ...] [--runs R] [--record]``.
 """
 
 from __future__ import annotations
@@ -36,9 +40,11 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 
 import argparse  # noqa: E402
 import time  # noqa: E402
+from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
 
+from _record import add_record_option, record  # noqa: E402
 from taxelkit.frames import TactileFrames  # noqa: E402
 from taxelkit.motion.rolling import frames_from_scenario  # noqa: E402
 from taxelkit.motion.scenarios import make_scenario  # noqa: E402
@@ -81,26 +87,16 @@ def skin_frames(
     return out
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--arrays", type=int, default=1000)
-    ap.add_argument("--frames", type=int, default=1024)
-    ap.add_argument("--batch-frames", type=int, default=256)
-    ap.add_argument("--stream-batch-frames", type=int, default=4096)
-    ap.add_argument("--evaluate-every", type=int, default=1)
-    ap.add_argument("--active", type=float, default=0.25)
-    ap.add_argument("--rolls", type=int, default=12)
-    ap.add_argument("--baseline-arrays", type=int, default=10)
-    args = ap.parse_args()
-    rng = np.random.default_rng(0)
-    pool = roll_pool(args.rolls)
-    n, t_n, b = args.arrays, args.frames, args.batch_frames
-    frames = skin_frames(pool, n, t_n, args.active, rng)
+def bank_run(frames: np.ndarray, args: argparse.Namespace) -> dict[str, float]:
+    """One bank run over ``frames`` ``(N, T, 16, 16)``: CPU rate, per-push times, wall rate."""
+    n, t_n, b = frames.shape[0], frames.shape[1], args.batch_frames
     times = (np.arange(t_n) / RATE_HZ).tolist()
-    pitch = BONNEVILLE_16X16.array.pitch_mm
-
     bank = SensorBank(
-        n, (16, 16), pitch_mm=pitch, batch_frames=b, evaluate_every=args.evaluate_every
+        n,
+        (16, 16),
+        pitch_mm=BONNEVILLE_16X16.array.pitch_mm,
+        batch_frames=b,
+        evaluate_every=args.evaluate_every,
     )
     per_push = []
     wall0, t_start = time.perf_counter(), clock()
@@ -111,45 +107,36 @@ def main() -> None:
     bank.flush()
     t_bank = clock() - t_start
     wall = time.perf_counter() - wall0
-    bank_rate = n * t_n / t_bank
-    print(
-        f"skin: {n:,} arrays of 16 x 16 at {RATE_HZ:.0f} frames/s, {t_n:,} frames each "
-        f"({n * t_n:,} frames), {args.active:.0%} of the arrays rolling objects, faults 'all'"
-    )
-    print(
-        f"bank (SensorBank.push, batch_frames={b}, evaluate_every={args.evaluate_every}): "
-        f"{bank_rate:14,.0f} frames/s (target 2,000,000)"
-    )
-    print(f"  wall clock: {n * t_n / wall:,.0f} frames/s (load average {os.getloadavg()[0]:.1f})")
-    print(
-        f"  per push (CPU): mean {1e3 * np.mean(per_push):.2f} ms, "
-        f"longest {1e3 * max(per_push):.1f} ms (the push that runs the batch); "
-        f"latency bound {b} frames = {1e3 * b / RATE_HZ:.0f} ms at {RATE_HZ:.0f} frames/s"
-    )
-    print(
-        f"  real time: {bank_rate / (n * RATE_HZ):.1f} x ({n:,} arrays at {RATE_HZ:.0f} frames/s)"
-    )
+    return {
+        "rate": n * t_n / t_bank,
+        "wall_rate": n * t_n / wall,
+        "push_mean_ms": 1e3 * float(np.mean(per_push)),
+        "push_max_ms": 1e3 * max(per_push),
+    }
 
-    m = min(args.baseline_arrays, n)
+
+def separate_rate(frames: np.ndarray, n_measured: int) -> float:
+    """Frames/s of one ``SmartSensor.push`` per array per frame, on the first arrays, scaled."""
+    n, t_n = frames.shape[:2]
+    times = (np.arange(t_n) / RATE_HZ).tolist()
+    m = min(n_measured, n)
+    pitch = BONNEVILLE_16X16.array.pitch_mm
     sensors = [SmartSensor((16, 16), pitch_mm=pitch) for _ in range(m)]
     t0 = clock()
     for j in range(t_n):
         t = times[j]
         for i in range(m):
             sensors[i].push(frames[i, j], t)
-    t_sep = (clock() - t0) * n / m
-    sep_rate = n * t_n / t_sep
-    print(
-        f"baseline ({n:,} separate SmartSensor.push, measured on {m} arrays, scaled): "
-        f"{sep_rate:14,.0f} frames/s"
-    )
-    print(f"  ratio bank / separate sensors: {bank_rate / sep_rate:.1f}x")
+    return n * t_n / ((clock() - t0) * n / m)
 
+
+def one_stream(pool: list[np.ndarray], batch_frames: int) -> dict[str, float]:
+    """One ``SmartSensor`` over the rolls one after the other: batched, one at a time, batch."""
+    pitch = BONNEVILLE_16X16.array.pitch_mm
     stream = np.concatenate(pool)
     ts = np.arange(stream.shape[0]) / RATE_HZ
     tl = ts.tolist()
-    sb = args.stream_batch_frames
-    one = SmartSensor((16, 16), pitch_mm=pitch, batch_frames=sb)
+    one = SmartSensor((16, 16), pitch_mm=pitch, batch_frames=batch_frames)
     t0 = clock()
     for f, t in zip(stream, tl, strict=True):
         one.push(f, t)
@@ -165,14 +152,124 @@ def main() -> None:
     recognise(TactileFrames(stream, ts, pitch_mm=pitch))
     t_batch = clock() - t0
     s = stream.shape[0]
-    print(f"one stream: {s:,} frames (the rolls one after the other)")
-    print(f"  SmartSensor.push, batch_frames={sb}: {s / t_one:12,.0f} frames/s (target 200,000)")
-    print(f"  SmartSensor.push, one frame at a time: {s / t_slow:12,.0f} frames/s")
-    print(f"  recognise (batch, whole recording): {s / t_batch:12,.0f} frames/s")
-    print(
-        f"  ratio batched / one at a time: {t_slow / t_one:.1f}x; "
-        f"batched / recognise: {t_batch / t_one:.2f}"
+    return {"frames": s, "batched": s / t_one, "one_at_a_time": s / t_slow, "batch": s / t_batch}
+
+
+def span(values: list[float], scale: float = 1.0, digits: int = 0, step: float = 0.0) -> str:
+    """``lo-hi`` (or one value) of ``values / scale`` (rounded to ``step``), thousands separated."""
+    lo, hi = min(values) / scale, max(values) / scale
+    if step:
+        lo, hi = step * round(lo / step), step * round(hi / step)
+    fmt = f"{{:,.{digits}f}}"
+    return (
+        fmt.format(lo) if fmt.format(lo) == fmt.format(hi) else f"{fmt.format(lo)}-{fmt.format(hi)}"
     )
+
+
+FRACTION_NAMES = {0.1: "a tenth", 0.25: "a quarter", 0.5: "half", 1.0: "all"}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--arrays", type=int, default=1000)
+    ap.add_argument("--frames", type=int, default=1024)
+    ap.add_argument("--batch-frames", type=int, default=256)
+    ap.add_argument("--stream-batch-frames", type=int, default=4096)
+    ap.add_argument("--evaluate-every", type=int, default=1)
+    ap.add_argument(
+        "--active", type=float, nargs="+", default=[0.25, 0.1, 1.0],
+        help="fractions of the arrays rolling objects, one skin each (the first is the headline)",
+    )  # fmt: skip
+    ap.add_argument("--rolls", type=int, default=12)
+    ap.add_argument("--baseline-arrays", type=int, default=10)
+    ap.add_argument("--runs", type=int, default=3, help="bank runs per skin (the range is quoted)")
+    add_record_option(ap)
+    args = ap.parse_args()
+    pool = roll_pool(args.rolls)
+    n, t_n, b = args.arrays, args.frames, args.batch_frames
+    print(
+        f"skin: {n:,} arrays of 16 x 16 at {RATE_HZ:.0f} frames/s, {t_n:,} frames each "
+        f"({n * t_n:,} frames a run), faults 'all'; bank: SensorBank.push, batch_frames={b} "
+        f"(latency bound {b} frames = {1e3 * b / RATE_HZ:.0f} ms), "
+        f"evaluate_every={args.evaluate_every}; CPU time, {args.runs} runs"
+    )
+    skins = {}
+    for active in args.active:
+        frames = skin_frames(pool, n, t_n, active, np.random.default_rng(0))
+        runs = [bank_run(frames, args) for _ in range(args.runs)]
+        sep = separate_rate(frames, args.baseline_arrays)
+        rates = [r["rate"] for r in runs]
+        skins[active] = {"runs": runs, "separate": sep}
+        print(
+            f"{active:5.0%} of the arrays rolling: bank {span(rates)} frames/s "
+            f"(target 2,000,000; wall clock {span([r['wall_rate'] for r in runs])}, load "
+            f"{os.getloadavg()[0]:.1f}); per push mean "
+            f"{span([r['push_mean_ms'] for r in runs], digits=2)} ms, longest "
+            f"{span([r['push_max_ms'] for r in runs], digits=0)} ms; "
+            f"{span(rates, RATE_HZ * n, 1)}x real time"
+        )
+        print(
+            f"       baseline {n:,} separate SmartSensor.push (measured on "
+            f"{min(args.baseline_arrays, n)} arrays, scaled): {sep:,.0f} frames/s; "
+            f"ratio bank / separate {span(rates, sep, 1)}x"
+        )
+    streams = [one_stream(pool, args.stream_batch_frames) for _ in range(max(1, args.runs - 1))]
+    s = streams[0]["frames"]
+    sb = args.stream_batch_frames
+    print(f"one stream: {s:,} frames (the rolls one after the other), {len(streams)} runs")
+    print(f"  SmartSensor.push, batch_frames={sb}: "
+          f"{span([r['batched'] for r in streams])} frames/s (target 200,000)")  # fmt: skip
+    print(f"  SmartSensor.push, one frame at a time: "
+          f"{span([r['one_at_a_time'] for r in streams])} frames/s")  # fmt: skip
+    print(f"  recognise (batch, whole recording): {span([r['batch'] for r in streams])} frames/s")
+    if args.record:
+        write_record(args, skins, streams)
+
+
+def write_record(
+    args: argparse.Namespace, skins: dict[float, dict[str, Any]], streams: list[dict[str, float]]
+) -> None:
+    """The README row of this run."""
+    n, b = args.arrays, args.batch_frames
+    parts, ratios = [], []
+    for k, (active, skin) in enumerate(skins.items()):
+        rates = [r["rate"] for r in skin["runs"]]
+        name = FRACTION_NAMES.get(active, f"{active:.0%}")
+        push = skin["runs"]
+        text = f"{name} touched: {span(rates, step=1000)} frames/s"
+        if k == 0:
+            mean = span([r["push_mean_ms"] for r in push], digits=2)
+            longest = span([r["push_max_ms"] for r in push])
+            text = (
+                f"{n:,} arrays of 16 x 16, {text} (`batch_frames={b}`: latency bound "
+                f"{1e3 * b / RATE_HZ:.0f} ms; a push {mean} ms on average, the push that "
+                f"runs a batch {longest} ms)"
+            )
+        parts.append(text)
+        ratios.append(f"{span(rates, skin['separate'], 1)}x ({name})")
+    hit = max(max(r["rate"] for r in skin["runs"]) for skin in skins.values()) >= 2e6
+    batched = [r["batched"] for r in streams]
+    figure = (
+        "; ".join(parts)
+        + f" ({args.runs} runs each, CPU time; target 2,000,000 {'met' if hit else 'missed'}); "
+        f"one stream, `batch_frames={args.stream_batch_frames}`: {span(batched, step=1000)} "
+        "frames/s "
+        f"(target 200,000 {'met' if min(batched) >= 2e5 else 'missed'})"
+    )
+    one = [r["batched"] / r["one_at_a_time"] for r in streams]
+    ratio = (
+        f"{', '.join(ratios)} {n:,} separate `SmartSensor.push`; one stream "
+        f"{span(one, digits=1)}x one frame at a time, "
+        f"{span([r['batched'] / r['batch'] for r in streams], digits=2)}x batch `recognise`"
+    )
+    measured = {
+        "arrays": n,
+        "frames": args.frames,
+        "batch_frames": b,
+        "skins": {str(a): s for a, s in skins.items()},
+        "one_stream": streams,
+    }
+    record(__file__, figure=figure, ratio=ratio, measured=measured)
 
 
 if __name__ == "__main__":

@@ -16,10 +16,15 @@ With ``--arrays N`` the stream carries N arrays (version 2 packets, one frame
 of each in turn, each at ``rate / N`` frames/s) and ``recognize_live`` runs
 with ``arrays=N`` (a :class:`~taxelkit.smart.bank.SensorBank`); the offline
 comparison adds the bank's own rate (``push_many`` of 25 frames per array).
-The acceptance run: ``--rate 48000 --arrays 200 --seconds 21`` (200 arrays at
-240 frames/s, 1,008,000 frames).
+The acceptance run: ``--arrays 1 200`` (one array at 50,000 frames/s for 4 s;
+200 arrays at 240 frames/s, ``--bank-rate 48000 --bank-seconds 21``, 1,008,000 frames).
 
-Usage: ``python benchmarks/bench_live_udp.py [--rate 50000] [--seconds 4] [--arrays 1]``.
+Each stream is run ``--runs`` times (the range is quoted); ``--arrays 1 200``
+runs both (the bank at ``--bank-rate`` for ``--bank-seconds``); ``--record``
+writes the README row (``docs/results/bench/bench_live_udp.json``).
+
+Usage: ``python benchmarks/bench_live_udp.py [--rate 50000] [--seconds 4] [--arrays 1 ...]
+[--runs 2] [--record]``.
 """
 
 from __future__ import annotations
@@ -33,10 +38,12 @@ import argparse  # noqa: E402
 import tempfile  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
+from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
 
 from _live_udp import run_live, write_packets  # noqa: E402
+from _record import add_record_option, record  # noqa: E402
 from bench_out_of_core import base_block  # noqa: E402
 from taxelkit.smart.bank import SensorBank  # noqa: E402
 from taxelkit.smart.recognise_chunks import ChunkRecogniser  # noqa: E402
@@ -74,40 +81,136 @@ def bank_rate(frames: np.ndarray, rate_hz: float, arrays: int, per_push: int = 2
     return arrays * n / (time.process_time() - t0)
 
 
+def span(values: list[float], digits: int = 0, step: float = 0.0, sign: str = "") -> str:
+    """``lo-hi`` (or one value), rounded to ``step`` if given, with thousands separators."""
+    fmt = f"{{:{sign},.{digits}f}}"
+    a, b = min(values), max(values)
+    if step:
+        a, b = step * round(a / step), step * round(b / step)
+    lo, hi = fmt.format(a), fmt.format(b)
+    return lo if lo == hi else f"{lo}{' to ' if sign else '-'}{hi}"
+
+
+def live_runs(
+    frames: np.ndarray, rate: float, seconds: float, arrays: int, runs: int
+) -> list[dict[str, float]]:
+    """``runs`` live runs: frames sent, lost, RSS growth and load average of each."""
+    out = []
+    n = int(rate * seconds)
+    for _ in range(runs):
+        with tempfile.TemporaryDirectory() as tmp:
+            path = Path(tmp) / "packets.bin"
+            write_packets(path, frames, rate, n, 0.0, arrays=arrays)
+            run = run_live(path, rate, frames.shape[1:], arrays=arrays)
+        rss = run.rss_mb[30:] or run.rss_mb  # from 2 s of traffic on (the sender waits 1 s)
+        lost = run.sent - run.processed
+        print(
+            f"{arrays} array(s), {rate:,.0f} frames/s offered for {seconds:g} s (sent in "
+            f"{run.send_s:.2f} s): sent {run.sent:,}, processed {run.processed:,}, lost "
+            f"{lost:,} ({100 * lost / run.sent:.3f} %; target < 0.1 %); RSS after 2 s "
+            f"{rss[0]:.1f} MB, at the end {rss[-1]:.1f} MB (growth {rss[-1] - rss[0]:+.1f} MB, "
+            f"peak {max(rss):.1f} MB); load average {os.getloadavg()[0]:.1f}"
+        )
+        print(f"  summary: {run.summary}")
+        out.append(
+            {
+                "sent": run.sent,
+                "processed": run.processed,
+                "lost_pct": 100 * lost / run.sent,
+                "rss_growth_mb": rss[-1] - rss[0],
+                "sustained": run.processed / seconds,
+                "load_average": os.getloadavg()[0],
+            }
+        )
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
-    ap.add_argument("--rate", type=float, default=50_000.0, help="frames/s offered")
+    ap.add_argument("--rate", type=float, default=50_000.0, help="frames/s offered (one array)")
     ap.add_argument("--seconds", type=float, default=4.0)
     ap.add_argument("--scenarios", type=int, default=12)
-    ap.add_argument("--arrays", type=int, default=1, help="arrays carried by the stream")
+    ap.add_argument(
+        "--arrays", type=int, nargs="+", default=[1], help="arrays carried by the stream, per run"
+    )
+    ap.add_argument("--bank-rate", type=float, default=48_000.0, help="frames/s with N > 1")
+    ap.add_argument("--bank-seconds", type=float, default=21.0)
+    ap.add_argument("--runs", type=int, default=2, help="live runs per stream (range quoted)")
+    add_record_option(ap)
     args = ap.parse_args()
     frames = base_block(args.scenarios)
-    n = int(args.rate * args.seconds)
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "packets.bin"
-        write_packets(path, frames, args.rate, n, 0.0, arrays=args.arrays)
-        run = run_live(path, args.rate, frames.shape[1:], arrays=args.arrays)
+    print("live UDP, 16 x 16 contact frames, 2-core machine")
+    results = {}
+    for arrays in args.arrays:
+        rate, seconds = (
+            (args.rate, args.seconds) if arrays == 1 else (args.bank_rate, args.bank_seconds)
+        )
+        results[arrays] = {
+            "rate": rate,
+            "seconds": seconds,
+            "runs": live_runs(frames, rate, seconds, arrays, args.runs),
+        }
     one, many = offline_rates(frames, args.rate, min(frames.shape[0], 20_000))
-    lost = run.sent - run.processed
-    rss = run.rss_mb[30:] or run.rss_mb  # from 2 s of traffic on (the sender waits 1 s)
-    print(f"live UDP, 16 x 16 contact frames, {args.rate:,.0f} frames/s offered for "
-          f"{args.seconds:g} s (sent in {run.send_s:.2f} s), 2-core machine")  # fmt: skip
-    if args.arrays > 1:
-        print(f"as {args.arrays} arrays of a bank, each at {args.rate / args.arrays:,.0f} frames/s")
-    print(f"sent {run.sent:,}, processed {run.processed:,}, lost {lost:,} "
-          f"({100 * lost / run.sent:.3f} %; target < 0.1 %)")  # fmt: skip
-    print(f"resident memory after 2 s of traffic: {rss[0]:.1f} MB, at the end {rss[-1]:.1f} MB "
-          f"(growth {rss[-1] - rss[0]:+.1f} MB, peak {max(rss):.1f} MB)")  # fmt: skip
-    print(f"summary: {run.summary}")
-    print(f"{'same frames, no network':42s} {'frames/s':>12s} {'vs push':>9s}")
+    print(f"{'same frames, no network (CPU time)':42s} {'frames/s':>12s} {'vs push':>9s}")
     print(f"{'SmartSensor.push, one frame per call':42s} {one:12,.0f} {1.0:8.1f}x")
     print(f"{'ChunkRecogniser(streaming), 256 per call':42s} {many:12,.0f} {many / one:8.1f}x")
-    if args.arrays > 1:
-        bank = bank_rate(frames, args.rate, args.arrays)
-        print(f"{f'SensorBank.push_many, {args.arrays} arrays x 25':42s} {bank:12,.0f} "
-              f"{bank / one:8.1f}x")  # fmt: skip
-    print(f"{'live path, offered rate sustained':42s} {run.processed / args.seconds:12,.0f} "
-          f"{run.processed / args.seconds / one:8.1f}x")  # fmt: skip
+    banks = {}
+    for arrays, res in results.items():
+        if arrays > 1:
+            banks[arrays] = bank_rate(frames, res["rate"], arrays)
+            print(f"{f'SensorBank.push_many, {arrays} arrays x 25':42s} {banks[arrays]:12,.0f} "
+                  f"{banks[arrays] / one:8.1f}x")  # fmt: skip
+        sustained = [r["sustained"] for r in res["runs"]]
+        print(f"{f'live path, {arrays} array(s), sustained':42s} {span(sustained):>12s} "
+              f"{span([x / one for x in sustained], 1):>8s}x")  # fmt: skip
+    if args.record:
+        write_record(args, results, one, banks)
+
+
+def write_record(
+    args: argparse.Namespace,
+    results: dict[int, dict[str, Any]],
+    one: float,
+    banks: dict[int, float],
+) -> None:
+    """The README row of this run."""
+    parts, ratios, lost_ok, rss_ok = [], [], True, True
+    for arrays, res in results.items():
+        runs = res["runs"]
+        lost = [r["lost_pct"] for r in runs]
+        growth = [r["rss_growth_mb"] for r in runs]
+        load = [r["load_average"] for r in runs]
+        lost_ok &= max(lost) < 0.1
+        rss_ok &= max(growth) < 10
+        what = (
+            f"`recognize --live udp:` offered {res['rate']:,.0f} frames/s for {res['seconds']:g} s"
+            if arrays == 1
+            else f"`--arrays {arrays}` (version 2 packets, {arrays} arrays at "
+            f"{res['rate'] / arrays:,.0f} frames/s, {int(res['rate'] * res['seconds']):,} frames)"
+        )
+        parts.append(
+            f"{what}: {span(lost, 3)} % lost, RSS {span(growth, 1, sign='+')} MB "
+            f"({len(runs)} runs, load average {span(load, 1)})"
+        )
+        sustained = [r["sustained"] / one for r in runs]
+        ratios.append(
+            f"{span(sustained, 1)}x ({'one array' if arrays == 1 else f'{arrays} arrays'})"
+        )
+    figure = "; ".join(parts) + (
+        f" (target < 0.1 % lost {'met' if lost_ok else 'missed'}, "
+        f"< 10 MB growth {'met' if rss_ok else 'missed'}, in every run)"
+    )
+    ratio = f"the live path sustains {', '.join(ratios)} `SmartSensor.push` one frame per call"
+    if banks:
+        ratio += "; `SensorBank.push_many` offline " + ", ".join(
+            f"{b / one:.1f}x ({a} arrays)" for a, b in banks.items()
+        )
+    measured = {
+        "push_one_rate": one,
+        "streams": {str(a): r for a, r in results.items()},
+        "bank_push_many": {str(a): b for a, b in banks.items()},
+    }
+    record(__file__, figure=figure, ratio=ratio, measured=measured)
 
 
 if __name__ == "__main__":

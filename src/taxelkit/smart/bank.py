@@ -136,7 +136,7 @@ class SensorBank:
             ArrayStream(self.config, chunk_every=self.evaluate_every) for _ in range(self.n_arrays)
         ]
         self._buf: NDArray[Any] | None = None
-        self._buf_t = np.empty((self.n_arrays, self.batch_frames))
+        self._buf_t = np.empty((self.batch_frames, self.n_arrays))
         self._buf_n = 0
 
     def classes(self, i: int) -> ClassHistory:
@@ -185,10 +185,11 @@ class SensorBank:
         buf = self._buf
         if buf is None or buf.dtype != f.dtype:
             events = self._run()
-            buf = self._buf = np.empty((self.n_arrays, self.batch_frames, *self.shape), f.dtype)
+            # time first: a push copies one contiguous block
+            buf = self._buf = np.empty((self.batch_frames, self.n_arrays, *self.shape), f.dtype)
         k = self._buf_n
-        buf[:, k] = f
-        self._buf_t[:, k] = t[:, 0]
+        buf[k] = f
+        self._buf_t[k] = t[:, 0]
         self._buf_n = k + 1
         self.frame_index += 1
         if k + 1 == self.batch_frames:
@@ -223,12 +224,18 @@ class SensorBank:
         if not self._buf_n or self._buf is None:
             return []
         n, self._buf_n = self._buf_n, 0
-        return self._process(self._buf[:, :n], self._buf_t[:, :n].copy())
+        t = np.ascontiguousarray(self._buf_t[:n].T)
+        return self._levels34(*self._levels12.process_time_major(self._buf[:n], t), t)
 
     def _process(self, frames: NDArray[Any], t: NDArray[np.float64]) -> list[tuple[int, Event]]:
         if frames.shape[1] == 0:
             return []
-        classes, rows = self._levels12.process(frames, t)
+        return self._levels34(*self._levels12.process(frames, t), t)
+
+    def _levels34(
+        self, classes: NDArray[np.int8], rows: NDArray[np.float64], t: NDArray[np.float64]
+    ) -> list[tuple[int, Event]]:
+        """Debounce and Levels 3-4 of every array's chunk: classes, rows ``(N, T, 9)``, times."""
         quiet = (~np.any(classes != _NONE, axis=1)).tolist()
         out: list[tuple[int, Event]] = []
         for i, (stream, still) in enumerate(zip(self._streams, quiet, strict=True)):

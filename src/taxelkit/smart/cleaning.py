@@ -149,15 +149,17 @@ class _Packed:
     @staticmethod
     def down(a: NDArray[Any], n: int = 1) -> NDArray[Any]:
         """Taxel (r, c) gets (r - n, c)."""
-        out = np.zeros_like(a)
+        out = np.empty_like(a)
         out[:, n:] = a[:, :-n]
+        out[:, :n] = 0
         return out
 
     @staticmethod
     def up(a: NDArray[Any], n: int = 1) -> NDArray[Any]:
         """Taxel (r, c) gets (r + n, c)."""
-        out = np.zeros_like(a)
+        out = np.empty_like(a)
         out[:, :-n] = a[:, n:]
+        out[:, -n:] = 0
         return out
 
     @staticmethod
@@ -221,14 +223,18 @@ def _neighbours8(ops: Any, a: Board) -> Board:
 
 
 def _crowded(ops: Any, a: Board) -> Board:
-    """Taxels with at least two of their eight neighbours on (bit-sliced count)."""
-    one = a ^ a  # zeros of a's kind: an array, or a Python int (the streaming bitboard)
-    two = a ^ a
-    lr = (ops.left(a), ops.right(a))
-    for x in (*lr, *(move(v) for move in (ops.up, ops.down) for v in (a, *lr))):
-        two |= one & x
-        one |= x
-    return two
+    """Taxels with at least two of their eight neighbours on (bit-sliced count).
+
+    Each row's neighbours beside a taxel count ``h1 + 2 h2`` and each row's
+    three taxels above or below one ``t1 + 2 t2`` (bit slices); two or more
+    of the eight: a two-bit anywhere, or two of the three one-bits.
+    """
+    left, right = ops.left(a), ops.right(a)
+    h1, h2 = left ^ right, left & right
+    t1, t2 = a ^ h1, (a & (left | right)) | h2
+    u1, u2, d1, d2 = ops.up(t1), ops.up(t2), ops.down(t1), ops.down(t2)
+    out: Board = h2 | u2 | d2 | (h1 & (u1 | d1)) | (u1 & d1)
+    return out
 
 
 def _dilate3(ops: Any, a: Board) -> Board:

@@ -84,6 +84,7 @@ class ChunkCleaner:
         self.shape = (int(shape[0]), int(shape[1]))
         self.config = CleaningConfig() if config is None else config
         self._ops = _backend(self.shape[1])
+        self._taxels = self.shape[0] * self.shape[1]
         self.reset()
 
     def reset(self) -> None:
@@ -120,18 +121,40 @@ class ChunkCleaner:
         out = np.zeros_like(img)
         if t == 0:
             return out
-        self._timing(np.asarray(t_s, dtype=np.float64).reshape(n, t))
-        self._seen += t
-        sel = np.flatnonzero(self._busy | img.reshape(n, -1).any(axis=1))
-        longest = int(self._n_stuck.max())
-        if sel.size == 0:
-            self._resize_hist(longest)
-            return out
+        touched: NDArray[np.bool_] = np.any(img.reshape(n, t * self._taxels), axis=1)
+        sel, longest = self.select(t_s, touched)
         group = max(1, GROUP_FRAMES // t)  # arrays per pass: the temporaries stay in cache
         for a in range(0, sel.size, group):
             g = sel[a : a + group]
-            out[g] = self._clean(img if g.size == n else img[g], g, longest)
+            out[g] = self.clean(img if g.size == n else img[g], g, longest)
         return out
+
+    def select(
+        self, t_s: NDArray[np.float64], touched: NDArray[np.bool_]
+    ) -> tuple[NDArray[np.intp], int]:
+        """Start a chunk taken at ``t_s`` ``(N, T)``: the arrays to :meth:`clean`, and a length.
+
+        ``touched`` ``(N,)``: arrays with a taxel on in the chunk. Returns the
+        arrays touched or :attr:`busy` (every other array's output is clear,
+        and it needs nothing more), increasing, and the ``longest`` argument of
+        :meth:`clean`. Every array returned must then be cleaned, once.
+        """
+        t = np.asarray(t_s, dtype=np.float64).reshape(self.n, -1)
+        self._timing(t)
+        self._seen += t.shape[1]
+        longest = int(self._n_stuck.max())
+        sel = np.flatnonzero(self._busy | touched)
+        self._resize_hist(longest)
+        return sel, longest
+
+    def clean(self, img: NDArray[np.bool_], sel: NDArray[np.intp], longest: int) -> NDArray[Any]:
+        """Cleaned frames ``(m, T, rows, cols)`` of arrays ``sel`` (from :meth:`select`)."""
+        return self._clean(img, sel, longest)
+
+    @property
+    def busy(self) -> NDArray[np.bool_]:
+        """``(N,)``: arrays whose state a clear chunk would change (they must be cleaned)."""
+        return self._busy.copy()
 
     def _resize_hist(self, longest: int) -> None:
         keep = max(0, longest - 1)
@@ -262,8 +285,15 @@ class ChunkCleaner:
         )
         last_seed = np.maximum.accumulate(np.where(s, idx, np.where(was, -1, -2)[:, None]), axis=1)
         masked = o & (last_seed > last_release)
-        mq, mt = np.nonzero(masked)
-        np.bitwise_or.at(out, (ii[mq], mt, jj[mq]), bits[mq])
+        # the masked bits of each word: the taxels sorted by word, OR-ed per word
+        word = ii * n_words + jj
+        order = np.argsort(word, kind="stable")
+        w_sorted = word[order]
+        starts = np.flatnonzero(np.diff(w_sorted, prepend=-1))
+        bitmap = np.where(masked[order], bits[order, None], on_f.dtype.type(0))
+        words = np.bitwise_or.reduceat(bitmap, starts, axis=0)  # (words, T)
+        wi = w_sorted[starts]
+        out[wi // n_words, :, wi % n_words] = words
         still = last_seed[:, -1] > last_release[:, -1]
         frames_off = (t - 1 - last_on[:, -1]).astype(np.int64)
         kept = (sel[ii[still]].astype(np.int64), jj[still], bit_no[still], frames_off[still])

@@ -183,25 +183,66 @@ class ChunkLevels12:
             elongation, half-length (mm), line extent low, high (mm; NaN
             unless a line), time (s) (:data:`~taxelkit.smart.segment_scan.ROW_COLUMNS`).
         """
-        n, t = frames.shape[:2]
         images: NDArray[np.bool_] = (
             np.asarray(frames, dtype=bool)
             if frames.dtype == bool
             else np.asarray(frames, dtype=np.float64) > self.threshold
         )
-        if self._cleaner is not None:
-            images = self._cleaner.push(images, t_s)
+        return self._process(images, t_s, time_major=False)
+
+    def process_time_major(
+        self, frames: NDArray[np.generic], t_s: NDArray[np.float64]
+    ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
+        """As :meth:`process`, frames given time first, ``(T, N, rows, cols)``.
+
+        Only the arrays touched in the chunk (or whose cleaning state is not
+        at rest) are gathered, a group at a time; the others cost a test.
+        """
+        images: NDArray[np.bool_] = (
+            np.asarray(frames, dtype=bool)
+            if frames.dtype == bool
+            else np.asarray(frames, dtype=np.float64) > self.threshold
+        )
+        return self._process(images, t_s, time_major=True)
+
+    def _process(
+        self, images: NDArray[np.bool_], t_s: NDArray[np.float64], *, time_major: bool
+    ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
+        """Levels 1-2 of images ``(N, T, rows, cols)`` (or ``(T, N, ...)``), a group at a time."""
+        n = self.n
+        t = images.shape[0] if time_major else images.shape[1]
         classes = np.zeros((n, t), dtype=np.int8)  # NONE
         rows = np.empty((n, t, 9))  # read only where there is contact
-        sel = np.flatnonzero(images.reshape(n, -1).any(axis=1))  # arrays touched in the chunk
-        quiet = np.ones(n, bool)
-        quiet[sel] = False
-        self._long[quiet] = False  # no contact: no length, no area
-        self._big[quiet] = False
-        if sel.size == 0:
-            return classes, rows
-        group = max(1, GROUP_FRAMES // t)  # arrays per pass: the temporaries stay in cache
+        taxels = self.shape[0] * self.shape[1]
+        hit: NDArray[np.bool_] = (
+            np.any(np.any(images.reshape(t, n, taxels), axis=2), axis=0)
+            if time_major
+            else np.any(images.reshape(n, t * taxels), axis=1)
+        )
+        longest = 0
+        if self._cleaner is not None and t:  # the arrays that may have contact
+            sel, longest = self._cleaner.select(t_s, hit)
+        else:
+            sel = np.flatnonzero(hit)
+        group = max(1, GROUP_FRAMES // max(t, 1))  # arrays per pass: the data stay in cache
+        touched = []
         for a in range(0, sel.size, group):
             g = sel[a : a + group]
-            classes[g], rows[g] = self._levels(images if g.size == n else images[g], t_s, g)
+            span = slice(int(g[0]), int(g[-1]) + 1) if g[-1] - g[0] == g.size - 1 else g
+            if time_major:
+                img = np.ascontiguousarray(images[:, span].transpose(1, 0, 2, 3))
+            else:
+                img = images if g.size == n else images[span]
+            if self._cleaner is not None:
+                img = self._cleaner.clean(img, g, longest)
+            on = img.reshape(g.size, t * taxels).any(axis=1)
+            gt = g[on]
+            if gt.size:
+                classes[gt], rows[gt] = self._levels(img if gt.size == g.size else img[on], t_s, gt)
+                touched.append(gt)
+        quiet = np.ones(n, bool)
+        for gt in touched:
+            quiet[gt] = False
+        self._long[quiet] = False  # no contact: no length, no area
+        self._big[quiet] = False
         return classes, rows

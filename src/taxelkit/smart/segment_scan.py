@@ -111,7 +111,7 @@ class SegmentScanner:
         self._head_frames: list[int] = []
         self._head_t: list[float] = []
         self._head_theta: list[float] = []
-        self._head_xy: list[tuple[float, float]] = []
+        self._head_xy: list[list[float]] = []
         self._head_cap: int | None = None
         self._dt: dict[int, float] = {}  # frame interval of the first frames, per k
         self._early: list[tuple[NDArray[np.intp], NDArray[np.float64]]] = []
@@ -191,12 +191,8 @@ class SegmentScanner:
         t2 = np.deg2rad(2.0 * rows[:, 2])
         self._axis_sum.push(np.stack([np.cos(t2), np.sin(t2)], axis=-1))
         cap = self._head_cap
-        room = m if cap is None else max(0, cap - len(self._head_frames))
-        if room:
-            self._head_frames += frames[:room].tolist()
-            self._head_t += rows[:room, 8].tolist()
-            self._head_theta += rows[:room, 2].tolist()
-            self._head_xy += [(float(x), float(y)) for x, y in rows[:room, 0:2]]
+        # before the rate is fixed, only the frames that fix it (then the cap is known)
+        self._keep_head(frames, rows, max(2, self.k) if cap is None else cap, 0)
         self.size += m
         if not self._ready:
             self._early.append((frames, rows))
@@ -206,7 +202,21 @@ class SegmentScanner:
             frames = np.concatenate([f for f, _ in self._early])
             rows = np.concatenate([r for _, r in self._early])
             self._early = []
+            assert self._head_cap is not None
+            self._keep_head(frames, rows, self._head_cap, len(self._head_frames))
         return self._scan(frames, rows, self.size - frames.size)
+
+    def _keep_head(
+        self, frames: NDArray[np.intp], rows: NDArray[np.float64], cap: int, offset: int
+    ) -> None:
+        """Keep the segment's first ``cap`` frames: ``frames[offset:]`` come next."""
+        room = max(0, cap - len(self._head_frames))
+        if room:
+            stop = offset + room
+            self._head_frames += frames[offset:stop].tolist()
+            self._head_t += rows[offset:stop, 8].tolist()
+            self._head_theta += rows[offset:stop, 2].tolist()
+            self._head_xy += rows[offset:stop, 0:2].tolist()
 
     @property
     def waiting(self) -> bool:

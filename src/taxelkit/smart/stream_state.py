@@ -262,14 +262,16 @@ class ArrayStream:
                 self._cand = cls
             need = (k_none if cls == _NONE else k_contact) - self._cand_n
             take = sel[:need]
+            rest = sel[need:]
+            if take.size == need and rest.size and cls != _NONE and self.chunk_every == 1:
+                take = sel  # the run's later frames go to the new segment at once
             self._cand_j.append(j0 + take)
             self._cand_rows.append(rows[take])
             self._cand_n += int(take.size)
             if take.size < need:
                 continue
-            self._accept(cls, j0 + int(take[-1]))
-            rest = sel[need:]
-            if rest.size and cls != _NONE:
+            self._accept(cls, j0 + int(sel[need - 1]))
+            if take.size == need and rest.size and cls != _NONE:
                 self._pend_chunks.append((j0 + rest, rows[rest]))
         if sum(j.size for j, _ in self._pend_chunks) >= self.chunk_every:
             self._feed(final=False)

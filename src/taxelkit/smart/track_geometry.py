@@ -143,6 +143,40 @@ def turn(angle: NDArray[np.float64], ref: NDArray[np.intp]) -> NDArray[np.float6
     return out
 
 
+def _bit_ends() -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """Lowest and highest set bit of every 16-bit word (0 for the word 0)."""
+    word = np.arange(1 << 16)
+    bits = ((word[:, None] >> np.arange(16)) & 1).astype(bool)
+    low = np.argmax(bits, axis=1)
+    high = 15 - np.argmax(bits[:, ::-1], axis=1)
+    return low, np.where(word > 0, high, 0)
+
+
+_LOW_BIT, _HIGH_BIT = _bit_ends()
+#: Multiplier that gathers the low bits of eight bytes into the top byte.
+_GATHER = np.uint64(0x0102040810204080)
+
+
+def _row_ends(
+    on: NDArray[np.bool_],
+) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.bool_]]:
+    """First and last contact column of each row, and whether it has one, ``(rows, m)`` each."""
+    m, rows, cols = on.shape
+    if cols in (8, 16):  # a row is a word: its columns from a table
+        # eight 0/1 bytes to eight bits: the multiply puts byte k's bit at bit 56 + k
+        eights = np.ascontiguousarray(on).view("<u8").reshape(m, rows, cols // 8)
+        word = (eights[..., 0] * _GATHER) >> np.uint64(56)
+        if cols == 16:
+            word |= ((eights[..., 1] * _GATHER) >> np.uint64(56)) << np.uint64(8)
+        w = word.T.astype(np.intp)
+        return _LOW_BIT[w], _HIGH_BIT[w], w != 0
+    rows_first = on.transpose(1, 0, 2)
+    first = np.argmax(rows_first, axis=2)
+    last = cols - 1 - np.argmax(rows_first[:, :, ::-1], axis=2)
+    has: NDArray[np.bool_] = np.any(rows_first, axis=2)
+    return first, last, has
+
+
 def line_extents(
     images: NDArray[np.bool_],
     centre_mm: NDArray[np.float64],
@@ -173,16 +207,21 @@ def line_extents(
     u = (np.arange(cols) - 0.5 * (cols - 1)) * pitch_mm
     v = (np.arange(rows) - 0.5 * (rows - 1)) * pitch_mm
     t = np.deg2rad(orientation_deg)
-    cos, sin = np.cos(t)[:, None, None], np.sin(t)[:, None, None]
+    cos, sin = np.cos(t), np.sin(t)
     out = np.empty((n, 2))
+    # A taxel's projection, (u - cx) cos + (v - cy) sin rounded step by step, is
+    # monotonic in u along a row (rounding is monotonic): a row's extremes lie at
+    # its first and last contact taxels, and are the same floats.
     for a in range(0, n, _EXTENT_CHUNK):  # chunks that stay in cache
         b = min(n, a + _EXTENT_CHUNK)
-        along_u = (u[None, None, :] - centre_mm[a:b, 0, None, None]) * cos[a:b]
-        along_v = (v[None, :, None] - centre_mm[a:b, 1, None, None]) * sin[a:b]
-        proj = along_u + along_v
-        on = images[a:b]
-        out[a:b, 0] = np.min(proj, axis=(1, 2), where=on, initial=np.inf) - 0.5 * pitch_mm
-        out[a:b, 1] = np.max(proj, axis=(1, 2), where=on, initial=-np.inf) + 0.5 * pitch_mm
+        first_col, last_col, row_on = _row_ends(images[a:b])  # (rows, m) each
+        cx, cy, c, s = centre_mm[a:b, 0], centre_mm[a:b, 1], cos[a:b], sin[a:b]
+        up = c >= 0.0  # the projection grows with u
+        along_v = (v[:, None] - cy) * s
+        low = (u[np.where(up, first_col, last_col)] - cx) * c + along_v
+        high = (u[np.where(up, last_col, first_col)] - cx) * c + along_v
+        out[a:b, 0] = np.where(row_on, low, np.inf).min(axis=0) - 0.5 * pitch_mm
+        out[a:b, 1] = np.where(row_on, high, -np.inf).max(axis=0) + 0.5 * pitch_mm
     return out
 
 

@@ -83,10 +83,9 @@ class RollingMean:
         lead = self._tail.shape[0]
         j = self.seen + np.arange(m)
         out = c.copy()
-        late = j >= w
-        if np.any(late):
-            pos = lead + np.flatnonzero(late)
-            out[late] -= hist[pos - w]
+        late = max(0, w - self.seen)  # rows from here on have w rows before them
+        if late < m:
+            out[late:] -= hist[lead + late - w : lead + m - w]
         n = np.minimum(j + 1, w).reshape((-1,) + (1,) * (x.ndim - 1))
         self.seen += m
         self._tail = hist[-w:]

@@ -1,0 +1,100 @@
+"""The vectorised fast paths give exactly what the rules they replace give.
+
+Each fast path (a line's drawn ends from each row's first and last taxel,
+the bit-sliced neighbour count, the bank's groups of arrays) is checked
+against a plain reference on random input: equal, not close.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from taxelkit.frames import TactileFrames
+from taxelkit.motion.rolling import frames_from_scenario
+from taxelkit.motion.scenarios import make_scenario
+from taxelkit.sensors import BONNEVILLE_16X16
+from taxelkit.sensors.faults import fault_model
+from taxelkit.smart import levels12
+from taxelkit.smart.bank import SensorBank
+from taxelkit.smart.cleaning import _backend, _crowded
+from taxelkit.smart.recogniser import recognise
+from taxelkit.smart.track_geometry import line_extents
+
+PITCH = 1.7625
+
+
+def extents_per_taxel(images: np.ndarray, centre: np.ndarray, angle: np.ndarray) -> np.ndarray:
+    """Every contact taxel projected on the axis: the lowest and highest, widened."""
+    rows, cols = images.shape[1:]
+    u = (np.arange(cols) - 0.5 * (cols - 1)) * PITCH
+    v = (np.arange(rows) - 0.5 * (rows - 1)) * PITCH
+    t = np.deg2rad(angle)
+    cos, sin = np.cos(t)[:, None, None], np.sin(t)[:, None, None]
+    proj = (u[None, None, :] - centre[:, 0, None, None]) * cos + (
+        v[None, :, None] - centre[:, 1, None, None]
+    ) * sin
+    low = np.min(proj, axis=(1, 2), where=images, initial=np.inf) - 0.5 * PITCH
+    high = np.max(proj, axis=(1, 2), where=images, initial=-np.inf) + 0.5 * PITCH
+    return np.stack([low, high], axis=1)
+
+
+@pytest.mark.parametrize("shape", [(16, 16), (8, 8), (12, 8), (8, 12), (32, 32), (4, 16)])
+def test_line_extents_equal_every_taxels_projection(shape: tuple[int, int]) -> None:
+    rng = np.random.default_rng(sum(shape))
+    n = 3000
+    images = rng.random((n, *shape)) < rng.random((n, 1, 1)) * 0.4
+    images[:, 0, 0] |= ~images.reshape(n, -1).any(axis=1)  # every image has contact
+    centre = rng.normal(0, 4, (n, 2))
+    angle = rng.uniform(-90, 90, n)
+    angle[:100] = rng.choice([0.0, 90.0, -90.0, 45.0, 180.0], 100)  # cos or sin exactly 0
+    np.testing.assert_array_equal(
+        line_extents(images, centre, angle, PITCH), extents_per_taxel(images, centre, angle)
+    )
+
+
+@pytest.mark.parametrize("cols", [5, 8, 16, 33, 100])
+def test_crowded_is_two_or_more_of_the_eight_neighbours(cols: int) -> None:
+    rng = np.random.default_rng(cols)
+    images = rng.random((300, 12, cols)) < rng.random((300, 1, 1))
+    padded = np.pad(images, ((0, 0), (1, 1), (1, 1)))
+    count = sum(
+        padded[:, 1 + dy : 13 + dy, 1 + dx : cols + 1 + dx].astype(int)
+        for dy in (-1, 0, 1)
+        for dx in (-1, 0, 1)
+        if dy or dx
+    )
+    ops = _backend(cols)
+    got = ops.unpack(_crowded(ops, ops.pack(images)), cols)
+    np.testing.assert_array_equal(got, count >= 2)
+
+
+def test_bank_groups_of_arrays_give_each_array_its_own_events(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Arrays cleaned and measured a few at a time (quiet, rolling, faulty) as if alone."""
+    monkeypatch.setattr(levels12, "GROUP_FRAMES", 3 * 32)  # three arrays a group
+    sensor, thr = BONNEVILLE_16X16, BONNEVILLE_16X16.contact_threshold_mm
+    recs = []
+    for k in range(4):
+        sc = make_scenario(["cube", "cylinder", "cone", "sphere"][k], rng=k, rate_hz=100.0)
+        rec = frames_from_scenario(sensor, sc, rng=k)
+        if k % 2:
+            rec = fault_model("all").apply(rec, threshold=thr, rng=k)
+        recs.append(rec)
+    n_frames = max(r.n_frames for r in recs) + 10
+    order = [None, 0, None, 1, 2, None, None, 3, None, 0]  # quiet arrays between
+    frames = np.zeros((len(order), n_frames, 16, 16))
+    for i, k in enumerate(order):
+        if k is not None:
+            start = 3 * i
+            take = min(recs[k].n_frames, n_frames - start)
+            frames[i, start : start + take] = recs[k].frames[:take]
+    t_s = np.arange(n_frames) / 100.0
+    bank = SensorBank(len(order), (16, 16), pitch_mm=PITCH, threshold=thr, batch_frames=32)
+    got = [x for j in range(n_frames) for x in bank.push(frames[:, j], t_s[j])] + bank.flush()
+    for i in range(len(order)):
+        want = recognise(TactileFrames(frames[i], t_s, pitch_mm=PITCH), threshold=thr)
+        assert [e for k, e in got if k == i] == list(want.events), i
+        np.testing.assert_array_equal(np.asarray(bank.classes(i)), want.classes)
+    assert sum(1 for _, e in got if e.kind == "tacteme") > 8
