@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from _record import add_record_option, record
 from taxelkit.cli.live import recognize_live
 from taxelkit.io.frame_protocol import encode_frame
 from taxelkit.motion.rolling import frames_from_scenario
@@ -63,6 +64,7 @@ def _stream(frames: np.ndarray, t_s: np.ndarray, pitch_mm: float, view: RerunVie
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--frames", type=int, default=10_000)
+    add_record_option(parser)
     args = parser.parse_args()
     frames, t_s, pitch = _frames(args.frames)
     start = time.perf_counter()
@@ -103,6 +105,30 @@ def main() -> None:
     met = "met" if live["live+view"] >= TARGET_FRAMES_S else "NOT met"
     print(f"target >= {TARGET_FRAMES_S:g} frames/s with the view: {met}")
     print(f"verdicts printed: {printed}; in the .rrd: {logged} (+1 'result:' line expected)")
+    if args.record:
+        record(
+            __file__,
+            figure=(
+                f"`recognize --live file: --save-view` on {args.frames:,} frames of rolls: "
+                f"{live['live+view']:,.0f} frames/s (target >= {TARGET_FRAMES_S:g}: {met}); "
+                f"{logged} verdicts in the .rrd for {printed} printed (+1 'result:' line); "
+                f"SmartSensor with the rerun view {viewed:,.0f} frames/s, .rrd {size_mb:.1f} MB"
+            ),
+            ratio=(
+                f"{live['live+view'] / live['live']:.2f}x the live path without the view; "
+                f"{viewed / alone:.2f}x the smart sensor alone"
+            ),
+            measured={
+                "frames": args.frames,
+                "alone_fps": round(alone, 1),
+                "viewed_fps": round(viewed, 1),
+                "live_fps": round(live["live"], 1),
+                "live_view_fps": round(live["live+view"], 1),
+                "rrd_mb": round(size_mb, 2),
+                "verdicts_printed": printed,
+                "verdicts_logged": logged,
+            },
+        )
 
 
 def _verdicts_in(rrd: Path) -> int:
