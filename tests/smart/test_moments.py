@@ -25,14 +25,13 @@ import taxelkit.smart.moments as moments_module
 from taxelkit.errors import InputError
 from taxelkit.frames import TactileFrames
 from taxelkit.sensors.presets import BONNEVILLE_16X16
+from taxelkit.smart.area_moments import moments_central, moments_of_area
 from taxelkit.smart.moments import (
     CELL_SECOND_MOMENT,
     ImageStats,
     binary_images,
     frame_stats,
     image_stats,
-    moments_central,
-    moments_of_area,
 )
 
 PITCH = BONNEVILLE_16X16.array.pitch_mm  # 1.7625 mm

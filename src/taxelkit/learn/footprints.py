@@ -32,8 +32,8 @@ from taxelkit.smart.contact_limits import apply_limits
 from taxelkit.smart.face_shapes import face_masks, triangularity
 from taxelkit.smart.levels12 import DEFAULT_LIMITS, half_length
 from taxelkit.smart.moments import image_stats
+from taxelkit.smart.tacteme_config import TactemeConfig, face_limits
 from taxelkit.smart.tacteme_table import Tacteme
-from taxelkit.smart.tactemes import TactemeConfig, face_limits
 from taxelkit.world.mesh_features import FlatFace
 from taxelkit.world.mesh_solid import MeshSolid
 from taxelkit.world.pose import matrix_from_axis_angle

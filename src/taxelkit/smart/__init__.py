@@ -4,6 +4,7 @@ The package sees frames, timestamps and the pitch only; labelled training
 contacts are made on the simulator side (:mod:`taxelkit.motion.contact_samples`).
 """
 
+from taxelkit.smart.area_moments import moments_central, moments_of_area
 from taxelkit.smart.contact_classes import (
     AREA_MAX_ELONGATION,
     AREA_MIN_AREA_MM2,
@@ -36,8 +37,6 @@ from taxelkit.smart.moments import (
     binary_images,
     frame_stats,
     image_stats,
-    moments_central,
-    moments_of_area,
 )
 
 __all__ = [

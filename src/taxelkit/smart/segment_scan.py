@@ -34,8 +34,9 @@ from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.face_shapes import face_masks, triangularity
 from taxelkit.smart.slip import Slip
 from taxelkit.smart.slip_scan import SlipScanner
+from taxelkit.smart.tacteme_config import TactemeConfig, face_limits
 from taxelkit.smart.tacteme_table import Tacteme
-from taxelkit.smart.tactemes import MOTION_MIN_FRAMES, SegmentTrack, TactemeConfig, face_limits
+from taxelkit.smart.tactemes import MOTION_MIN_FRAMES, SegmentTrack
 from taxelkit.smart.track_geometry import axis_angle_deg, axis_vectors
 from taxelkit.smart.track_stream import (
     CarriedShift,

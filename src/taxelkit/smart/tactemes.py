@@ -53,15 +53,18 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
-from taxelkit.errors import InputError, check_positive
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.face_shapes import face_masks, triangularity
-from taxelkit.smart.slip import DEFAULT_SLIP, SlipConfig
+from taxelkit.smart.tacteme_config import (
+    PAPER_LEVEL3,
+    TactemeConfig,
+    debounce_counts,
+    face_limits,
+)
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_geometry import (
     anchors,
@@ -78,9 +81,6 @@ from taxelkit.smart.track_geometry import (
     turn,
 )
 
-if TYPE_CHECKING:
-    from taxelkit.smart.object_table import ObjectTable
-
 __all__ = [
     "PAPER_LEVEL3",
     "SegmentTrack",
@@ -95,253 +95,6 @@ _INDET = int(ContactClass.INDETERMINATE)
 _NONE = int(ContactClass.NONE)
 #: A motion must be seen on at least this many frames (a one-frame collapse is not motion).
 MOTION_MIN_FRAMES = 2
-
-
-@dataclass(frozen=True)
-class TactemeConfig:
-    """Thresholds of Level 3, with units.
-
-    Parameters
-    ----------
-    debounce_frames : int
-        ``k``: repetitions before a new class is accepted (paper: 3, see
-        :data:`PAPER_LEVEL3`; default 2, the least that tells a state from a
-        one-frame glitch).
-    debounce_s : float
-        A new class is accepted after ``max(k frames, debounce_s)``, s (0:
-        frames only, as in the paper): 3 frames at 20 Hz (the paper's k),
-        36 at 240 Hz, so a three-frame glitch (12 ms) is not a contact state,
-        and 2 at 5 Hz, where a face held 0.4 s lasts two frames.
-    lift_grace_s : float
-        "No contact" is accepted only after ``max(k frames, debounce_s,
-        lift_grace_s)``, s: the evidence of a contact survives a shorter loss
-        of contact (a bounce, a dropped read-out). 0.2 s is 4 frames at 20 Hz.
-    move_mm : float
-        Centre displacement that counts as motion, mm (a little more than one
-        Bonneville pitch, 1.76 mm, so a contact flickering between two taxels
-        does not move).
-    parallel_move_mm : float
-        Displacement before a line may be called parallel, mm: long enough for
-        a truncated cone's turn to show (its line turns by at least 5.3 deg over
-        3.5 mm for the widest frustum simulated, top/bottom radius 0.65 and
-        sizes +30 %, whose virtual apex lies about 38 mm from the line's centre).
-    parallel_tol_deg : float
-        Largest orientation change of a parallel move, deg (a cylinder's line
-        jitters by about +-1.5 deg from frame to frame, +-1 deg smoothed).
-    turn_deg : float
-        Orientation change of a turning line, deg.
-    pivot_min_ratio : float
-        Pivot within this many half-lengths of the line's centre: the line
-        spins about its middle (sliding). A cone's pivot measured 0.72-1.16.
-    pivot_end_ratio : float
-        Pivot within this many half-lengths of the line's middle: about one
-        end. Each line is its drawn segment, from end to end along its axis
-        (:func:`~taxelkit.smart.track_geometry.line_extents`), not its second
-        moment, which shortens a tapering line and shifts its centre to the
-        wide end. A cone: ideally 1; a truncated cone with top/bottom radius
-        ratio ``q``: ``1 + 2q / (1 - q)``, at least 1.74 for the narrowest
-        frustum the table tells from a cone, ``q = 0.27``. 1.32 is the
-        geometric mean of 1 and 1.74, set from the geometry rather than
-        calibrated on one engine. Measured (median of the running estimate,
-        clean sensor): kinematic cones 0.63-1.03, truncated cones 1.46-4.1;
-        MuJoCo cones 0.65-1.3 (its pressed line stops short of the apex),
-        truncated cones 1.03-4.1 (the lowest with every imperfection at once).
-    orthogonal_min_deg, orthogonal_max_deg : float
-        Window of the angle between a point's two runs for an orthogonal turn, deg.
-    area_tolerance : float
-        Relative area change a sliding face may show.
-    area_rotate_deg : float
-        Orientation change of a rotating area, deg.
-    area_min_elongation : float
-        Orientation of an area is trusted only above this elongation.
-    edge_angle_tol_deg : float
-        Tolerance of the 0/90 and 60 deg angles between two edges, deg.
-    area_step : float
-        A change of the smoothed area above this fraction of the area at the
-        motion reference re-anchors the references of lines and areas: a
-        rolling contact keeps its area, while placing, lifting and tipping
-        change it, and their centre shifts are not motion. Measured against
-        the reference, not from frame to frame, so a face landing over many
-        frames at 240 Hz re-anchors as one landing over one frame at 5 Hz.
-        (Point contacts cover 1-4 taxels; their area jumps as they cross
-        taxels, so they are never re-anchored.)
-    motion_hold_s : float
-        A motion must hold for ``max(2 frames, motion_hold_s)``, s: a contact
-        tipping away collapses within 0.15 s, one frame at 1 Hz, three at 20 Hz,
-        36 at 240 Hz.
-    edge_hold_s : float
-        A line counts as a held edge for the transition tactemes after
-        ``max(k frames, edge_hold_s)``, s.
-    transition_gap_s : float
-        LC -> AC and AC -> LC need the two segments at most
-        ``max(2 k frames, transition_gap_s)`` apart, s.
-    turn_leg_mm : float
-        Leg length of a point's path when looking for an orthogonal turn, mm
-        (the sphere scripts roll 4-9 mm between turns).
-    smooth_s : float
-        Centres, orientations, areas and elongations are averaged over the
-        last ``max(k frames, smooth_s)`` before they are compared, s: three
-        frames at 20 Hz, as the debounce; 36 at 240 Hz.
-    pivot_band : float
-        Factor of doubt around ``pivot_end_ratio`` (1.15: about the spread
-        of the estimate over a roll): "about one end" needs a
-        ratio below ``pivot_end_ratio / pivot_band``, "in an arc" above
-        ``pivot_end_ratio x pivot_band``; between the two the line is watched
-        as it turns on (the estimate improves with the turn) and stays
-        undecided if it never leaves the band: a doubt is better than a
-        wrong name.
-    slip : SlipConfig or None
-        The slip detector (:mod:`taxelkit.smart.slip`, beyond paper 001): slip
-        phases are reported as events, the tactemes seen while a contact slips
-        (and the sliding tactemes, which only slip produces) are withheld
-        from elimination, and a contact that slid without being identified
-        ends "not identified: slid". None: no slip detection (paper 001's
-        pipeline: sliding tactemes eliminate every object).
-    pivot_hold_s : float
-        A pivot verdict must hold this long (at least as long as a motion), s:
-        the running estimate settles as the line turns on. Measured on 12
-        MuJoCo cones x 2 sensors at 20 frames/s: 0.15 s gave one cone called a
-        truncated cone, 0.5 s none (and 7 of 24 undecided instead of 5).
-    pivot_turn_deg : float
-        Turn of the line before the pivot is located (about one end / in an
-        arc), deg: the common point of nearly parallel lines is ill-conditioned.
-    face_shapes : bool
-        Also emit the shape class of a held face (beyond paper 001,
-        :mod:`taxelkit.smart.face_shapes`): AC compact, elongated, triangular,
-        elongated triangular. Off by default (paper 001's tactemes only).
-    face_min_area_mm2 : float
-        Smallest face whose shape is classed, mm^2 (about 19 Bonneville
-        taxels: a smaller footprint's moments are mostly grid).
-    face_compact_max, face_elongated_min : float
-        Elongation limits of a compact and an elongated face.
-    face_symmetric_max, face_triangular_min : float
-        Triangularity limits of a symmetric and a triangular face.
-    face_hold_s : float
-        A face's shape class must hold this long, s: a held face, not the
-        transient footprint of placing, lifting or tipping (a cube's face
-        lifting off shrinks through a plus-shaped image that reads
-        triangular for a few frames).
-    over_min_mm : float
-        With ``face_shapes``: both faces of "AC -> LC -> AC onto another
-        face" lie at least this far from the edge's line, mm (half a
-        Bonneville pitch more than the move threshold's flicker).
-    objects : ObjectTable or None
-        Level 4's object table (:mod:`taxelkit.smart.object_table`); None:
-        the six objects of paper 001 and Table 1. Carried here so that every
-        path that takes a ``config`` (batch, streaming, per track) uses it.
-    """
-
-    debounce_frames: int = 2
-    debounce_s: float = 0.15
-    lift_grace_s: float = 0.2
-    move_mm: float = 2.0
-    parallel_move_mm: float = 3.5
-    parallel_tol_deg: float = 4.0
-    turn_deg: float = 12.0
-    pivot_min_ratio: float = 0.4
-    pivot_end_ratio: float = 1.32
-    orthogonal_min_deg: float = 60.0
-    orthogonal_max_deg: float = 120.0
-    area_tolerance: float = 0.25
-    area_rotate_deg: float = 10.0
-    area_min_elongation: float = 1.6
-    edge_angle_tol_deg: float = 15.0
-    area_step: float = 0.3
-    motion_hold_s: float = 0.15
-    edge_hold_s: float = 0.3
-    transition_gap_s: float = 0.3
-    turn_leg_mm: float = 3.0
-    pivot_turn_deg: float = 20.0
-    pivot_band: float = 1.15
-    pivot_hold_s: float = 0.5
-    smooth_s: float = 0.15
-    slip: SlipConfig | None = DEFAULT_SLIP
-    face_shapes: bool = False
-    face_min_area_mm2: float = 60.0
-    face_compact_max: float = 1.35
-    face_elongated_min: float = 1.6
-    face_symmetric_max: float = 1.025
-    face_triangular_min: float = 1.06
-    face_hold_s: float = 0.5
-    over_min_mm: float = 1.5
-    objects: ObjectTable | None = None
-
-    def __post_init__(self) -> None:
-        if int(self.debounce_frames) < 1:
-            raise InputError(f"debounce_frames must be >= 1, got {self.debounce_frames!r}")
-        check_positive("debounce_s", self.debounce_s, allow_zero=True)
-        check_positive("smooth_s", self.smooth_s, allow_zero=True)
-        check_positive("lift_grace_s", self.lift_grace_s, allow_zero=True)
-        for name in (
-            "move_mm",
-            "parallel_move_mm",
-            "parallel_tol_deg",
-            "turn_deg",
-            "pivot_end_ratio",
-            "area_tolerance",
-            "area_rotate_deg",
-            "area_min_elongation",
-            "edge_angle_tol_deg",
-            "area_step",
-            "pivot_min_ratio",
-            "motion_hold_s",
-            "edge_hold_s",
-            "transition_gap_s",
-            "turn_leg_mm",
-            "pivot_turn_deg",
-            "pivot_band",
-            "pivot_hold_s",
-            "face_min_area_mm2",
-            "face_compact_max",
-            "face_elongated_min",
-            "face_symmetric_max",
-            "face_triangular_min",
-            "face_hold_s",
-            "over_min_mm",
-        ):
-            check_positive(name, getattr(self, name))
-
-
-#: Level 3 as paper 001 states it, in frames: ``k = 3``, no time-based
-#: debounce, smoothing or lift-off grace (the thresholds of motion keep their
-#: units). With :func:`~taxelkit.smart.recogniser.recognise`'s ``cleaning=None``
-#: this is the faithful pipeline that reproduces Fig. 3 (no slip detection:
-#: the paper forbids sliding).
-PAPER_LEVEL3 = TactemeConfig(
-    debounce_frames=3, debounce_s=0.0, lift_grace_s=0.0, smooth_s=0.0, slip=None
-)
-
-
-def face_limits(config: TactemeConfig) -> dict[str, float]:
-    """The keyword limits of :func:`~taxelkit.smart.face_shapes.face_masks` from ``config``."""
-    return {
-        "min_area_mm2": config.face_min_area_mm2,
-        "compact_max": config.face_compact_max,
-        "elongated_min": config.face_elongated_min,
-        "symmetric_max": config.face_symmetric_max,
-        "triangular_min": config.face_triangular_min,
-    }
-
-
-def debounce_counts(config: TactemeConfig, dt_s: float | None) -> tuple[int, int]:
-    """Frames a contact class and "no contact" must hold to be accepted.
-
-    Parameters
-    ----------
-    config : TactemeConfig
-    dt_s : float or None
-        Frame interval, s (the first one of the stream); None before it is known.
-
-    Returns
-    -------
-    k_contact, k_none : int
-        ``max(k, ceil(debounce_s / dt))`` and ``max(k_contact, ceil(lift_grace_s / dt))``.
-    """
-    k = int(config.debounce_frames)
-    if dt_s is None or not dt_s > 0:
-        return k, k
-    k_contact = max(k, math.ceil(config.debounce_s / dt_s - 1e-9))
-    return k_contact, max(k_contact, math.ceil(config.lift_grace_s / dt_s - 1e-9))
 
 
 def accepted_runs(
