@@ -18,7 +18,7 @@ import numpy as np
 from taxelkit.errors import CorruptRecordingError, InvalidRecordingError, TaxelkitError
 from taxelkit.io._raw import describe_exception, fail
 from taxelkit.io.limits import MAX_NPY_HEADER_BYTES, ReadBudget, _members, _read_header
-from taxelkit.io.recordings import _sniff
+from taxelkit.io.recording_codecs import sniff
 
 if TYPE_CHECKING:
     from taxelkit.io.chunked_read import ChunkedRecording
@@ -51,7 +51,7 @@ class FortranOrder(Exception):
 
 def open_npz(rec: ChunkedRecording, head: bytes) -> None:
     path = rec.path
-    if _sniff(head) != "npz":
+    if sniff(head) != "npz":
         raise fail(CorruptRecordingError, path, "not an .npz file (no zip archive signature)")
     try:
         archive = rec._stack.enter_context(zipfile.ZipFile(path))

@@ -49,9 +49,8 @@ from taxelkit.io.limits import (
     check_h5_dataset,
     h5_node,
 )
+from taxelkit.io.recording_codecs import PACKED_COLS_ATTR, PACKED_FRAMES
 from taxelkit.io.recordings import (
-    PACKED_COLS_ATTR,
-    PACKED_FRAMES,
     _build,
     _probe_input,
     read_recording,

@@ -38,7 +38,7 @@ from taxelkit.errors import (
 )
 from taxelkit.frames import CONTACT_UNITS
 from taxelkit.io.chunked_read import DEFAULT_CHUNK_FRAMES
-from taxelkit.io.recordings import PACKED_COLS_ATTR, PACKED_FRAMES
+from taxelkit.io.recording_codecs import PACKED_COLS_ATTR, PACKED_FRAMES
 
 __all__ = ["DEFAULT_GZIP_LEVEL", "RecordingAppender"]
 

@@ -13,38 +13,37 @@ from __future__ import annotations
 
 import os
 import stat
-from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import h5py
 import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.errors import (
     CorruptRecordingError,
     EmptyRecordingError,
-    FileTooLargeError,
     InputError,
     InvalidRecordingError,
     RecordingAccessError,
     RecordingNotFoundError,
-    TaxelkitError,
     UnsupportedFormatError,
     check_positive,
     check_type,
 )
 from taxelkit.frames import CONTACT_UNITS, DEFAULT_PITCH_MM, TactileFrames
-from taxelkit.io._raw import RECORDING_FIELDS, RawRecording, describe_exception, fail
+from taxelkit.io._raw import RawRecording, describe_exception, fail
 from taxelkit.io.atomic import atomic_write
-from taxelkit.io.csv_format import read_csv_recording, write_csv_recording
 from taxelkit.io.limits import (
     ReadBudget,
-    check_h5_attribute,
-    check_h5_dataset,
-    h5_node,
-    read_npz,
+)
+from taxelkit.io.recording_codecs import (
+    FORMATS,
+    MAGIC_LENGTH,
+    MCAP,
+    Format,
+    read_mcap,
+    sniff,
+    write_mcap,
 )
 
 __all__ = [
@@ -71,24 +70,8 @@ WRITABLE_FRAME_DTYPES = (
     np.dtype(np.float32),
     np.dtype(np.float64),
 )
-#: HDF5 dataset of contact frames packed eight taxels to a byte along each row
-#: (``numpy.packbits(..., axis=2, bitorder="little")``), ``(T, rows, ceil(cols / 8))``
-#: uint8, read in place of ``frames`` (written by long recordings,
-#: :mod:`taxelkit.io.chunked_write`).
-PACKED_FRAMES = "frames_packed"
-#: Attribute of :data:`PACKED_FRAMES`: the number of columns.
-PACKED_COLS_ATTR = "cols"
 #: Default sensor name, as in :class:`~taxelkit.frames.TactileFrames`.
 _DEFAULT_SENSOR = "unknown"
-#: File signatures that identify a format from the first bytes: a zip archive
-#: (every ``.npz``), HDF5 without a user block, and a bare ``.npy`` array.
-_SIGNATURES = (
-    (b"PK", "npz"),
-    (b"\x89HDF\r\n\x1a\n", "hdf5"),
-    (b"\x93NUMPY", "npy"),
-    (b"\x89MCAP0\r\n", "mcap"),
-)
-_MAGIC_LENGTH = 8
 _CANONICAL_SUFFIX = {"npz": ".npz", "hdf5": ".h5", "csv": ".csv", "mcap": ".mcap"}
 _CONTENT_LABEL = {
     "npz": "an .npz archive",
@@ -97,158 +80,6 @@ _CONTENT_LABEL = {
     "npy": "a single .npy array",
     "mcap": "an MCAP file",
 }
-
-
-@dataclass(frozen=True)
-class _Format:
-    """A recording format: its name, a reader of raw fields and a writer."""
-
-    name: str
-    read: Callable[[Path, bytes], RawRecording]
-    write: Callable[[TactileFrames, Path], None]
-
-
-def _raw_from_fields(fields: dict[str, object], found: tuple[str, ...]) -> RawRecording:
-    return RawRecording(
-        frames=fields.get("frames"),
-        t_s=fields.get("t_s"),
-        pitch_mm=fields.get("pitch_mm"),
-        units=fields.get("units"),
-        sensor=fields.get("sensor"),
-        found=found,
-    )
-
-
-# ----------------------------------------------------------------------------- npz
-def _read_npz(path: Path, head: bytes) -> RawRecording:
-    if _sniff(head) != "npz":
-        raise fail(CorruptRecordingError, path, "not an .npz file (no zip archive signature)")
-    # Declared sizes are checked before allocating; object arrays are refused,
-    # so no code in the file is ever run.
-    contents = read_npz(path, RECORDING_FIELDS, what="recording")
-    return _raw_from_fields(dict(contents.arrays), contents.names)
-
-
-def _write_npz(rec: TactileFrames, path: Path) -> None:
-    # An open file, not a path: numpy appends ".npz" to any name not ending in
-    # lower-case ".npz", which would miss "RUN.NPZ".
-    with path.open("wb") as fh:
-        np.savez_compressed(
-            fh,
-            frames=rec.frames,
-            t_s=rec.t_s,
-            pitch_mm=np.float64(rec.pitch_mm),
-            units=np.str_(rec.units),
-            sensor=np.str_(rec.sensor),
-        )
-
-
-# ----------------------------------------------------------------------------- HDF5
-def _h5_field(
-    path: Path, root: Any, name: str, budget: ReadBudget, *, dataset_only: bool = False
-) -> object | None:
-    """A root attribute (preferred for scalars) or a root dataset, else ``None``.
-
-    Links, external storage and virtual datasets are refused, and the declared
-    size is charged to ``budget``, before any data are read.
-    """
-    if not dataset_only and name in root.attrs:
-        check_h5_attribute(path, root.attrs, name, budget)
-        return root.attrs[name]  # type: ignore[no-any-return]
-    node = h5_node(path, root, name)
-    if node is None:
-        return None
-    if not isinstance(node, h5py.Dataset):
-        raise fail(CorruptRecordingError, path, f"{name!r} is an HDF5 group, expected a dataset")
-    check_h5_dataset(path, name, node, budget)
-    return node[()]  # type: ignore[no-any-return]
-
-
-def _read_h5(path: Path, head: bytes) -> RawRecording:
-    del head  # HDF5 allows a user block before the signature; h5py finds it.
-    budget = ReadBudget(path)
-    try:
-        with h5py.File(path, "r") as root:
-            found = tuple(root.keys()) + tuple(root.attrs.keys())
-            fields = {
-                name: _h5_field(path, root, name, budget, dataset_only=name == "frames")
-                for name in RECORDING_FIELDS
-            }
-            if fields["frames"] is None and PACKED_FRAMES in root:
-                fields["frames"] = _h5_packed(path, root, budget)
-                fields["units"] = CONTACT_UNITS if fields["units"] is None else fields["units"]
-    except TaxelkitError:
-        raise
-    except MemoryError:
-        raise fail(FileTooLargeError, path, "not enough memory to read the file") from None
-    except Exception as exc:
-        # h5py reports damage as OSError, KeyError, RuntimeError, ValueError, ...
-        raise fail(
-            CorruptRecordingError, path, f"not a readable HDF5 file ({describe_exception(exc)})"
-        ) from exc
-    return _raw_from_fields(fields, found)
-
-
-def _h5_packed(path: Path, root: Any, budget: ReadBudget) -> NDArray[np.bool_]:
-    """Unpack :data:`PACKED_FRAMES`, charging the budget with the unpacked size."""
-    node = h5_node(path, root, PACKED_FRAMES)
-    if not isinstance(node, h5py.Dataset) or node.dtype != np.uint8 or node.ndim != 3:
-        raise fail(
-            CorruptRecordingError,
-            path,
-            f"{PACKED_FRAMES!r} must be a (T, rows, n) uint8 dataset",
-        )
-    cols = int(node.attrs.get(PACKED_COLS_ATTR, 8 * node.shape[2]))
-    if not 8 * node.shape[2] - 8 < cols <= 8 * node.shape[2]:
-        raise fail(
-            InvalidRecordingError,
-            path,
-            f"{PACKED_FRAMES} {PACKED_COLS_ATTR} must be in ({8 * node.shape[2] - 8}, "
-            f"{8 * node.shape[2]}], got {cols}",
-        )
-    check_h5_dataset(path, PACKED_FRAMES, node, budget)
-    budget.take("unpacked frames", (*node.shape[:2], cols), np.dtype(bool))
-    out: NDArray[np.bool_] = np.unpackbits(node[()], axis=2, count=cols, bitorder="little").view(
-        bool
-    )
-    return out
-
-
-def _write_h5(rec: TactileFrames, path: Path) -> None:
-    with h5py.File(path, "w") as root:
-        root.create_dataset("frames", data=rec.frames, compression="gzip")
-        root.create_dataset("t_s", data=rec.t_s)
-        root.attrs["pitch_mm"] = np.float64(rec.pitch_mm)
-        root.attrs["units"] = rec.units
-        root.attrs["sensor"] = rec.sensor
-
-
-def _read_csv(path: Path, head: bytes) -> RawRecording:
-    del head
-    return read_csv_recording(path)
-
-
-_NPZ = _Format("npz", _read_npz, _write_npz)
-_HDF5 = _Format("hdf5", _read_h5, _write_h5)
-
-
-def _read_mcap(path: Path, head: bytes, topic: str | None = None) -> RawRecording:
-    del head
-    from taxelkit.io.bags import raw_from_mcap
-
-    return raw_from_mcap(path, topic=topic)
-
-
-def _write_mcap(rec: TactileFrames, path: Path, topic: str | None = None) -> None:
-    from taxelkit.io.bags import write_mcap_file
-    from taxelkit.io.ros_messages import DEFAULT_TOPIC
-
-    write_mcap_file(rec, path, topic=DEFAULT_TOPIC if topic is None else topic)
-
-
-_CSV = _Format("csv", _read_csv, write_csv_recording)
-_MCAP = _Format("mcap", _read_mcap, _write_mcap)
-_FORMATS = {".npz": _NPZ, ".h5": _HDF5, ".hdf5": _HDF5, ".csv": _CSV, ".mcap": _MCAP}
 
 
 # ----------------------------------------------------------------------------- checks
@@ -278,8 +109,8 @@ def recording_format(path: str | os.PathLike[str]) -> str:
     return _format_for(Path(path)).name
 
 
-def _format_for(path: Path) -> _Format:
-    fmt = _FORMATS.get(path.suffix.lower())
+def _format_for(path: Path) -> Format:
+    fmt = FORMATS.get(path.suffix.lower())
     if fmt is None:
         got = f"extension {path.suffix!r}" if path.suffix else "no extension"
         raise fail(
@@ -291,17 +122,9 @@ def _format_for(path: Path) -> _Format:
     return fmt
 
 
-def _sniff(head: bytes) -> str | None:
-    """Format named by a file's first bytes, if they carry a known signature."""
-    for signature, name in _SIGNATURES:
-        if head.startswith(signature):
-            return name
-    return None
-
-
-def _check_signature(path: Path, head: bytes, fmt: _Format) -> None:
+def _check_signature(path: Path, head: bytes, fmt: Format) -> None:
     """Refuse a file whose signature names another format than its extension."""
-    found = _sniff(head)
+    found = sniff(head)
     if found is None or found == fmt.name:
         return
     if found == "npy":
@@ -335,7 +158,7 @@ def _probe_input(path: Path) -> tuple[int, bytes]:
         raise fail(RecordingAccessError, path, "is not a regular file")
     try:
         with path.open("rb") as fh:
-            head = fh.read(_MAGIC_LENGTH)
+            head = fh.read(MAGIC_LENGTH)
     except OSError as exc:
         raise fail(RecordingAccessError, path, f"cannot open ({_reason(exc)})") from None
     return info.st_size, head
@@ -523,8 +346,8 @@ def read_recording(
         raise fail(EmptyRecordingError, p, "is empty (0 bytes)")
     ReadBudget(p).check_file_size(size)
     _check_signature(p, head, fmt)
-    if fmt is _MCAP:
-        return _build(_read_mcap(p, head, topic), p, override)
+    if fmt is MCAP:
+        return _build(read_mcap(p, head, topic), p, override)
     if topic is not None:
         raise InputError(f"{p}: a topic applies only to ROS 2 bags and MCAP files")
     return _build(fmt.read(p, head), p, override)
@@ -588,8 +411,8 @@ def write_recording(
         )
     _check_text_for_file("units", rec.units)
     _check_text_for_file("sensor", rec.sensor)
-    if fmt is _MCAP:
-        return atomic_write(p, lambda tmp: _write_mcap(rec, tmp, topic), force=force)
+    if fmt is MCAP:
+        return atomic_write(p, lambda tmp: write_mcap(rec, tmp, topic), force=force)
     if topic is not None:
         raise InputError(f"{p}: a topic applies only to ROS 2 bags and MCAP files")
     return atomic_write(p, lambda tmp: fmt.write(rec, tmp), force=force)
