@@ -19,12 +19,11 @@ from taxelkit.io.limits import (
     DEFAULT_MAX_MB,
     MAX_MB_ENV,
     ReadBudget,
-    check_h5_dataset,
-    h5_node,
     max_read_bytes,
     read_limit,
     read_npz,
 )
+from taxelkit.io.limits_h5 import check_h5_dataset, h5_node
 from taxelkit.io.recordings import read_recording
 from tests.fuzz.corpus import npy_bytes, zip_of
 

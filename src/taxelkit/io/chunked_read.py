@@ -43,12 +43,8 @@ from taxelkit.errors import (
 from taxelkit.frames import DEFAULT_FRAME_INTERVAL_S, TactileFrames
 from taxelkit.io._raw import RawRecording, describe_exception, fail
 from taxelkit.io.chunked_npz import SCALARS, FortranOrder, Layout, item_bytes, open_npz
-from taxelkit.io.limits import (
-    ReadBudget,
-    check_h5_attribute,
-    check_h5_dataset,
-    h5_node,
-)
+from taxelkit.io.limits import ReadBudget
+from taxelkit.io.limits_h5 import check_h5_attribute, check_h5_dataset, h5_node
 from taxelkit.io.recording_codecs import PACKED_COLS_ATTR, PACKED_FRAMES
 from taxelkit.io.recordings import (
     _build,
