@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from taxelkit.errors import InputError
 from taxelkit.frames import TactileFrames
 from taxelkit.motion.engines import scenario_from_engine
 from taxelkit.motion.rolling import frames_from_scenario
@@ -227,3 +228,52 @@ def test_short_runs_of_a_ball_show_their_orthogonal_turn(
     assert recognise(rec).identified == "sphere"
     monkeypatch.setattr(tactemes_module, "_corner_turn", lambda *a, **k: None)
     assert recognise(rec).identified is None  # legs alone miss the corner
+
+
+def arc_frames(turns_deg: np.ndarray, pitch: float = PITCH) -> np.ndarray:
+    """A 20 mm line rotating about a pivot 16 mm beyond its end (pivot ratio 2.6)."""
+    ax = (np.arange(16) - 7.5) * pitch
+    x, y = np.meshgrid(ax, ax)
+    px, py = -26.0, -5.0
+    out = np.zeros((turns_deg.size, 16, 16), dtype=bool)
+    for i, deg in enumerate(turns_deg):
+        t = np.deg2rad(deg)
+        u, v = np.cos(t), np.sin(t)
+        along = (x - px) * u + (y - py) * v
+        across = -(x - px) * v + (y - py) * u
+        out[i] = (np.abs(across) <= 0.9) & (along >= 16.0) & (along <= 36.0)
+    return out
+
+
+def test_a_short_turn_about_a_far_pivot_reads_as_an_arc() -> None:
+    """A truncated cone that stops after 16 deg: its pivot is far, an arc already (not at 20)."""
+    turns = np.concatenate([np.zeros(10), np.linspace(0.0, 16.0, 40), np.full(30, 16.0)])
+    rec = TactileFrames(arc_frames(turns), t_s=np.arange(turns.size) / 20.0, pitch_mm=PITCH)
+    early = recognise(rec, cleaning=None)
+    names = [n for n, _ in early.tactemes]
+    assert "LCMT in an arc" in names and "LCMT about one end" not in names
+    assert early.identified == "truncated-cone"
+    late = recognise(rec, cleaning=None, config=TactemeConfig(pivot_arc_turn_deg=20.0))
+    assert "LCMT in an arc" not in [n for n, _ in late.tactemes]
+    assert late.identified is None
+    sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None)
+    for f, t in zip(rec.frames, rec.t_s, strict=True):
+        sensor.push(f, t)
+    assert list(sensor.result().events) == list(early.events)
+
+
+def test_the_arc_limit_widens_as_the_turn_shrinks() -> None:
+    from taxelkit.smart.track_geometry import arc_ratio_limit
+
+    turns = np.array([5.0, 10.0, 12.0, 20.0, 40.0])
+    limit = arc_ratio_limit(turns, 1.32, 1.15, 20.0, 10.0)
+    assert np.isinf(limit[:2]).all()  # at or below pivot_arc_turn_deg: no arc yet
+    assert limit[2] == pytest.approx(1.32 * 1.15 ** (20.0 / 12.0))
+    assert limit[3] == pytest.approx(1.32 * 1.15) and limit[4] == limit[3]
+    # a 16 mm line on a 3.5 mm grid wobbles by up to 2 atan(3.5 / 16) = 24.7 deg: no early arc
+    coarse = arc_ratio_limit(turns, 1.32, 1.15, 20.0, 10.0, np.full(5, 16.0), 3.5)
+    assert np.isinf(coarse[:4]).all() and coarse[4] == limit[4]  # never stricter from 20 deg
+    fine = arc_ratio_limit(turns, 1.32, 1.15, 20.0, 10.0, np.full(5, 16.0), 1.0)
+    assert np.array_equal(fine, limit)  # 7.2 deg on a 1 mm grid: below the 10 deg anyway
+    with pytest.raises(InputError, match="pivot_arc_turn_deg"):
+        TactemeConfig(pivot_arc_turn_deg=25.0)

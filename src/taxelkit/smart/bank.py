@@ -133,7 +133,8 @@ class SensorBank:
         self.frame_index = 0
         self._levels12.reset()
         self._streams = [
-            ArrayStream(self.config, chunk_every=self.evaluate_every) for _ in range(self.n_arrays)
+            ArrayStream(self.config, chunk_every=self.evaluate_every, pitch_mm=self.pitch_mm)
+            for _ in range(self.n_arrays)
         ]
         self._buf: NDArray[Any] | None = None
         self._buf_t = np.empty((self.batch_frames, self.n_arrays))

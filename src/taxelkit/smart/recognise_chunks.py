@@ -116,7 +116,7 @@ class ChunkRecogniser:
             cleaning=cleaning,
             limits=limits,
         )
-        self._stream = ArrayStream(self.config)
+        self._stream = ArrayStream(self.config, pitch_mm=self.pitch_mm)
         self._n_seen = 0
         self._t_last = -np.inf
         self._segments: list[ClassSegments] = []

@@ -140,6 +140,7 @@ def recognise(
             half[idx],
             t_s[idx],
             extent[idx],
+            float(pitch),
         )
 
     k, k_none = debounce_counts(cfg, float(t_s[1] - t_s[0]) if t_s.size > 1 else None)

@@ -46,6 +46,7 @@ from taxelkit.smart.track_stream import (
     RollingMean,
     RunningSum,
     Sustained,
+    drawn_length_mm,
     mean_axis_deg,
     turn_from,
 )
@@ -88,6 +89,8 @@ class SegmentScanner:
     cls : int
         The segment's :class:`~taxelkit.smart.contact_classes.ContactClass`.
     config : TactemeConfig
+    pitch_mm : float
+        Taxel pitch, mm (0: unknown), as :attr:`SegmentTrack.pitch_mm`.
 
     Examples
     --------
@@ -101,9 +104,10 @@ class SegmentScanner:
     [('PC moves', 44)]
     """
 
-    def __init__(self, cls: int, config: TactemeConfig) -> None:
+    def __init__(self, cls: int, config: TactemeConfig, pitch_mm: float = 0.0) -> None:
         self.cls = int(cls)
         self.config = config
+        self.pitch_mm = float(pitch_mm)
         self.k = int(config.debounce_frames)
         self.size = 0
         self.first_frame = -1
@@ -254,8 +258,15 @@ class SegmentScanner:
         self._ref: _Ref | None = None
         self._start_angle: float | None = None  # a line's turn counts from frame w - 1
         self._rolled = CarriedShift()  # a line's roll across itself, over re-anchors
-        lo_r, hi_r = cfg.pivot_end_ratio / cfg.pivot_band, cfg.pivot_end_ratio * cfg.pivot_band
-        self._pivot_limits = (cfg.pivot_min_ratio, lo_r, hi_r, cfg.pivot_turn_deg)
+        self._pivot_limits = (
+            cfg.pivot_min_ratio,
+            cfg.pivot_end_ratio / cfg.pivot_band,
+            cfg.pivot_end_ratio,
+            cfg.pivot_band,
+            cfg.pivot_turn_deg,
+            cfg.pivot_arc_turn_deg,
+            self.pitch_mm,
+        )
         self._last_angle = float("nan")
         self._done: set[Tacteme] = set()
         new = [Sustained(self.hold) for _ in range(4)]
@@ -444,7 +455,7 @@ class SegmentScanner:
             if piv.found is not None:
                 continue
             ratio = piv.ratios(rows[lo:hi])
-            piv.pending.append((ratio, angle[lo:hi], frames[lo:hi]))
+            piv.pending.append((ratio, angle[lo:hi], frames[lo:hi], drawn_length_mm(rows[lo:hi])))
             r = piv.start + w - 1
             if piv.ref_angle is None and int(j[lo]) <= r < int(j[hi - 1]) + 1:
                 piv.ref_angle = float(angle[lo + r - int(j[lo])])

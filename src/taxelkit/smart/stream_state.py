@@ -160,12 +160,19 @@ class ArrayStream:
     chunk_every : int
         With chunks, the scanner is fed once this many frames of the open
         segment have come (and when it ends): 1, after every chunk.
+    pitch_mm : float
+        Taxel pitch, mm, for the grid's share of a line's turn (0: unknown).
     """
 
     def __init__(
-        self, config: TactemeConfig, evaluate_every: int = 16, chunk_every: int = 1
+        self,
+        config: TactemeConfig,
+        evaluate_every: int = 16,
+        chunk_every: int = 1,
+        pitch_mm: float = 0.0,
     ) -> None:
         self.config = config
+        self.pitch_mm = float(pitch_mm)
         self.every = int(evaluate_every)
         self.chunk_every = int(chunk_every)
         self.classes = ClassHistory()
@@ -303,7 +310,7 @@ class ArrayStream:
         self._accepted = cls
         seg = None
         if cls != _NONE:
-            seg = SegmentScanner(cls, self.config)
+            seg = SegmentScanner(cls, self.config, self.pitch_mm)
             seg.extend(np.concatenate(self._cand_j), np.concatenate(self._cand_rows))
         self._seg = seg
         self._drop_candidate()

@@ -207,7 +207,7 @@ class SmartSensor:
     def reset(self) -> None:
         """Start afresh (no frames seen)."""
         self.frame_index = 0
-        self._stream = ArrayStream(self.config, self.evaluate_every)
+        self._stream = ArrayStream(self.config, self.evaluate_every, pitch_mm=self.pitch_mm)
         self._frame = _FrameLevels12(self)
         self._chunk = ChunkLevels12(
             1,

@@ -34,6 +34,8 @@ a row, so the one-frame collapse of a contact that tips away is not motion)
       end" (a cone's apex), farther it is "in an arc" (a truncated cone's
       virtual apex); nearer than ``pivot_min_ratio`` half-lengths it is "LC
       spins about its middle" (beyond paper 001: a line spun in place).
+      A pivot far beyond the line may be called "in an arc" from
+      ``pivot_arc_turn_deg`` on, with a band that widens as the turn shrinks.
 
     References re-anchor whenever the smoothed area differs from the area at
     the reference by more than ``area_step`` (see :class:`TactemeConfig`):
@@ -68,6 +70,7 @@ from taxelkit.smart.tacteme_config import (
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_geometry import (
     anchors,
+    arc_ratio_limit,
     axis_angle_deg,
     axis_difference_deg,
     axis_vectors,
@@ -171,6 +174,9 @@ class SegmentTrack:
         (:func:`~taxelkit.smart.track_geometry.line_extents`; NaN where not
         measured). None: the line is taken as centred on its centre, with
         half-length ``half_length_mm``.
+    pitch_mm : float
+        Taxel pitch, mm (0: unknown); an early "in an arc" needs a turn beyond
+        what the grid alone gives a line of that length.
     """
 
     frames: NDArray[np.intp]
@@ -181,6 +187,7 @@ class SegmentTrack:
     half_length_mm: NDArray[np.float64]
     t_s: NDArray[np.float64]
     extent_mm: NDArray[np.float64] | None = None
+    pitch_mm: float = 0.0
 
     def frame_interval_s(self, k: int) -> float:
         """Frame interval from the segment's first ``k`` frames (fixed once accepted), s."""
@@ -199,6 +206,17 @@ class SegmentTrack:
         floor = k if minimum is None else minimum
         dt = self.frame_interval_s(k)
         return max(floor, math.ceil(seconds / dt - 1e-9)) if dt > 0 else floor
+
+
+def _drawn_half_mm(track: SegmentTrack, start: int, stop: int) -> NDArray[np.float64]:
+    """Half the drawn length of the lines ``start..stop - 1`` (moment half-length if not drawn)."""
+    half = track.half_length_mm[start:stop]
+    if track.extent_mm is None:
+        return half
+    ext = track.extent_mm[start:stop]
+    measured = np.isfinite(ext[:, 0]) & np.isfinite(ext[:, 1])
+    out: NDArray[np.float64] = np.where(measured, 0.5 * (ext[:, 1] - ext[:, 0]), half)
+    return out
 
 
 def _pivot_ratios(track: SegmentTrack, start: int, stop: int) -> NDArray[np.float64]:
@@ -327,17 +345,24 @@ def segment_tactemes(
             start, stop = int(anchor[j_turn]), n
             ratio = _pivot_ratios(track, start, stop)
             pivot_hold = track.frames_for(config.pivot_hold_s, k, minimum=hold)
-            ready = turn(angle, ref[start] + np.zeros(n, np.intp))[start:] > config.pivot_turn_deg
-            lo, hi = (
-                config.pivot_end_ratio / config.pivot_band,
-                config.pivot_end_ratio * config.pivot_band,
+            turned_now = turn(angle, ref[start] + np.zeros(n, np.intp))[start:]
+            ready = turned_now > config.pivot_turn_deg
+            lo = config.pivot_end_ratio / config.pivot_band
+            arc = arc_ratio_limit(
+                turned_now,
+                config.pivot_end_ratio,
+                config.pivot_band,
+                config.pivot_turn_deg,
+                config.pivot_arc_turn_deg,
+                2.0 * _drawn_half_mm(track, start, stop),
+                track.pitch_mm,
             )
             for tac, verdict in (
-                (Tacteme.LC_SPINS, ratio < config.pivot_min_ratio),
-                (Tacteme.LCMT_ABOUT_END, (ratio >= config.pivot_min_ratio) & (ratio <= lo)),
-                (Tacteme.LCMT_ARC, ratio >= hi),
+                (Tacteme.LC_SPINS, ready & (ratio < config.pivot_min_ratio)),
+                (Tacteme.LCMT_ABOUT_END, ready & (ratio >= config.pivot_min_ratio) & (ratio <= lo)),
+                (Tacteme.LCMT_ARC, ratio >= arc),
             ):
-                j = first(sustained(ready & verdict, pivot_hold), 0)
+                j = first(sustained(verdict, pivot_hold), 0)
                 if j is not None:
                     pivots.append((start + j, tac))
             if pivots:

@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 
 __all__ = [
     "anchors",
+    "arc_ratio_limit",
     "axis_angle_deg",
     "axis_difference_deg",
     "axis_vectors",
@@ -255,6 +256,53 @@ def pivot_ratios(
     out: NDArray[np.float64] = np.where(
         well & (half > 0), dist / np.where(half > 0, half, 1.0), np.nan
     )
+    return out
+
+
+def arc_ratio_limit(
+    turn_deg: NDArray[np.float64],
+    end_ratio: float,
+    band: float,
+    full_turn_deg: float,
+    arc_turn_deg: float,
+    line_mm: NDArray[np.float64] | None = None,
+    pitch_mm: float = 0.0,
+) -> NDArray[np.float64]:
+    """Least pivot ratio that reads "in an arc" at each frame's turn, in half-lengths.
+
+    From ``full_turn_deg`` on it is ``end_ratio x band``; below, the pivot is
+    located from a shorter turn and its error grows as one over the turn, so
+    the band widens in log: ``end_ratio x band ** (full_turn_deg / turn)``.
+    Below ``arc_turn_deg``, and (up to ``full_turn_deg``) below twice the
+    angle one taxel subtends over the line's drawn length (``2 atan(pitch /
+    length)``: a straight roll seen on a coarse array turns by about that much
+    from the grid alone): infinite (no verdict).
+
+    Parameters
+    ----------
+    turn_deg : (n,) float
+        Each frame's turn from the reference, deg.
+    end_ratio, band : float
+        ``pivot_end_ratio`` and ``pivot_band`` of
+        :class:`~taxelkit.smart.tacteme_config.TactemeConfig`.
+    full_turn_deg, arc_turn_deg : float
+        ``pivot_turn_deg`` and ``pivot_arc_turn_deg``, deg.
+    line_mm : (n,) float, optional
+        Each frame's drawn line length, mm (with ``pitch_mm``).
+    pitch_mm : float
+        Taxel pitch, mm; 0: the grid is not taken into account.
+
+    Returns
+    -------
+    (n,) float
+    """
+    counted = turn_deg > arc_turn_deg
+    if line_mm is not None and pitch_mm > 0:
+        grid = 2.0 * np.rad2deg(np.arctan2(pitch_mm, np.where(line_mm > 0, line_mm, 0.0)))
+        counted &= (turn_deg > grid) | (turn_deg > full_turn_deg)  # never stricter than that
+    scale = np.maximum(1.0, full_turn_deg / np.where(counted, turn_deg, full_turn_deg))
+    with np.errstate(over="ignore"):  # a tiny arc_turn_deg: an infinite limit, no arc
+        out: NDArray[np.float64] = np.where(counted, end_ratio * band**scale, np.inf)
     return out
 
 

@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.tacteme_table import Tacteme
+from taxelkit.smart.track_geometry import arc_ratio_limit
 
 __all__ = [
     "CarriedShift",
@@ -292,7 +293,10 @@ class PivotRun:
         self.sums = RunningSum(6)  # sxx, sxy, syy, bx, by, half: column by column
         self.count = 0
         self.ref_angle: float | None = None
-        self.pending: list[tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]] = []
+        # (ratios, angles, frames, drawn line lengths in mm) awaiting their reference angle
+        self.pending: list[
+            tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp], NDArray[np.float64]]
+        ] = []
         self.verdicts = [Sustained(hold) for _ in range(3)]
         self.found: tuple[int, Tacteme] | None = None
 
@@ -325,32 +329,46 @@ class PivotRun:
         )
         return out
 
-    def decide(self, min_ratio: float, end_lo: float, end_hi: float, turn_deg: float) -> None:
+    def decide(
+        self,
+        min_ratio: float,
+        end_lo: float,
+        end_ratio: float,
+        band: float,
+        turn_deg: float,
+        arc_turn_deg: float,
+        pitch_mm: float = 0.0,
+    ) -> None:
         """Run the three verdicts over the pending frames (their reference angle is known).
 
-        Spins below ``min_ratio`` half-lengths, about one end up to ``end_lo``,
-        in an arc from ``end_hi``; only on frames turned more than ``turn_deg``
-        from the reference.
+        Spins below ``min_ratio`` half-lengths and about one end up to
+        ``end_lo``, on frames turned more than ``turn_deg`` from the
+        reference; in an arc from
+        :func:`~taxelkit.smart.track_geometry.arc_ratio_limit` of the turn.
         """
-        for ratio, angle, frames in self.pending:
+        for ratio, angle, frames, line_mm in self.pending:
             if self.found is not None:
                 break
             if frames.size == 0:
                 continue
             assert self.ref_angle is not None
-            ready = turn_from(angle, self.ref_angle) > turn_deg
-            if not ready.any():  # no verdict can hold on these frames
+            turned = turn_from(angle, self.ref_angle)
+            ready = turned > turn_deg
+            arc = ratio >= arc_ratio_limit(
+                turned, end_ratio, band, turn_deg, arc_turn_deg, line_mm, pitch_mm
+            )
+            if not (ready.any() or arc.any()):  # no verdict can hold on these frames
                 for s in self.verdicts:
                     s.run = 0
                 continue
             verdicts = (
-                (Tacteme.LC_SPINS, ratio < min_ratio),
-                (Tacteme.LCMT_ABOUT_END, (ratio >= min_ratio) & (ratio <= end_lo)),
-                (Tacteme.LCMT_ARC, ratio >= end_hi),
+                (Tacteme.LC_SPINS, ready & (ratio < min_ratio)),
+                (Tacteme.LCMT_ABOUT_END, ready & (ratio >= min_ratio) & (ratio <= end_lo)),
+                (Tacteme.LCMT_ARC, arc),
             )
             hits = []
             for s, (tac, verdict) in zip(self.verdicts, verdicts, strict=True):
-                f = s.push(ready & verdict, frames)
+                f = s.push(verdict, frames)
                 if f is not None:
                     hits.append((f, tac))
             if hits:
@@ -395,6 +413,17 @@ class CarriedShift:
             out[lo:hi] = self.carried
         self.last_centre = centre[-1].copy()
         return out
+
+
+def drawn_length_mm(rows: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Drawn length of each row's line, mm (twice its moment half-length if not drawn).
+
+    The arithmetic of :func:`~taxelkit.smart.tactemes._drawn_half_mm`, times 2.
+    """
+    half, ext = rows[:, 5], rows[:, 6:8]
+    measured = np.isfinite(ext[:, 0]) & np.isfinite(ext[:, 1])
+    out: NDArray[np.float64] = 2.0 * np.where(measured, 0.5 * (ext[:, 1] - ext[:, 0]), half)
+    return out
 
 
 def turn_from(angle: NDArray[np.float64], ref: Any) -> NDArray[np.float64]:
