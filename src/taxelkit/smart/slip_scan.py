@@ -9,6 +9,13 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.slip import SLIP_KINDS, Slip, SlipConfig
+from taxelkit.smart.slip_motion import (
+    ENDS,
+    exact_means,
+    mean_error_bound,
+    motions_mm,
+    window_means,
+)
 
 __all__ = ["SlipScanner"]
 
@@ -44,12 +51,16 @@ class SlipScanner:
     config : SlipConfig
     k : int
         Frames whose median interval fixes the frame rate (the debounce ``k``).
+    reference : bool
+        Decide frame by frame in Python (the rule as written, kept as the
+        reference the vectorised scan is tested against). By default a
+        chunk's motions are computed at once (:mod:`taxelkit.smart.slip_motion`)
+        and the scan jumps from decision to decision; the slips are the same.
 
     Notes
     -----
     Keeps the last ``reference + current + end`` frames' features and a few
-    numbers; a scalar step per frame after vectorised window means (a
-    16 x 16 stream is at most 240 frames/s).
+    numbers.
 
     Examples
     --------
@@ -61,8 +72,11 @@ class SlipScanner:
     [(21, 23)]
     """
 
-    def __init__(self, cls: int, config: SlipConfig, *, k: int = 2) -> None:
+    def __init__(
+        self, cls: int, config: SlipConfig, *, k: int = 2, reference: bool = False
+    ) -> None:
         self.cls = int(cls)
+        self.reference = bool(reference)
         self.config = config
         self.k = max(2, int(k))
         self.slips: list[Slip] = []
@@ -197,14 +211,15 @@ class SlipScanner:
                 return []
             self._start()
             n_old = 0  # every frame so far is new to the scan
-        out = self._scan(x, fr, base, n_old)
+        scan = self._scan_frames if self.reference else self._scan_chunk
+        out = scan(x, fr, base, n_old)
         self._buf, self._buf_frames = x[-self.keep :], fr[-self.keep :]
         return out
 
-    def _scan(
+    def _scan_frames(
         self, x: NDArray[np.float64], fr: NDArray[np.intp], base: int, first: int
     ) -> list[Slip]:
-        """Decide frames ``x[first:]``; ``x[0]`` is segment frame ``base``."""
+        """Decide frames ``x[first:]`` one by one; ``x[0]`` is segment frame ``base``."""
         c, r, e = self.cur, self.ref, self.end
         cur_m = _window_means(x, c)  # cur_m[p - c + 1]: frames p - c + 1 .. p
         ref_m = _window_means(x, r)  # full reference windows
@@ -242,6 +257,114 @@ class SlipScanner:
                     )
                     self._replace(out, done)
                     self._open, self._anchor = None, i - e + 1
+        return out
+
+    # -- the vectorised scan ------------------------------------------------------------------
+    def _decisions(
+        self, x: NDArray[np.float64], a0: int, wa: int, b0: int, wb: int, count: int, limit: float
+    ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+        """Motions from the windows of ``wa`` rows at ``a0 + k`` to those of ``wb`` at ``b0 + k``.
+
+        Returns, for ``k < count``, whether the area changed (the rule's NaN)
+        and whether the motion exceeds ``limit``: those of :meth:`motion_mm`
+        (frames the vectorised measure cannot vouch for are recomputed by it).
+        """
+        xa, xb = x[a0 : a0 + count + wa - 1], x[b0 : b0 + count + wb - 1]
+        ma, bad_a = window_means(xa, wa, ENDS)
+        mb, bad_b = window_means(xb, wb, ENDS)
+        cfg = self.config
+        motion, unsure = motions_mm(
+            ma,
+            mb,
+            line=self.cls == _LINE,
+            area_step=cfg.area_step,
+            min_elongation=cfg.min_elongation,
+            limit_mm=limit,
+            bound=max(mean_error_bound(xa, wa), mean_error_bound(xb, wb)),
+        )
+        changed, above = np.isnan(motion), motion > limit
+        redo = np.flatnonzero(unsure | bad_a | bad_b)
+        if redo.size:
+            ra, rb = exact_means(x, a0 + redo, wa), exact_means(x, b0 + redo, wb)
+            for k, u, v in zip(redo.tolist(), ra, rb, strict=True):
+                m = self.motion_mm(u, v)
+                changed[k], above[k] = math.isnan(m), m > limit
+        return changed, above
+
+    def _onset(self, flags: NDArray[np.bool_]) -> int | None:
+        """First of a run of decided frames ``flags`` (motion above the limit) that opens a slip.
+
+        The run continues the hold kept in ``_above``; without an onset, the
+        hold is kept for the next frames.
+        """
+        h = len(self._above)
+        seq = np.concatenate([np.asarray(self._above, dtype=bool), flags])
+        total = np.concatenate([[0], np.cumsum(seq)])
+        j = np.arange(h, seq.size)
+        count = total[j + 1] - total[np.maximum(0, j + 1 - self.hold)]
+        hit = np.flatnonzero(seq[h:] & (count >= self.hold_needed))
+        if hit.size:
+            return int(hit[0])
+        self._above = seq[-self.hold :].tolist()
+        return None
+
+    def _scan_chunk(
+        self, x: NDArray[np.float64], fr: NDArray[np.intp], base: int, first: int
+    ) -> list[Slip]:
+        """:meth:`_scan_frames`, jumping from decision to decision over vectorised motions."""
+        c, r, e = self.cur, self.ref, self.end
+        n = x.shape[0]
+        p0 = max(first, c + r - 1)  # the first frame with a full reference in the buffer
+        changed = above = np.zeros(0, bool)
+        if p0 < n:
+            changed, above = self._decisions(
+                x, p0 - c - r + 1, r, p0 - c + 1, c, n - p0, self._limit_mm
+            )
+        re_anchor = np.flatnonzero(changed) + p0
+        out: list[Slip] = []
+        p = first
+        while p < n:
+            if self._open is None:
+                s = max(p, self._anchor + c + r - 1 - base)  # the reference after the anchor
+                if s >= n:
+                    break
+                assert s >= p0
+                k = int(np.searchsorted(re_anchor, s))
+                stop = int(re_anchor[k]) if k < re_anchor.size else n
+                q = self._onset(above[s - p0 : stop - p0])
+                if q is not None:
+                    p = s + q
+                    onset = max(0, p - self.hold - c + 2)
+                    self._open_i = base + onset
+                    self._open = Slip(SLIP_KINDS[self.cls], int(fr[onset]), int(fr[p]))
+                    self._above = []
+                    out.append(self._open)
+                elif stop < n:
+                    self._anchor, self._above = base + stop - c + 1, []
+                    p = stop
+                else:
+                    break
+            else:
+                s = max(p, 2 * e - 1, self._open_i - base + e - 1)  # the last window: all slip
+                if s >= n:
+                    break
+                moved, fast = self._decisions(
+                    x, s - 2 * e + 1, e, s - e + 1, e, n - s, self.config.still_mm
+                )
+                ended = np.flatnonzero(moved | ~fast)  # still (or the contact changed)
+                if ended.size == 0:
+                    break
+                p = s + int(ended[0])
+                done = Slip(
+                    self._open.kind,
+                    self._open.first_frame,
+                    self._open.detected_frame,
+                    max(self._open.first_frame, int(fr[p - e - e // 2])),
+                    int(fr[p]),
+                )
+                self._replace(out, done)
+                self._open, self._anchor = None, base + p - e + 1
+            p += 1
         return out
 
     def _replace(self, out: list[Slip], done: Slip) -> None:
