@@ -76,7 +76,7 @@ def window_means(
     nan = np.isnan(x)
     allowed = np.zeros(f, bool)
     allowed[nan_columns] = True
-    odd: NDArray[np.bool_] = np.isinf(x).any(axis=1) | (nan & ~allowed).any(axis=1)
+    odd = np.asarray(np.isinf(x).any(axis=1) | (nan & ~allowed).any(axis=1))
     bad = np.zeros(m, bool)
     if odd.any():
         x = np.where(odd[:, None] | np.isinf(x), 0.0, x)
