@@ -22,7 +22,7 @@ from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.recognise_chunks import ChunkRecogniser
 from taxelkit.smart.recogniser import SmartSensor, recognise
 from taxelkit.smart.slip import Slip, SlipConfig
-from taxelkit.smart.slip_motion import ENDS, exact_means, mean_error_bound, motions_mm, window_means
+from taxelkit.smart.slip_motion import ENDS, WindowSums, exact_means, motions_mm, window_means
 from taxelkit.smart.slip_scan import SlipScanner
 
 _LINE, _AREA = int(ContactClass.LINE), int(ContactClass.AREA)
@@ -115,24 +115,26 @@ def features_of(seed: int) -> tuple[SlipScanner, np.ndarray]:
 def test_window_means_are_within_their_bound_and_nan_where_the_rows_are(w: int) -> None:
     for seed in range(6):
         _, x = features_of(seed)
-        fast, bad = window_means(x, w, ENDS)
-        starts = np.arange(max(0, x.shape[0] - w + 1))
-        exact = exact_means(x, starts, w)
-        assert not bad.any()
-        np.testing.assert_array_equal(np.isnan(fast), np.isnan(exact))
-        ok = ~np.isnan(exact)
-        assert np.all(np.abs(fast[ok] - exact[ok]) <= mean_error_bound(x, w))
+        for block in (w, 2 * w + 3):
+            sums = WindowSums(x, block, ENDS)
+            m = max(0, x.shape[0] - w + 1)
+            fast, bad = sums.means(0, w, m)
+            exact = exact_means(x, np.arange(m), w)
+            assert not bad.any()
+            np.testing.assert_array_equal(np.isnan(fast), np.isnan(exact))
+            ok = ~np.isnan(exact)
+            assert np.all(np.abs(fast[ok] - exact[ok]) <= sums.error_bound(w))
 
 
 def test_a_decision_at_the_limit_is_recomputed() -> None:
     """Where the fast means differ by a rounding, a limit set to the exact value is caught."""
     scanner, x = features_of(3)
     c, r = 3, 8
-    fast_r, _ = window_means(x[:-c], r, ENDS)
-    fast_c, _ = window_means(x[r:], c, ENDS)
+    fast_r, _, bound_r = window_means(x[:-c], r, ENDS)
+    fast_c, _, bound_c = window_means(x[r:], c, ENDS)
     k = np.arange(fast_c.shape[0])
     exact_r, exact_c = exact_means(x, k, r), exact_means(x, r + k, c)
-    bound = max(mean_error_bound(x, r), mean_error_bound(x, c))
+    bound = max(bound_r, bound_c)
     differ = np.flatnonzero(np.any(fast_r != exact_r, axis=1) | np.any(fast_c != exact_c, axis=1))
     assert differ.size > 10  # the rounding does differ
     cfg = scanner.config

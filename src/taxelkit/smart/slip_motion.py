@@ -5,14 +5,14 @@ window means of its features and the motion between two windows
 (:meth:`~taxelkit.smart.slip_scan.SlipScanner.motion_mm`, the rule of
 :mod:`taxelkit.smart.slip`). The per-frame rule sums each window row by row
 (``w`` additions a frame) and measures one frame at a time in Python; here
-the sums come from cumulative sums restarted every ``w`` rows (two terms a
-window) and the measure is vectorised over frames.
+the sums come from cumulative sums restarted every few rows (two or three
+terms a window) and the measure is vectorised over frames.
 
 The floats differ from the per-frame rule's by rounding only, so a decision
 can differ only where a value lies within that rounding of a limit, or where
 the measure is ill-conditioned. Each window's mean is within
-:func:`mean_error_bound` of the row-by-row mean (a bound on the rounding of
-the sums, from the largest feature value); every decision closer to its limit
+:meth:`WindowSums.error_bound` of the row-by-row mean (a bound on the rounding
+of the sums, from the largest feature value); every decision closer to its limit
 than ``MARGIN`` times that bound (and every window holding an infinite value,
 or a NaN other than a line's ends not measured) is marked *unsure*, and the
 scanner recomputes those frames by the per-frame rule. The decisions, and
@@ -29,8 +29,8 @@ __all__ = [
     "AXIS_MIN_NORM",
     "ENDS",
     "MARGIN",
+    "WindowSums",
     "exact_means",
-    "mean_error_bound",
     "motions_mm",
     "window_means",
 ]
@@ -48,72 +48,98 @@ AXIS_MIN_NORM = 1.0e-2
 _EPS = float(np.finfo(np.float64).eps)
 
 
-def window_means(
-    x: NDArray[np.float64], w: int, nan_columns: slice = slice(0)
-) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-    """Means of every ``w`` consecutive rows, and the windows whose means must be recomputed.
+class WindowSums:
+    """Means of windows of consecutive rows, from cumulative sums restarted every ``block`` rows.
 
     Parameters
     ----------
     x : (n, F) float
-    w : int
-        Window length, rows (>= 1).
+    block : int
+        Rows between restarts (>= the longest window asked for): a window's
+        sum is then the difference of two cumulative sums of one block, or
+        one block's tail plus the next block's head.
     nan_columns : slice
-        Columns whose NaN (a value not measured) the caller handles.
+        Columns whose NaN (a value not measured) the caller handles: a
+        window's mean there is NaN exactly where it holds a NaN (as the
+        row-by-row sum); any other NaN or infinity marks the window bad.
+    """
+
+    def __init__(self, x: NDArray[np.float64], block: int, nan_columns: slice = slice(0)) -> None:
+        n, f = x.shape
+        self.block = max(1, int(block))
+        nan = np.isnan(x)
+        allowed = np.zeros(f, bool)
+        allowed[nan_columns] = True
+        odd = np.asarray(np.isinf(x).any(axis=1) | (nan & ~allowed).any(axis=1))
+        self._odd: NDArray[np.intp] | None = None
+        self._nan: NDArray[np.intp] | None = None
+        if odd.any():
+            x = np.where(odd[:, None] | np.isinf(x), 0.0, x)
+            self._odd = np.concatenate([[0], np.cumsum(odd)])
+        if nan.any():
+            x = np.where(nan, 0.0, x)
+            self._nan = np.concatenate([np.zeros((1, f), np.intp), np.cumsum(nan, axis=0)])
+        self._big = float(np.max(np.abs(x))) if x.size else 0.0
+        b = self.block
+        nb = -(-n // b)
+        pad = np.zeros((nb * b, f))
+        pad[:n] = x
+        self._local = np.cumsum(pad.reshape(nb, b, f), axis=1).reshape(nb * b, f)
+
+    def means(
+        self, start: int, w: int, count: int
+    ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """Means ``(count, F)`` of the windows of ``w`` rows at ``start + k``, and the bad ones.
+
+        Each mean is within :meth:`error_bound` of the row-by-row mean.
+        """
+        if w > self.block:
+            raise ValueError(f"w must be at most the block, {self.block}, got {w}")
+        b, local = self.block, self._local
+        p = start + np.arange(count)
+        end = p + w - 1
+        off = p % b
+        block_end = p - off + b - 1
+        before = np.where(off[:, None] > 0, local[p - 1], 0.0)
+        two = (end > block_end)[:, None]  # the window runs into the next block
+        total = np.where(two, (local[block_end] - before) + local[end], local[end] - before)
+        out: NDArray[np.float64] = total / w
+        bad = np.zeros(count, bool)
+        if self._odd is not None:
+            bad = (self._odd[p + w] - self._odd[p]) > 0
+        if self._nan is not None:
+            out[(self._nan[p + w] - self._nan[p]) > 0] = np.nan
+        return out, bad
+
+    def error_bound(self, w: int) -> float:
+        """Bound on a window mean's distance from the row-by-row mean (finite windows).
+
+        Three cumulative sums of at most ``b`` rows (each rounded by at most
+        ``b eps`` times its ``b max|x|``) and two additions, divided by ``w``;
+        the row-by-row sum rounds by at most ``w eps max|x|`` on the mean:
+        ``((3 b^2 + 4 b) / w + w + 2) eps max|x|``.
+        """
+        b = self.block
+        return ((3.0 * b * b + 4.0 * b) / w + w + 2.0) * _EPS * self._big + 1e-300
+
+
+def window_means(
+    x: NDArray[np.float64], w: int, nan_columns: slice = slice(0)
+) -> tuple[NDArray[np.float64], NDArray[np.bool_], float]:
+    """Means of every ``w`` consecutive rows (:class:`WindowSums`), the bad ones, the bound.
 
     Returns
     -------
     means : (n - w + 1, F) float
-        Within :func:`mean_error_bound` of the row-by-row means; NaN exactly
-        where a window holds a NaN in that column (as the row-by-row sum).
     bad : (n - w + 1,) bool
-        Windows holding an infinite value, or a NaN outside ``nan_columns``.
+    bound : float
+        :meth:`WindowSums.error_bound`.
     """
-    n, f = x.shape
-    m = n - w + 1
+    m = x.shape[0] - w + 1
     if m <= 0:
-        return np.zeros((0, f)), np.zeros(0, bool)
-    nan = np.isnan(x)
-    allowed = np.zeros(f, bool)
-    allowed[nan_columns] = True
-    odd = np.asarray(np.isinf(x).any(axis=1) | (nan & ~allowed).any(axis=1))
-    bad = np.zeros(m, bool)
-    if odd.any():
-        x = np.where(odd[:, None] | np.isinf(x), 0.0, x)
-        cnt = np.concatenate([[0], np.cumsum(odd)])
-        bad = (cnt[w:] - cnt[:m]) > 0
-    any_nan = nan.any()
-    if any_nan:
-        x = np.where(nan, 0.0, x)
-    nb = -(-n // w)
-    pad = np.zeros((nb * w, f))
-    pad[:n] = x
-    local = np.cumsum(pad.reshape(nb, w, f), axis=1).reshape(nb * w, f)  # restarts every w rows
-    p = np.arange(m)
-    off = p % w
-    block_end = p - off + w - 1  # the last row of p's block
-    first = local[block_end] - np.where(off[:, None] > 0, local[p - 1], 0.0)
-    second = np.where(off[:, None] > 0, local[np.minimum(p + w - 1, nb * w - 1)], 0.0)
-    out: NDArray[np.float64] = (first + second) / w
-    if any_nan:
-        cnt_nan = np.concatenate([np.zeros((1, f), np.intp), np.cumsum(nan, axis=0)])
-        out[(cnt_nan[w:] - cnt_nan[:m]) > 0] = np.nan
-    return out, bad
-
-
-def mean_error_bound(x: NDArray[np.float64], w: int) -> float:
-    """Bound on ``|window_means(x, w) - exact_means(x, ., w)|`` for finite windows.
-
-    A window's sum is three cumulative sums of at most ``w`` rows each
-    (rounding at most ``w eps`` times their ``w max|x|``), added; the
-    row-by-row sum rounds at most as much again: ``(4 w + 8) eps max|x|`` on
-    the mean, over the finite values of ``x``.
-    """
-    if x.size == 0:
-        return 0.0
-    finite = x[np.isfinite(x)]
-    big = float(np.max(np.abs(finite))) if finite.size else 0.0
-    return (4.0 * w + 8.0) * _EPS * big + 1e-300
+        return np.zeros((0, x.shape[1])), np.zeros(0, bool), 0.0
+    sums = WindowSums(x, w, nan_columns)
+    return (*sums.means(0, w, m), sums.error_bound(w))
 
 
 def exact_means(x: NDArray[np.float64], starts: NDArray[np.intp], w: int) -> NDArray[np.float64]:
@@ -213,7 +239,7 @@ def motions_mm(
     limit_mm : float
         The limit the motion is compared with, mm.
     bound : float
-        Bound on the means' rounding (:func:`mean_error_bound`).
+        Bound on the means' rounding (:meth:`WindowSums.error_bound`).
 
     Returns
     -------

@@ -9,13 +9,7 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.slip import SLIP_KINDS, Slip, SlipConfig
-from taxelkit.smart.slip_motion import (
-    ENDS,
-    exact_means,
-    mean_error_bound,
-    motions_mm,
-    window_means,
-)
+from taxelkit.smart.slip_motion import ENDS, WindowSums, exact_means, motions_mm
 
 __all__ = ["SlipScanner"]
 
@@ -269,9 +263,10 @@ class SlipScanner:
         and whether the motion exceeds ``limit``: those of :meth:`motion_mm`
         (frames the vectorised measure cannot vouch for are recomputed by it).
         """
-        xa, xb = x[a0 : a0 + count + wa - 1], x[b0 : b0 + count + wb - 1]
-        ma, bad_a = window_means(xa, wa, ENDS)
-        mb, bad_b = window_means(xb, wb, ENDS)
+        lo = min(a0, b0)
+        sums = WindowSums(x[lo : max(a0 + wa, b0 + wb) + count - 1], max(wa, wb), ENDS)
+        ma, bad_a = sums.means(a0 - lo, wa, count)
+        mb, bad_b = sums.means(b0 - lo, wb, count)
         cfg = self.config
         motion, unsure = motions_mm(
             ma,
@@ -280,7 +275,7 @@ class SlipScanner:
             area_step=cfg.area_step,
             min_elongation=cfg.min_elongation,
             limit_mm=limit,
-            bound=max(mean_error_bound(xa, wa), mean_error_bound(xb, wb)),
+            bound=sums.error_bound(min(wa, wb)),
         )
         changed, above = np.isnan(motion), motion > limit
         redo = np.flatnonzero(unsure | bad_a | bad_b)
