@@ -106,37 +106,46 @@ class SlipScanner:
         self._ready = True
 
     def features(self, rows: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Per-frame features ``(m, 11)`` from rows ``(m, 9)`` (segment_scan's ``ROW_COLUMNS``).
+        """Per-frame features ``(m, 14)`` from rows ``(m, 9)`` (segment_scan's ``ROW_COLUMNS``).
 
-        Centre, area, doubled-angle axis, half-length, elongation, and a
-        line's two ends: its drawn extent along its axis, the axis oriented
-        like the previous frame's so that the ends keep their order.
+        Centre, area, doubled-angle axis, half-length, elongation, a line's
+        two ends (its drawn extent along its axis, the axis oriented like the
+        previous frame's so that the ends keep their order) and a face's
+        second central moments. The vectorised scan leaves the columns its
+        class does not read at 0 (a face's ends, a line's moments).
         """
+        m = rows.shape[0]
+        out = np.empty((m, _N_FEATURES))
         theta = np.deg2rad(rows[:, 2])
         t2 = 2.0 * theta
-        u = np.stack([np.cos(theta), np.sin(theta)], axis=-1)
-        prev = np.concatenate([u[:1] if self._u_last is None else self._u_last[None], u[:-1]])
-        flip = np.cumprod(np.where(np.einsum("ij,ij->i", u, prev) < 0.0, -1.0, 1.0))
-        u = u * flip[:, None]
-        if u.shape[0]:
-            self._u_last = u[-1].copy()
-        lo = np.where(flip > 0, rows[:, 6], -rows[:, 7])
-        hi = np.where(flip > 0, rows[:, 7], -rows[:, 6])
-        centre = rows[:, :2]
-        cols = (rows[:, 0], rows[:, 1], rows[:, 3], np.cos(t2), np.sin(t2), rows[:, 5], rows[:, 4])
-        ends = np.concatenate([centre + lo[:, None] * u, centre + hi[:, None] * u], axis=1)
-        lam_max = rows[:, 5] ** 2 / 3.0  # half = sqrt(3 lambda_max)
-        lam_min = lam_max / np.maximum(rows[:, 4], 1.0) ** 2  # elongation = sqrt(max / min)
-        c, s_ = np.cos(theta), np.sin(theta)
-        cov = np.stack(
-            [
-                lam_max * c * c + lam_min * s_ * s_,
-                lam_max * s_ * s_ + lam_min * c * c,
-                (lam_max - lam_min) * c * s_,
-            ],
-            axis=-1,
-        )
-        return np.concatenate([np.stack(cols, axis=-1), ends, cov], axis=1)
+        out[:, _CX], out[:, _CY], out[:, _AREA_COL] = rows[:, 0], rows[:, 1], rows[:, 3]
+        out[:, _C2], out[:, _S2] = np.cos(t2), np.sin(t2)
+        out[:, _HALF], out[:, _ELONG] = rows[:, 5], rows[:, 4]
+        line = self.cls == _LINE
+        if line or self.reference:
+            u = np.stack([np.cos(theta), np.sin(theta)], axis=-1)
+            prev = np.concatenate([u[:1] if self._u_last is None else self._u_last[None], u[:-1]])
+            flip = np.cumprod(np.where(np.einsum("ij,ij->i", u, prev) < 0.0, -1.0, 1.0))
+            u = u * flip[:, None]
+            if m:
+                self._u_last = u[-1].copy()
+            lo = np.where(flip > 0, rows[:, 6], -rows[:, 7])
+            hi = np.where(flip > 0, rows[:, 7], -rows[:, 6])
+            centre = rows[:, :2]
+            out[:, _END1] = centre + lo[:, None] * u
+            out[:, _END2] = centre + hi[:, None] * u
+        else:
+            out[:, _END1.start : _END2.stop] = 0.0
+        if not line or self.reference:
+            lam_max = rows[:, 5] ** 2 / 3.0  # half = sqrt(3 lambda_max)
+            lam_min = lam_max / np.maximum(rows[:, 4], 1.0) ** 2  # elongation = sqrt(max / min)
+            c, s_ = np.cos(theta), np.sin(theta)
+            out[:, _COV.start] = lam_max * c * c + lam_min * s_ * s_
+            out[:, _COV.start + 1] = lam_max * s_ * s_ + lam_min * c * c
+            out[:, _COV.start + 2] = (lam_max - lam_min) * c * s_
+        else:
+            out[:, _COV] = 0.0
+        return out
 
     # -- the motion measure --------------------------------------------------------------------
     def motion_mm(self, ref: NDArray[np.float64], cur: NDArray[np.float64]) -> float:
