@@ -185,3 +185,15 @@ def test_recognition_with_slips_is_the_same_with_the_per_frame_rule(
         monkeypatch.setattr(module, "SlipScanner", partial(SlipScanner, reference=True))
     assert fast == everything()
     assert fast[0][1]  # the roll did slip
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_rows_with_odd_values_are_decided_by_the_per_frame_rule(seed: int) -> None:
+    """NaN or infinite centres, areas or axes (not a Level 1 output, but input is input)."""
+    cls, cfg, frames, rows, cuts = cases(seed)
+    rng = np.random.default_rng(seed)
+    odd = rng.random(rows.shape[0]) < 0.005
+    rows[odd, rng.integers(0, 6)] = rng.choice([np.nan, np.inf, -np.inf])
+    with np.errstate(invalid="ignore", over="ignore"):  # inf - inf in the rule itself
+        ref = run(SlipScanner(cls, cfg, k=2, reference=True), frames, rows, cuts)
+        assert run(SlipScanner(cls, cfg, k=2), frames, rows, cuts) == ref

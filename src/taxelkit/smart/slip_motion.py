@@ -67,24 +67,31 @@ class WindowSums:
     def __init__(self, x: NDArray[np.float64], block: int, nan_columns: slice = slice(0)) -> None:
         n, f = x.shape
         self.block = max(1, int(block))
-        nan = np.isnan(x)
-        allowed = np.zeros(f, bool)
-        allowed[nan_columns] = True
-        odd = np.asarray(np.isinf(x).any(axis=1) | (nan & ~allowed).any(axis=1))
         self._odd: NDArray[np.intp] | None = None
         self._nan: NDArray[np.intp] | None = None
-        if odd.any():
-            x = np.where(odd[:, None] | np.isinf(x), 0.0, x)
-            self._odd = np.concatenate([[0], np.cumsum(odd)])
-        if nan.any():
-            x = np.where(nan, 0.0, x)
-            self._nan = np.concatenate([np.zeros((1, f), np.intp), np.cumsum(nan, axis=0)])
+        if not np.isfinite(x).all():
+            x = self._set_aside(x, nan_columns)
         self._big = float(np.max(np.abs(x))) if x.size else 0.0
         b = self.block
         nb = -(-n // b)
         pad = np.zeros((nb * b, f))
         pad[:n] = x
         self._local = np.cumsum(pad.reshape(nb, b, f), axis=1).reshape(nb * b, f)
+
+    def _set_aside(self, x: NDArray[np.float64], nan_columns: slice) -> NDArray[np.float64]:
+        """``x`` with its non-finite values at 0, counted (NaN in ``nan_columns``, others)."""
+        f = x.shape[1]
+        nan = np.isnan(x)
+        allowed = np.zeros(f, bool)
+        allowed[nan_columns] = True
+        odd = np.asarray(np.isinf(x).any(axis=1) | (nan & ~allowed).any(axis=1))
+        if odd.any():
+            x = np.where(odd[:, None] | np.isinf(x), 0.0, x)
+            self._odd = np.concatenate([[0], np.cumsum(odd)])
+        if nan.any():
+            x = np.where(nan, 0.0, x)
+            self._nan = np.concatenate([np.zeros((1, f), np.intp), np.cumsum(nan, axis=0)])
+        return x
 
     def means(
         self, start: int, w: int, count: int
