@@ -5,8 +5,8 @@ window means of its features and the motion between two windows
 (:meth:`~taxelkit.smart.slip_scan.SlipScanner.motion_mm`, the rule of
 :mod:`taxelkit.smart.slip`). The per-frame rule sums each window row by row
 (``w`` additions a frame) and measures one frame at a time in Python; here
-the sums come from cumulative sums restarted every few rows (two or three
-terms a window) and the measure is vectorised over frames.
+the sums come from sums over windows of powers of two rows (a few additions
+a window, vectorised) and the measure is vectorised over frames.
 
 The floats differ from the per-frame rule's by rounding only, so a decision
 can differ only where a value lies within that rounding of a limit, or where
@@ -32,6 +32,7 @@ __all__ = [
     "WindowSums",
     "exact_means",
     "motions_mm",
+    "row_window_means",
     "window_means",
 ]
 
@@ -49,85 +50,82 @@ _EPS = float(np.finfo(np.float64).eps)
 
 
 class WindowSums:
-    """Means of windows of consecutive rows, from cumulative sums restarted every ``block`` rows.
+    """Means of windows of consecutive rows, from sums over windows of powers of two rows.
+
+    Level ``k`` holds the sum of every ``2^k`` consecutive rows (two of
+    level ``k - 1`` added, one vectorised addition a level); a window of
+    ``w`` rows adds one term of each level in the binary digits of ``w``.
+    Every row of a window enters its sum, so a NaN makes it NaN exactly as
+    in the row-by-row sum.
 
     Parameters
     ----------
     x : (n, F) float
-    block : int
-        Rows between restarts (>= the longest window asked for): a window's
-        sum is then the difference of two cumulative sums of one block, or
-        one block's tail plus the next block's head.
     nan_columns : slice
-        Columns whose NaN (a value not measured) the caller handles: a
-        window's mean there is NaN exactly where it holds a NaN (as the
-        row-by-row sum); any other NaN or infinity marks the window bad.
+        Columns whose NaN (a value not measured) the caller handles (NaN
+        means where the window holds one, as the row-by-row mean); any other
+        NaN, and any infinity, marks the windows holding it bad.
     """
 
-    def __init__(self, x: NDArray[np.float64], block: int, nan_columns: slice = slice(0)) -> None:
-        n, f = x.shape
-        self.block = max(1, int(block))
+    def __init__(self, x: NDArray[np.float64], nan_columns: slice = slice(0)) -> None:
         self._odd: NDArray[np.intp] | None = None
-        self._nan: NDArray[np.intp] | None = None
-        if not np.isfinite(x).all():
+        size = np.abs(x)
+        if np.isfinite(size.max(initial=0.0)):
+            self._big = float(size.max(initial=0.0))
+        else:
             x = self._set_aside(x, nan_columns)
-        self._big = float(np.max(np.abs(x))) if x.size else 0.0
-        b = self.block
-        nb = -(-n // b)
-        pad = np.zeros((nb * b, f))
-        pad[:n] = x
-        self._local = np.cumsum(pad.reshape(nb, b, f), axis=1).reshape(nb * b, f)
+            self._big = float(np.max(size, where=np.isfinite(size), initial=0.0))
+        self._levels = [x]
 
     def _set_aside(self, x: NDArray[np.float64], nan_columns: slice) -> NDArray[np.float64]:
-        """``x`` with its non-finite values at 0, counted (NaN in ``nan_columns``, others)."""
-        f = x.shape[1]
+        """``x``, rows with an infinity or a NaN outside ``nan_columns`` at 0 (counted)."""
         nan = np.isnan(x)
-        allowed = np.zeros(f, bool)
+        allowed = np.zeros(x.shape[1], bool)
         allowed[nan_columns] = True
         odd = np.asarray(np.isinf(x).any(axis=1) | (nan & ~allowed).any(axis=1))
         if odd.any():
-            x = np.where(odd[:, None] | np.isinf(x), 0.0, x)
+            x = np.where(odd[:, None], 0.0, x)
             self._odd = np.concatenate([[0], np.cumsum(odd)])
-        if nan.any():
-            x = np.where(nan, 0.0, x)
-            self._nan = np.concatenate([np.zeros((1, f), np.intp), np.cumsum(nan, axis=0)])
         return x
+
+    def _level(self, k: int) -> NDArray[np.float64]:
+        """Sums of every ``2^k`` consecutive rows."""
+        while len(self._levels) <= k:
+            prev, half = self._levels[-1], 1 << (len(self._levels) - 1)
+            self._levels.append(prev[:-half] + prev[half:])
+        return self._levels[k]
 
     def means(
         self, start: int, w: int, count: int
     ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
         """Means ``(count, F)`` of the windows of ``w`` rows at ``start + k``, and the bad ones.
 
-        Each mean is within :meth:`error_bound` of the row-by-row mean.
+        Each finite mean is within :meth:`error_bound` of the row-by-row mean.
         """
-        if w > self.block:
-            raise ValueError(f"w must be at most the block, {self.block}, got {w}")
-        b, local = self.block, self._local
-        p = start + np.arange(count)
-        end = p + w - 1
-        off = p % b
-        block_end = p - off + b - 1
-        before = np.where(off[:, None] > 0, local[p - 1], 0.0)
-        two = (end > block_end)[:, None]  # the window runs into the next block
-        total = np.where(two, (local[block_end] - before) + local[end], local[end] - before)
+        total: NDArray[np.float64] | None = None
+        off = start
+        for k in range(w.bit_length() - 1, -1, -1):
+            if w >> k & 1:
+                term = self._level(k)[off : off + count]
+                total = term if total is None else total + term
+                off += 1 << k
+        assert total is not None
         out: NDArray[np.float64] = total / w
         bad = np.zeros(count, bool)
         if self._odd is not None:
+            p = start + np.arange(count)
             bad = (self._odd[p + w] - self._odd[p]) > 0
-        if self._nan is not None:
-            out[(self._nan[p + w] - self._nan[p]) > 0] = np.nan
         return out, bad
 
     def error_bound(self, w: int) -> float:
         """Bound on a window mean's distance from the row-by-row mean (finite windows).
 
-        Three cumulative sums of at most ``b`` rows (each rounded by at most
-        ``b eps`` times its ``b max|x|``) and two additions, divided by ``w``;
-        the row-by-row sum rounds by at most ``w eps max|x|`` on the mean:
-        ``((3 b^2 + 4 b) / w + w + 2) eps max|x|``.
+        Each row passes through at most ``2 log2 w + 1`` roundings (its
+        levels, then the terms added), each at most ``eps`` times a partial
+        sum of at most ``w max|x|``; the row-by-row sum through at most ``w``;
+        both divide by ``w``: ``(w + 2 bitlength(w) + 4) eps max|x|``.
         """
-        b = self.block
-        return ((3.0 * b * b + 4.0 * b) / w + w + 2.0) * _EPS * self._big + 1e-300
+        return (w + 2.0 * w.bit_length() + 4.0) * _EPS * self._big + 1e-300
 
 
 def window_means(
@@ -145,8 +143,23 @@ def window_means(
     m = x.shape[0] - w + 1
     if m <= 0:
         return np.zeros((0, x.shape[1])), np.zeros(0, bool), 0.0
-    sums = WindowSums(x, w, nan_columns)
+    sums = WindowSums(x, nan_columns)
     return (*sums.means(0, w, m), sums.error_bound(w))
+
+
+def row_window_means(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
+    """Mean of each ``w`` consecutive rows ``(n - w + 1, F)``, row by row (the per-frame rule).
+
+    Empty when ``n < w``.
+    """
+    n = x.shape[0] - w + 1
+    if n <= 0:
+        return np.zeros((0, x.shape[1]))
+    out = x[:n].copy()
+    for j in range(1, w):  # in a fixed order: the same floats whatever the chunking
+        out += x[j : j + n]
+    out /= w
+    return out
 
 
 def exact_means(x: NDArray[np.float64], starts: NDArray[np.intp], w: int) -> NDArray[np.float64]:

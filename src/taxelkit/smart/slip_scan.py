@@ -9,29 +9,27 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.slip import SLIP_KINDS, Slip, SlipConfig
-from taxelkit.smart.slip_motion import ENDS, WindowSums, exact_means, motions_mm
+from taxelkit.smart.slip_motion import (
+    ENDS,
+    WindowSums,
+    exact_means,
+    motions_mm,
+    row_window_means,
+)
 
 __all__ = ["SlipScanner"]
 
 _LINE = int(ContactClass.LINE)
+
+#: Frames whose motions are computed together by the vectorised scan (the
+#: window sums of a piece stay small enough for the cache).
+_PIECE = 512
 
 # Feature columns averaged over the windows (from the rows of segment_scan.ROW_COLUMNS).
 _CX, _CY, _AREA_COL, _C2, _S2, _HALF, _ELONG = range(7)
 _END1, _END2 = slice(7, 9), slice(9, 11)  # a line's two ends, x y (mm), in a consistent order
 _COV = slice(11, 14)  # second central moments xx, yy, xy, mm^2
 _N_FEATURES = 14
-
-
-def _window_means(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
-    """Mean of each ``w`` consecutive rows ``(n - w + 1, F)``; empty when ``n < w``."""
-    n = x.shape[0] - w + 1
-    if n <= 0:
-        return np.zeros((0, x.shape[1]))
-    out = x[:n].copy()
-    for j in range(1, w):  # in a fixed order: the same floats whatever the chunking
-        out += x[j : j + n]
-    out /= w
-    return out
 
 
 class SlipScanner:
@@ -224,9 +222,9 @@ class SlipScanner:
     ) -> list[Slip]:
         """Decide frames ``x[first:]`` one by one; ``x[0]`` is segment frame ``base``."""
         c, r, e = self.cur, self.ref, self.end
-        cur_m = _window_means(x, c)  # cur_m[p - c + 1]: frames p - c + 1 .. p
-        ref_m = _window_means(x, r)  # full reference windows
-        end_m = _window_means(x, e)
+        cur_m = row_window_means(x, c)  # cur_m[p - c + 1]: frames p - c + 1 .. p
+        ref_m = row_window_means(x, r)  # full reference windows
+        end_m = row_window_means(x, e)
         out: list[Slip] = []
         cfg = self.config
         for p in range(first, x.shape[0]):
@@ -271,28 +269,32 @@ class SlipScanner:
         Returns, for ``k < count``, whether the area changed (the rule's NaN)
         and whether the motion exceeds ``limit``: those of :meth:`motion_mm`
         (frames the vectorised measure cannot vouch for are recomputed by it).
+        Computed ``_PIECE`` frames at a time.
         """
-        lo = min(a0, b0)
-        sums = WindowSums(x[lo : max(a0 + wa, b0 + wb) + count - 1], max(wa, wb), ENDS)
-        ma, bad_a = sums.means(a0 - lo, wa, count)
-        mb, bad_b = sums.means(b0 - lo, wb, count)
+        changed, above = np.empty(count, bool), np.empty(count, bool)
         cfg = self.config
-        motion, unsure = motions_mm(
-            ma,
-            mb,
-            line=self.cls == _LINE,
-            area_step=cfg.area_step,
-            min_elongation=cfg.min_elongation,
-            limit_mm=limit,
-            bound=sums.error_bound(min(wa, wb)),
-        )
-        changed, above = np.isnan(motion), motion > limit
-        redo = np.flatnonzero(unsure | bad_a | bad_b)
-        if redo.size:
-            ra, rb = exact_means(x, a0 + redo, wa), exact_means(x, b0 + redo, wb)
-            for k, u, v in zip(redo.tolist(), ra, rb, strict=True):
-                m = self.motion_mm(u, v)
-                changed[k], above[k] = math.isnan(m), m > limit
+        for k0 in range(0, count, _PIECE):
+            m = min(_PIECE, count - k0)
+            lo = min(a0, b0) + k0
+            sums = WindowSums(x[lo : max(a0 + wa, b0 + wb) + k0 + m - 1], ENDS)
+            ma, bad_a = sums.means(a0 + k0 - lo, wa, m)
+            mb, bad_b = sums.means(b0 + k0 - lo, wb, m)
+            motion, unsure = motions_mm(
+                ma,
+                mb,
+                line=self.cls == _LINE,
+                area_step=cfg.area_step,
+                min_elongation=cfg.min_elongation,
+                limit_mm=limit,
+                bound=sums.error_bound(min(wa, wb)),
+            )
+            changed[k0 : k0 + m], above[k0 : k0 + m] = np.isnan(motion), motion > limit
+            redo = np.flatnonzero(unsure | bad_a | bad_b) + k0
+            if redo.size:
+                ra, rb = exact_means(x, a0 + redo, wa), exact_means(x, b0 + redo, wb)
+                for k, u, v in zip(redo.tolist(), ra, rb, strict=True):
+                    mm = self.motion_mm(u, v)
+                    changed[k], above[k] = math.isnan(mm), mm > limit
         return changed, above
 
     def _onset(self, flags: NDArray[np.bool_]) -> int | None:
@@ -352,10 +354,10 @@ class SlipScanner:
                 s = max(p, 2 * e - 1, self._open_i - base + e - 1)  # the last window: all slip
                 if s >= n:
                     break
-                moved, fast = self._decisions(
+                changed_end, moving = self._decisions(
                     x, s - 2 * e + 1, e, s - e + 1, e, n - s, self.config.still_mm
                 )
-                ended = np.flatnonzero(moved | ~fast)  # still (or the contact changed)
+                ended = np.flatnonzero(changed_end | ~moving)  # still (or the contact changed)
                 if ended.size == 0:
                     break
                 p = s + int(ended[0])
