@@ -226,6 +226,22 @@ def main() -> None:
         write_record(args, skins, streams)
 
 
+def target_text(skins: dict[float, dict[str, Any]]) -> str:
+    """Whether the 2,000,000 frames/s target holds, skin by skin (met: in every run)."""
+    words = []
+    for active, skin in skins.items():
+        rates = [r["rate"] for r in skin["runs"]]
+        name = FRACTION_NAMES.get(active, f"{active:.0%}")
+        hits = sum(rate >= 2e6 for rate in rates)
+        state = "met" if hits == len(rates) else "missed" if hits == 0 else f"met in {hits}"
+        words.append(
+            f"{state} ({name})"
+            if hits in (0, len(rates))
+            else f"{state} of {len(rates)} runs ({name})"
+        )
+    return ", ".join(words)
+
+
 def write_record(
     args: argparse.Namespace, skins: dict[float, dict[str, Any]], streams: list[dict[str, float]]
 ) -> None:
@@ -247,11 +263,10 @@ def write_record(
             )
         parts.append(text)
         ratios.append(f"{span(rates, skin['separate'], 1)}x ({name})")
-    hit = max(max(r["rate"] for r in skin["runs"]) for skin in skins.values()) >= 2e6
     batched = [r["batched"] for r in streams]
     figure = (
         "; ".join(parts)
-        + f" ({args.runs} runs each, CPU time; target 2,000,000 {'met' if hit else 'missed'}); "
+        + f" ({args.runs} runs each, CPU time; target 2,000,000 {target_text(skins)}); "
         f"one stream, `batch_frames={args.stream_batch_frames}`: {span(batched, step=1000)} "
         "frames/s "
         f"(target 200,000 {'met' if min(batched) >= 2e5 else 'missed'})"

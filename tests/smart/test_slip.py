@@ -183,7 +183,9 @@ class _ScriptedMotion(SlipScanner):
     """A scanner whose motion measure reads a scripted series (one value per decided frame)."""
 
     def __init__(self, series: list[float], config: SlipConfig) -> None:
-        super().__init__(int(ContactClass.AREA), config, k=2)
+        # the per-frame rule calls motion_mm frame by frame (the vectorised scan
+        # decides as it does: tests/smart/test_slip_vectorised.py)
+        super().__init__(int(ContactClass.AREA), config, k=2, reference=True)
         self.series = iter(series)
 
     def motion_mm(self, ref: np.ndarray, cur: np.ndarray) -> float:

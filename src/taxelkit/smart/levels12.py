@@ -58,6 +58,24 @@ def _schmitt_rows(
     return out
 
 
+def _touched(images: NDArray[np.bool_], time_major: bool) -> NDArray[np.bool_]:
+    """``(N,)``: arrays with a taxel on in any frame of images ``(N, T, ...)`` or ``(T, N, ...)``.
+
+    Time first, the frames are OR-ed 8 taxels to a word before the test.
+    """
+    a, b = images.shape[:2]
+    taxels = int(np.prod(images.shape[2:], dtype=np.int64))
+    if not time_major:
+        out: NDArray[np.bool_] = np.any(images.reshape(a, b * taxels), axis=1)
+        return out
+    if taxels % 8 == 0 and images.flags.c_contiguous and a:
+        words = images.reshape(a, b * taxels).view(np.uint64).reshape(a, b, taxels // 8)
+        out = np.any(np.bitwise_or.reduce(words, axis=0), axis=1)
+        return out
+    out = np.any(np.any(images.reshape(a, b, taxels), axis=2), axis=0)
+    return out
+
+
 def half_length(stats: ImageStats) -> NDArray[np.float64]:
     """``sqrt(3 lambda_max)`` of every frame, mm: half the length of a line with its moments."""
     vx, vy, cxy = stats.var_x_mm2, stats.var_y_mm2, stats.cov_xy_mm2
@@ -214,11 +232,7 @@ class ChunkLevels12:
         classes = np.zeros((n, t), dtype=np.int8)  # NONE
         rows = np.empty((n, t, 9))  # read only where there is contact
         taxels = self.shape[0] * self.shape[1]
-        hit: NDArray[np.bool_] = (
-            np.any(np.any(images.reshape(t, n, taxels), axis=2), axis=0)
-            if time_major
-            else np.any(images.reshape(n, t * taxels), axis=1)
-        )
+        hit = _touched(images, time_major)
         longest = 0
         if self._cleaner is not None and t:  # the arrays that may have contact
             sel, longest = self._cleaner.select(t_s, hit)

@@ -9,28 +9,27 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.slip import SLIP_KINDS, Slip, SlipConfig
+from taxelkit.smart.slip_motion import (
+    ENDS,
+    WindowSums,
+    exact_means,
+    motions_mm,
+    row_window_means,
+)
 
 __all__ = ["SlipScanner"]
 
 _LINE = int(ContactClass.LINE)
+
+#: Frames whose motions are computed together by the vectorised scan (the
+#: window sums of a piece stay small enough for the cache).
+_PIECE = 512
 
 # Feature columns averaged over the windows (from the rows of segment_scan.ROW_COLUMNS).
 _CX, _CY, _AREA_COL, _C2, _S2, _HALF, _ELONG = range(7)
 _END1, _END2 = slice(7, 9), slice(9, 11)  # a line's two ends, x y (mm), in a consistent order
 _COV = slice(11, 14)  # second central moments xx, yy, xy, mm^2
 _N_FEATURES = 14
-
-
-def _window_means(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
-    """Mean of each ``w`` consecutive rows ``(n - w + 1, F)``; empty when ``n < w``."""
-    n = x.shape[0] - w + 1
-    if n <= 0:
-        return np.zeros((0, x.shape[1]))
-    out = x[:n].copy()
-    for j in range(1, w):  # in a fixed order: the same floats whatever the chunking
-        out += x[j : j + n]
-    out /= w
-    return out
 
 
 class SlipScanner:
@@ -44,12 +43,16 @@ class SlipScanner:
     config : SlipConfig
     k : int
         Frames whose median interval fixes the frame rate (the debounce ``k``).
+    reference : bool
+        Decide frame by frame in Python (the rule as written, kept as the
+        reference the vectorised scan is tested against). By default a
+        chunk's motions are computed at once (:mod:`taxelkit.smart.slip_motion`)
+        and the scan jumps from decision to decision; the slips are the same.
 
     Notes
     -----
     Keeps the last ``reference + current + end`` frames' features and a few
-    numbers; a scalar step per frame after vectorised window means (a
-    16 x 16 stream is at most 240 frames/s).
+    numbers.
 
     Examples
     --------
@@ -61,8 +64,11 @@ class SlipScanner:
     [(21, 23)]
     """
 
-    def __init__(self, cls: int, config: SlipConfig, *, k: int = 2) -> None:
+    def __init__(
+        self, cls: int, config: SlipConfig, *, k: int = 2, reference: bool = False
+    ) -> None:
         self.cls = int(cls)
+        self.reference = bool(reference)
         self.config = config
         self.k = max(2, int(k))
         self.slips: list[Slip] = []
@@ -98,37 +104,46 @@ class SlipScanner:
         self._ready = True
 
     def features(self, rows: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Per-frame features ``(m, 11)`` from rows ``(m, 9)`` (segment_scan's ``ROW_COLUMNS``).
+        """Per-frame features ``(m, 14)`` from rows ``(m, 9)`` (segment_scan's ``ROW_COLUMNS``).
 
-        Centre, area, doubled-angle axis, half-length, elongation, and a
-        line's two ends: its drawn extent along its axis, the axis oriented
-        like the previous frame's so that the ends keep their order.
+        Centre, area, doubled-angle axis, half-length, elongation, a line's
+        two ends (its drawn extent along its axis, the axis oriented like the
+        previous frame's so that the ends keep their order) and a face's
+        second central moments. The vectorised scan leaves the columns its
+        class does not read at 0 (a face's ends, a line's moments).
         """
+        m = rows.shape[0]
+        out = np.empty((m, _N_FEATURES))
         theta = np.deg2rad(rows[:, 2])
         t2 = 2.0 * theta
-        u = np.stack([np.cos(theta), np.sin(theta)], axis=-1)
-        prev = np.concatenate([u[:1] if self._u_last is None else self._u_last[None], u[:-1]])
-        flip = np.cumprod(np.where(np.einsum("ij,ij->i", u, prev) < 0.0, -1.0, 1.0))
-        u = u * flip[:, None]
-        if u.shape[0]:
-            self._u_last = u[-1].copy()
-        lo = np.where(flip > 0, rows[:, 6], -rows[:, 7])
-        hi = np.where(flip > 0, rows[:, 7], -rows[:, 6])
-        centre = rows[:, :2]
-        cols = (rows[:, 0], rows[:, 1], rows[:, 3], np.cos(t2), np.sin(t2), rows[:, 5], rows[:, 4])
-        ends = np.concatenate([centre + lo[:, None] * u, centre + hi[:, None] * u], axis=1)
-        lam_max = rows[:, 5] ** 2 / 3.0  # half = sqrt(3 lambda_max)
-        lam_min = lam_max / np.maximum(rows[:, 4], 1.0) ** 2  # elongation = sqrt(max / min)
-        c, s_ = np.cos(theta), np.sin(theta)
-        cov = np.stack(
-            [
-                lam_max * c * c + lam_min * s_ * s_,
-                lam_max * s_ * s_ + lam_min * c * c,
-                (lam_max - lam_min) * c * s_,
-            ],
-            axis=-1,
-        )
-        return np.concatenate([np.stack(cols, axis=-1), ends, cov], axis=1)
+        out[:, _CX], out[:, _CY], out[:, _AREA_COL] = rows[:, 0], rows[:, 1], rows[:, 3]
+        out[:, _C2], out[:, _S2] = np.cos(t2), np.sin(t2)
+        out[:, _HALF], out[:, _ELONG] = rows[:, 5], rows[:, 4]
+        line = self.cls == _LINE
+        if line or self.reference:
+            u = np.stack([np.cos(theta), np.sin(theta)], axis=-1)
+            prev = np.concatenate([u[:1] if self._u_last is None else self._u_last[None], u[:-1]])
+            flip = np.cumprod(np.where(np.einsum("ij,ij->i", u, prev) < 0.0, -1.0, 1.0))
+            u = u * flip[:, None]
+            if m:
+                self._u_last = u[-1].copy()
+            lo = np.where(flip > 0, rows[:, 6], -rows[:, 7])
+            hi = np.where(flip > 0, rows[:, 7], -rows[:, 6])
+            centre = rows[:, :2]
+            out[:, _END1] = centre + lo[:, None] * u
+            out[:, _END2] = centre + hi[:, None] * u
+        else:
+            out[:, _END1.start : _END2.stop] = 0.0
+        if not line or self.reference:
+            lam_max = rows[:, 5] ** 2 / 3.0  # half = sqrt(3 lambda_max)
+            lam_min = lam_max / np.maximum(rows[:, 4], 1.0) ** 2  # elongation = sqrt(max / min)
+            c, s_ = np.cos(theta), np.sin(theta)
+            out[:, _COV.start] = lam_max * c * c + lam_min * s_ * s_
+            out[:, _COV.start + 1] = lam_max * s_ * s_ + lam_min * c * c
+            out[:, _COV.start + 2] = (lam_max - lam_min) * c * s_
+        else:
+            out[:, _COV] = 0.0
+        return out
 
     # -- the motion measure --------------------------------------------------------------------
     def motion_mm(self, ref: NDArray[np.float64], cur: NDArray[np.float64]) -> float:
@@ -197,18 +212,19 @@ class SlipScanner:
                 return []
             self._start()
             n_old = 0  # every frame so far is new to the scan
-        out = self._scan(x, fr, base, n_old)
+        scan = self._scan_frames if self.reference else self._scan_chunk
+        out = scan(x, fr, base, n_old)
         self._buf, self._buf_frames = x[-self.keep :], fr[-self.keep :]
         return out
 
-    def _scan(
+    def _scan_frames(
         self, x: NDArray[np.float64], fr: NDArray[np.intp], base: int, first: int
     ) -> list[Slip]:
-        """Decide frames ``x[first:]``; ``x[0]`` is segment frame ``base``."""
+        """Decide frames ``x[first:]`` one by one; ``x[0]`` is segment frame ``base``."""
         c, r, e = self.cur, self.ref, self.end
-        cur_m = _window_means(x, c)  # cur_m[p - c + 1]: frames p - c + 1 .. p
-        ref_m = _window_means(x, r)  # full reference windows
-        end_m = _window_means(x, e)
+        cur_m = row_window_means(x, c)  # cur_m[p - c + 1]: frames p - c + 1 .. p
+        ref_m = row_window_means(x, r)  # full reference windows
+        end_m = row_window_means(x, e)
         out: list[Slip] = []
         cfg = self.config
         for p in range(first, x.shape[0]):
@@ -242,6 +258,119 @@ class SlipScanner:
                     )
                     self._replace(out, done)
                     self._open, self._anchor = None, i - e + 1
+        return out
+
+    # -- the vectorised scan ------------------------------------------------------------------
+    def _decisions(
+        self, x: NDArray[np.float64], a0: int, wa: int, b0: int, wb: int, count: int, limit: float
+    ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+        """Motions from the windows of ``wa`` rows at ``a0 + k`` to those of ``wb`` at ``b0 + k``.
+
+        Returns, for ``k < count``, whether the area changed (the rule's NaN)
+        and whether the motion exceeds ``limit``: those of :meth:`motion_mm`
+        (frames the vectorised measure cannot vouch for are recomputed by it).
+        Computed ``_PIECE`` frames at a time.
+        """
+        changed, above = np.empty(count, bool), np.empty(count, bool)
+        cfg = self.config
+        for k0 in range(0, count, _PIECE):
+            m = min(_PIECE, count - k0)
+            lo = min(a0, b0) + k0
+            sums = WindowSums(x[lo : max(a0 + wa, b0 + wb) + k0 + m - 1], ENDS)
+            ma, bad_a = sums.means(a0 + k0 - lo, wa, m)
+            mb, bad_b = sums.means(b0 + k0 - lo, wb, m)
+            motion, unsure = motions_mm(
+                ma,
+                mb,
+                line=self.cls == _LINE,
+                area_step=cfg.area_step,
+                min_elongation=cfg.min_elongation,
+                limit_mm=limit,
+                bound=sums.error_bound(min(wa, wb)),
+            )
+            changed[k0 : k0 + m], above[k0 : k0 + m] = np.isnan(motion), motion > limit
+            redo = np.flatnonzero(unsure | bad_a | bad_b) + k0
+            if redo.size:
+                ra, rb = exact_means(x, a0 + redo, wa), exact_means(x, b0 + redo, wb)
+                for k, u, v in zip(redo.tolist(), ra, rb, strict=True):
+                    mm = self.motion_mm(u, v)
+                    changed[k], above[k] = math.isnan(mm), mm > limit
+        return changed, above
+
+    def _onset(self, flags: NDArray[np.bool_]) -> int | None:
+        """First of a run of decided frames ``flags`` (motion above the limit) that opens a slip.
+
+        The run continues the hold kept in ``_above``; without an onset, the
+        hold is kept for the next frames.
+        """
+        h = len(self._above)
+        seq = np.concatenate([np.asarray(self._above, dtype=bool), flags])
+        total = np.concatenate([[0], np.cumsum(seq)])
+        j = np.arange(h, seq.size)
+        count = total[j + 1] - total[np.maximum(0, j + 1 - self.hold)]
+        hit = np.flatnonzero(seq[h:] & (count >= self.hold_needed))
+        if hit.size:
+            return int(hit[0])
+        self._above = seq[-self.hold :].tolist()
+        return None
+
+    def _scan_chunk(
+        self, x: NDArray[np.float64], fr: NDArray[np.intp], base: int, first: int
+    ) -> list[Slip]:
+        """:meth:`_scan_frames`, jumping from decision to decision over vectorised motions."""
+        c, r, e = self.cur, self.ref, self.end
+        n = x.shape[0]
+        p0 = max(first, c + r - 1)  # the first frame with a full reference in the buffer
+        changed = above = np.zeros(0, bool)
+        if p0 < n:
+            changed, above = self._decisions(
+                x, p0 - c - r + 1, r, p0 - c + 1, c, n - p0, self._limit_mm
+            )
+        re_anchor = np.flatnonzero(changed) + p0
+        out: list[Slip] = []
+        p = first
+        while p < n:
+            if self._open is None:
+                s = max(p, self._anchor + c + r - 1 - base)  # the reference after the anchor
+                if s >= n:
+                    break
+                assert s >= p0
+                k = int(np.searchsorted(re_anchor, s))
+                stop = int(re_anchor[k]) if k < re_anchor.size else n
+                q = self._onset(above[s - p0 : stop - p0])
+                if q is not None:
+                    p = s + q
+                    onset = max(0, p - self.hold - c + 2)
+                    self._open_i = base + onset
+                    self._open = Slip(SLIP_KINDS[self.cls], int(fr[onset]), int(fr[p]))
+                    self._above = []
+                    out.append(self._open)
+                elif stop < n:
+                    self._anchor, self._above = base + stop - c + 1, []
+                    p = stop
+                else:
+                    break
+            else:
+                s = max(p, 2 * e - 1, self._open_i - base + e - 1)  # the last window: all slip
+                if s >= n:
+                    break
+                changed_end, moving = self._decisions(
+                    x, s - 2 * e + 1, e, s - e + 1, e, n - s, self.config.still_mm
+                )
+                ended = np.flatnonzero(changed_end | ~moving)  # still (or the contact changed)
+                if ended.size == 0:
+                    break
+                p = s + int(ended[0])
+                done = Slip(
+                    self._open.kind,
+                    self._open.first_frame,
+                    self._open.detected_frame,
+                    max(self._open.first_frame, int(fr[p - e - e // 2])),
+                    int(fr[p]),
+                )
+                self._replace(out, done)
+                self._open, self._anchor = None, base + p - e + 1
+            p += 1
         return out
 
     def _replace(self, out: list[Slip], done: Slip) -> None:
