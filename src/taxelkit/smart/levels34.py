@@ -22,12 +22,8 @@ from taxelkit.smart.segment_scan import mean_axis_deg, rows_from_track
 from taxelkit.smart.slip import SLIP_KINDS, Slip, slip_to_json
 from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_table import Tacteme
-from taxelkit.smart.tactemes import (
-    SegmentTrack,
-    TactemeConfig,
-    segment_tactemes,
-    transition_tactemes,
-)
+from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, segment_tactemes
+from taxelkit.smart.transitions import transition_tactemes
 
 __all__ = ["Levels34", "Recognition", "Segment", "TrackSegment", "finish"]
 

@@ -72,7 +72,6 @@ from taxelkit.smart.track_geometry import (
     anchors,
     arc_ratio_limit,
     axis_angle_deg,
-    axis_difference_deg,
     axis_vectors,
     carried_shift,
     corner_turn,
@@ -91,7 +90,6 @@ __all__ = [
     "accepted_runs",
     "debounce_counts",
     "segment_tactemes",
-    "transition_tactemes",
 ]
 
 _INDET = int(ContactClass.INDETERMINATE)
@@ -384,72 +382,4 @@ def segment_tactemes(
             ):
                 emit(tac, first(sustained(mask, face_hold), 0))
     out.sort(key=lambda item: item[1])
-    return out
-
-
-def transition_tactemes(
-    history: list[tuple[int, float]],
-    config: TactemeConfig,
-    *,
-    gap_frames: int = 0,
-    max_gap_frames: int | None = None,
-    centres: list[tuple[float, float]] | None = None,
-) -> list[Tacteme]:
-    """Tactemes of the latest change of accepted class.
-
-    Parameters
-    ----------
-    history : list of (class, orientation_deg)
-        Accepted non-empty segments of the current contact, oldest first; the
-        orientation is the line's (mean of its frames next to the change).
-    config : TactemeConfig
-    gap_frames : int
-        Frames between the last frame of the previous segment and the first of
-        the new one. LC -> AC and AC -> LC mean a direct change: a polyhedron's
-        edge lands on a face at once, while a round body between its side and
-        a flat face passes through a rim-point phase, even when that phase
-        reads as indeterminate. Gaps above ``max_gap_frames`` (default
-        ``2 k``; the recogniser passes ``max(2 k frames, transition_gap_s)``)
-        give no transition.
-    max_gap_frames : int, optional
-    centres : list of (x, y) mm, optional
-        Centre of each segment of ``history`` (an area's first frames, a
-        line's held frames). With ``config.face_shapes``: AC -> LC -> AC
-        with the two areas on opposite sides of the line, each at least
-        ``over_min_mm`` from it, is "AC -> LC -> AC onto another face" (a
-        polyhedron tipped over an edge rather than back onto its face).
-
-    Returns
-    -------
-    list of Tacteme
-    """
-    limit = 2 * int(config.debounce_frames) if max_gap_frames is None else max_gap_frames
-    if len(history) < 2 or gap_frames > limit:
-        return []
-    (c1, _), (c2, o2) = history[-2], history[-1]
-    out: list[Tacteme] = []
-    if c1 == ContactClass.LINE and c2 == ContactClass.AREA:
-        out.append(Tacteme.LC_TO_AC)
-        if (
-            config.face_shapes
-            and centres is not None
-            and len(history) >= 3
-            and history[-3][0] == ContactClass.AREA
-        ):
-            t = math.radians(history[-2][1])
-            normal = np.array([-math.sin(t), math.cos(t)])
-            line = np.asarray(centres[-2])
-            s1 = float(normal @ (np.asarray(centres[-3]) - line))
-            s2 = float(normal @ (np.asarray(centres[-1]) - line))
-            if s1 * s2 < 0 and min(abs(s1), abs(s2)) >= config.over_min_mm:
-                out.append(Tacteme.AC_OVER)
-    if c1 == ContactClass.AREA and c2 == ContactClass.LINE:
-        out.append(Tacteme.AC_TO_LC)
-        if len(history) >= 3 and history[-3][0] == ContactClass.LINE:
-            d = float(axis_difference_deg(np.array([o2]), history[-3][1])[0])
-            tol = config.edge_angle_tol_deg
-            if d <= tol or d >= 90.0 - tol:
-                out.append(Tacteme.LC_AC_LC_SQUARE)
-            elif abs(d - 60.0) <= tol:
-                out.append(Tacteme.LC_AC_LC_TRIANGLE)
     return out
