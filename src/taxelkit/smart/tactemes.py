@@ -44,8 +44,9 @@ a row, so the one-frame collapse of a contact that tips away is not motion)
       ``area_rotate_deg`` with its area unchanged.
     - LC -> AC, AC -> LC, and LC -> AC -> LC (:mod:`taxelkit.smart.transitions`)
       with the two lines parallel or at 90 deg (a square face) or at 60/120
-      deg (a triangular face); the line must be a held edge (at least ``2 k`` frames) and the change direct
-      (at most ``2 k`` frames between the segments). A round body's end face
+      deg (a triangular face); the line must be a held edge (at least
+      ``2 k`` frames) and the change direct (at most ``2 k`` frames between
+      the segments). A round body's end face
       tipping onto its rim shrinks through a lens that reads as a line for a
       few frames, and its side reaches a face through a rim-point phase.
 """
