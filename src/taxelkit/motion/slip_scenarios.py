@@ -54,13 +54,8 @@ from taxelkit.motion._script import (
     unit_h,
 )
 from taxelkit.motion.rolling import DEFAULT_DEPTH_MM, DEFAULT_RATE_HZ, E_Z, Scenario, translate
-from taxelkit.motion.scenarios import (
-    _N_DRAWS,
-    _assemble,
-    _draw_body,
-    _Limits,
-    _polyhedron_tips,
-)
+from taxelkit.motion.scenario_scripts import Limits, polyhedron_tips
+from taxelkit.motion.scenarios import _N_DRAWS, _assemble, _draw_body
 from taxelkit.sensors.noise import RngLike
 from taxelkit.sensors.presets import BONNEVILLE_16X16, Sensor
 from taxelkit.world.pose import matrix_from_axis_angle
@@ -89,7 +84,7 @@ def _heading(d: Draws) -> np.ndarray:
     return np.array([math.cos(a), math.sin(a), 0.0])
 
 
-def _sphere(b: Builder, d: Draws, lim: _Limits) -> None:
+def _sphere(b: Builder, d: Draws, lim: Limits) -> None:
     solid = b.solid
     assert isinstance(solid, Sphere)
     begin_contact(b, d, "side")
@@ -104,7 +99,7 @@ def _sphere(b: Builder, d: Draws, lim: _Limits) -> None:
     end_contact(b, d)
 
 
-def _cylinder(b: Builder, d: Draws, lim: _Limits) -> None:
+def _cylinder(b: Builder, d: Draws, lim: Limits) -> None:
     solid = b.solid
     assert isinstance(solid, Cylinder)
     u = unit_h(np.array([1.0, 0.0, 0.0]))
@@ -121,13 +116,13 @@ def _cylinder(b: Builder, d: Draws, lim: _Limits) -> None:
     end_contact(b, d)
 
 
-def _polyhedron(b: Builder, d: Draws, lim: _Limits) -> None:
+def _polyhedron(b: Builder, d: Draws, lim: Limits) -> None:
     begin_contact(b, d, "face")
     _slide(b, d, _heading(d), d.span(SLIDE_MM) * lim.shrink, "face")
-    _polyhedron_tips(b, d, lim)
+    polyhedron_tips(b, d, lim)
 
 
-def _cone(b: Builder, d: Draws, lim: _Limits) -> None:
+def _cone(b: Builder, d: Draws, lim: Limits) -> None:
     solid = b.solid
     assert isinstance(solid, Cone | TruncatedCone)
     frustum = isinstance(solid, TruncatedCone)
@@ -153,7 +148,7 @@ def _cone(b: Builder, d: Draws, lim: _Limits) -> None:
     end_contact(b, d)
 
 
-_SCRIPTS: dict[str, Callable[[Builder, Draws, _Limits], None]] = {
+_SCRIPTS: dict[str, Callable[[Builder, Draws, Limits], None]] = {
     "sphere": _sphere,
     "cylinder": _cylinder,
     "cube": _polyhedron,
