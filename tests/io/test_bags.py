@@ -346,7 +346,7 @@ def test_bags_give_the_npz_verdicts(tmp_path: Path, name: str) -> None:
 
 def test_info_message_keys_are_documented() -> None:
     """Every key taxelkit writes in the info message has a row in docs/recording-format.md."""
-    from taxelkit.io.ros_messages import info_json
+    from taxelkit.io.ros_encode import info_json
 
     doc = (Path(__file__).resolve().parents[2] / "docs" / "recording-format.md").read_text()
     section = doc.split("### The info message", 1)[1].split("\n### ", 1)[0]

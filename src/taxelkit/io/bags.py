@@ -33,10 +33,10 @@ from taxelkit.errors import (
 from taxelkit.frames import TactileFrames
 from taxelkit.io._raw import RawRecording, describe_exception, fail
 from taxelkit.io.limits import ReadBudget
+from taxelkit.io.ros_encode import encode_recording
 from taxelkit.io.ros_messages import (
     DEFAULT_TOPIC,
     BagDependencyError,
-    encode_recording,
     raw_from_messages,
     select_topic,
     typestore,
@@ -176,7 +176,7 @@ def write_rosbag2(
     topic : str, optional
         Frames topic; the info message goes to ``topic + "/info"``.
     message : {"image", "multiarray"}, optional
-        Frame message type (see :func:`taxelkit.io.ros_messages.encode_recording`).
+        Frame message type (see :func:`taxelkit.io.ros_encode.encode_recording`).
     storage : {"sqlite3", "mcap"}, optional
         rosbag2 storage plugin.
     force : bool, optional
