@@ -277,3 +277,24 @@ def test_the_arc_limit_widens_as_the_turn_shrinks() -> None:
     assert np.array_equal(fine, limit)  # 7.2 deg on a 1 mm grid: below the 10 deg anyway
     with pytest.raises(InputError, match="pivot_arc_turn_deg"):
         TactemeConfig(pivot_arc_turn_deg=25.0)
+
+
+def test_an_edge_angle_is_read_only_where_the_grid_cannot_fake_it() -> None:
+    from taxelkit.smart.track_geometry import grid_wobble_deg
+    from taxelkit.smart.transitions import transition_tactemes
+
+    line, area = int(ContactClass.LINE), int(ContactClass.AREA)
+    history = [(line, 0.0), (area, 0.0), (line, 58.0)]  # a square's 90 deg read as 58
+    cfg = TactemeConfig()
+    names = {t.value for t in transition_tactemes(history, cfg)}
+    assert "LC -> AC -> LC (60 or 120 deg)" in names  # without the grid's share: a triangle
+    # a 10 mm edge on a 3.5 mm grid can tilt by atan(3.5 / 10) = 19 deg: no angle is read
+    coarse = grid_wobble_deg(np.full(4, 10.0), 3.5)
+    assert coarse == pytest.approx(np.rad2deg(np.arctan(0.35)))
+    found = transition_tactemes(history, cfg, wobbles_deg=[coarse, 0.0, coarse])
+    assert {t.value for t in found} == {"AC -> LC"}
+    # the same edge on the Bonneville's 1.76 mm grid: 10 deg, the angle counts
+    fine = grid_wobble_deg(np.full(4, 10.0), 1.7625)
+    found = transition_tactemes(history, cfg, wobbles_deg=[fine, 0.0, fine])
+    assert "LC -> AC -> LC (60 or 120 deg)" in {t.value for t in found}
+    assert grid_wobble_deg(np.full(4, 10.0), 0.0) == 0.0  # pitch unknown: no share

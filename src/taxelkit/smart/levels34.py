@@ -22,7 +22,8 @@ from taxelkit.smart.segment_scan import mean_axis_deg, rows_from_track
 from taxelkit.smart.slip import SLIP_KINDS, Slip, slip_to_json
 from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_table import Tacteme
-from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, segment_tactemes
+from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, _drawn_half_mm, segment_tactemes
+from taxelkit.smart.track_geometry import grid_wobble_deg
 from taxelkit.smart.transitions import transition_tactemes
 
 __all__ = ["Levels34", "Recognition", "Segment", "TrackSegment", "finish"]
@@ -66,6 +67,7 @@ class Segment(Protocol):
     def frame_at(self, i: int) -> int: ...
     def mean_axis_deg(self, stop: int | None = None) -> float: ...
     def mean_centre_mm(self, stop: int) -> tuple[float, float]: ...
+    def grid_wobble_deg(self, stop: int) -> float: ...
     def tactemes(self) -> list[tuple[Tacteme, int]]: ...
     def slips(self) -> list[Slip]: ...
     def close_slips(self) -> list[Slip]: ...
@@ -104,6 +106,9 @@ class TrackSegment:
     def mean_centre_mm(self, stop: int) -> tuple[float, float]:
         c = self.track.centre_mm[:stop].mean(axis=0)
         return float(c[0]), float(c[1])
+
+    def grid_wobble_deg(self, stop: int) -> float:
+        return grid_wobble_deg(2.0 * _drawn_half_mm(self.track, 0, stop), self.track.pitch_mm)
 
     def tactemes(self) -> list[tuple[Tacteme, int]]:
         return self._found
@@ -176,6 +181,7 @@ class Levels34:
         self.elim = Eliminator.for_table(config.objects)
         self.history: list[tuple[int, float]] = []
         self.centres: list[tuple[float, float]] = []  # of the history's segments
+        self.wobbles: list[float] = []  # the grid's share of each segment's axis, deg
         self.in_contact = False
         self.events: list[Event] = []
         self._open: tuple[int, set[Tacteme]] | None = None  # class, motion tactemes emitted
@@ -199,6 +205,7 @@ class Levels34:
                 self.elim.reset()
                 self.history = []
                 self.centres = []
+                self.wobbles = []
                 self.in_contact = False
             return
         assert seg is not None  # a contact class always has frames
@@ -206,6 +213,7 @@ class Levels34:
         self.events.append(Event("contact", accept, ContactClass(cls).name.lower()))
         self.history.append((cls, seg.mean_axis_deg(self.k)))
         self.centres.append(seg.mean_centre_mm(self.k))
+        self.wobbles.append(seg.grid_wobble_deg(self.k))
         self._gap = seg.first_frame - self._last_frame - 1
         self._prev_len = self._len
         self._prev_held = self._held
@@ -235,6 +243,7 @@ class Levels34:
             if cls == ContactClass.LINE:  # the new edge's direction over its held frames
                 self.history[-1] = (cls, seg.mean_axis_deg(held))
                 self.centres[-1] = seg.mean_centre_mm(held)
+                self.wobbles[-1] = seg.grid_wobble_deg(held)
             at = (
                 seg.frame_at(min(seg.size, held) - 1)
                 if cls == ContactClass.LINE
@@ -247,6 +256,7 @@ class Levels34:
                 gap_frames=self._gap,
                 max_gap_frames=max_gap,
                 centres=self.centres,
+                wobbles_deg=self.wobbles,
             )
             for tac in found:
                 self.events.extend(self.elim.apply(tac, at))

@@ -37,7 +37,7 @@ from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_config import TactemeConfig, face_limits
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import MOTION_MIN_FRAMES, SegmentTrack
-from taxelkit.smart.track_geometry import axis_angle_deg, axis_vectors
+from taxelkit.smart.track_geometry import axis_angle_deg, axis_vectors, grid_wobble_deg
 from taxelkit.smart.track_stream import (
     CarriedShift,
     CornerScan,
@@ -117,6 +117,7 @@ class SegmentScanner:
         self._head_t: list[float] = []
         self._head_theta: list[float] = []
         self._head_xy: list[list[float]] = []
+        self._head_len: list[float] = []
         self._head_cap: int | None = None
         self._dt: dict[int, float] = {}  # frame interval of the first frames, per k
         self._early: list[tuple[NDArray[np.intp], NDArray[np.float64]]] = []
@@ -161,6 +162,10 @@ class SegmentScanner:
         """Mean centre of the first ``stop`` frames (kept ones), mm."""
         c = np.asarray(self._head_xy[:stop], dtype=np.float64).mean(axis=0)
         return float(c[0]), float(c[1])
+
+    def grid_wobble_deg(self, stop: int) -> float:
+        """:func:`~taxelkit.smart.track_geometry.grid_wobble_deg` of the first ``stop`` frames."""
+        return grid_wobble_deg(np.asarray(self._head_len[:stop], dtype=np.float64), self.pitch_mm)
 
     def tactemes(self) -> list[tuple[Tacteme, int]]:
         """The tactemes decided so far, in the order decided."""
@@ -222,6 +227,7 @@ class SegmentScanner:
             self._head_t += rows[offset:stop, 8].tolist()
             self._head_theta += rows[offset:stop, 2].tolist()
             self._head_xy += rows[offset:stop, 0:2].tolist()
+            self._head_len += drawn_length_mm(rows[offset:stop]).tolist()
 
     @property
     def waiting(self) -> bool:
@@ -251,7 +257,7 @@ class SegmentScanner:
         self._head_cap = max(k, self.frames_for(cfg.edge_hold_s, k))
         del self._head_frames[self._head_cap :], self._head_t[self._head_cap :]
         del self._head_theta[self._head_cap :]
-        del self._head_xy[self._head_cap :]
+        del self._head_xy[self._head_cap :], self._head_len[self._head_cap :]
         w = self.w
         self._smooth = RollingMean(w, 7)  # centre x, y, axis vector, area, elongation, half
         self._anchor = 0

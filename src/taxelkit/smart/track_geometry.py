@@ -22,6 +22,7 @@ __all__ = [
     "carried_shift",
     "corner_turn",
     "first",
+    "grid_wobble_deg",
     "line_extents",
     "orthogonal_turn",
     "pivot_ratios",
@@ -304,6 +305,26 @@ def arc_ratio_limit(
     with np.errstate(over="ignore"):  # a tiny arc_turn_deg: an infinite limit, no arc
         out: NDArray[np.float64] = np.where(counted, end_ratio * band**scale, np.inf)
     return out
+
+
+def grid_wobble_deg(line_mm: NDArray[np.float64], pitch_mm: float) -> float:
+    """How far the grid alone can tilt a drawn line of the mean length, deg.
+
+    ``atan(pitch / length)``: each end of a line is drawn to the nearest
+    taxel, so a line of ``length`` can read tilted by about one pitch over
+    its length. 0 when the pitch is unknown (0) or no length was measured.
+
+    Parameters
+    ----------
+    line_mm : (n,) float
+        Drawn lengths of the line's frames, mm.
+    pitch_mm : float
+        Taxel pitch, mm.
+    """
+    if pitch_mm <= 0 or line_mm.size == 0:
+        return 0.0
+    mean = float(np.mean(line_mm))
+    return float(np.rad2deg(np.arctan2(pitch_mm, mean))) if mean > 0 else 90.0
 
 
 def orthogonal_turn(

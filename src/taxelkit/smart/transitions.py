@@ -28,6 +28,7 @@ def transition_tactemes(
     gap_frames: int = 0,
     max_gap_frames: int | None = None,
     centres: list[tuple[float, float]] | None = None,
+    wobbles_deg: list[float] | None = None,
 ) -> list[Tacteme]:
     """Tactemes of the latest change of accepted class.
 
@@ -52,6 +53,12 @@ def transition_tactemes(
         with the two areas on opposite sides of the line, each at least
         ``over_min_mm`` from it, is "AC -> LC -> AC onto another face" (a
         polyhedron tipped over an edge rather than back onto its face).
+    wobbles_deg : list of float, optional
+        For each segment of ``history``, how far the grid alone can tilt its
+        line (:func:`~taxelkit.smart.track_geometry.grid_wobble_deg`). The
+        angle between two edges is read (square or triangular face) only
+        when both wobbles are within ``edge_angle_tol_deg``: an edge three
+        taxels long on a coarse array reads 60 deg from a square's 90.
 
     Returns
     -------
@@ -79,9 +86,10 @@ def transition_tactemes(
                 out.append(Tacteme.AC_OVER)
     if c1 == ContactClass.AREA and c2 == ContactClass.LINE:
         out.append(Tacteme.AC_TO_LC)
-        if len(history) >= 3 and history[-3][0] == ContactClass.LINE:
+        tol = config.edge_angle_tol_deg
+        edges = len(history) >= 3 and history[-3][0] == ContactClass.LINE
+        if edges and (wobbles_deg is None or max(wobbles_deg[-3], wobbles_deg[-1]) <= tol):
             d = float(axis_difference_deg(np.array([o2]), history[-3][1])[0])
-            tol = config.edge_angle_tol_deg
             if d <= tol or d >= 90.0 - tol:
                 out.append(Tacteme.LC_AC_LC_SQUARE)
             elif abs(d - 60.0) <= tol:
