@@ -29,17 +29,8 @@ from taxelkit.motion.contact_truth import (
     contact_types,
     slip_from_poses,
 )
-from taxelkit.motion.rolling import (
-    E_Z,
-    PHASES,
-    Pose,
-    Scenario,
-    frames_from_scenario,
-    roll_cone,
-    roll_straight,
-    rotate_about_line,
-    translate,
-)
+from taxelkit.motion.roll_paths import roll_cone, roll_straight, rotate_about_line, translate
+from taxelkit.motion.rolling import E_Z, PHASES, Pose, Scenario, frames_from_scenario
 from taxelkit.sensors.presets import BONNEVILLE_16X16
 from taxelkit.world.pose import matrix_from_axis_angle
 from taxelkit.world.solids import Cone, Cube, Cylinder, Sphere, Tetrahedron, TruncatedCone

@@ -19,7 +19,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.motion.contact_truth import contact_state
-from taxelkit.motion.rolling import E_Z, Pose, roll_cone, roll_straight, rotate_about_line
+from taxelkit.motion.roll_paths import roll_cone, roll_straight, rotate_about_line
+from taxelkit.motion.rolling import E_Z, Pose
 from taxelkit.world.pose import matrix_from_axis_angle
 from taxelkit.world.solids import AnalyticSolid
 from taxelkit.world.solids_polyhedra import Cube, Tetrahedron

@@ -55,14 +55,8 @@ from taxelkit.motion._script import (
     unit_h,
     yawed,
 )
-from taxelkit.motion.rolling import (
-    DEFAULT_DEPTH_MM,
-    DEFAULT_RATE_HZ,
-    E_Z,
-    Pose,
-    Scenario,
-    rotate_about_line,
-)
+from taxelkit.motion.roll_paths import rotate_about_line
+from taxelkit.motion.rolling import DEFAULT_DEPTH_MM, DEFAULT_RATE_HZ, E_Z, Pose, Scenario
 from taxelkit.motion.scenarios import SPHERE_MAX_CONTACT_RADIUS_MM
 from taxelkit.sensors.noise import RngLike
 from taxelkit.sensors.presets import BONNEVILLE_16X16, Sensor

@@ -46,10 +46,8 @@ from taxelkit.motion._script import (
     tilt_from_face,
     unit_h,
 )
-from taxelkit.motion.rolling import (
-    E_Z,
-    translate,
-)
+from taxelkit.motion.roll_paths import translate
+from taxelkit.motion.rolling import E_Z
 from taxelkit.world.pose import matrix_from_axis_angle
 from taxelkit.world.solids_polyhedra import Cube, Tetrahedron
 from taxelkit.world.solids_round import Cone, Cylinder, Sphere, TruncatedCone

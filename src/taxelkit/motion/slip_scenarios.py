@@ -53,7 +53,8 @@ from taxelkit.motion._script import (
     tilt_from_face,
     unit_h,
 )
-from taxelkit.motion.rolling import DEFAULT_DEPTH_MM, DEFAULT_RATE_HZ, E_Z, Scenario, translate
+from taxelkit.motion.roll_paths import translate
+from taxelkit.motion.rolling import DEFAULT_DEPTH_MM, DEFAULT_RATE_HZ, E_Z, Scenario
 from taxelkit.motion.scenario_scripts import Limits, polyhedron_tips
 from taxelkit.motion.scenarios import _N_DRAWS, _assemble, _draw_body
 from taxelkit.sensors.noise import RngLike
