@@ -22,8 +22,8 @@ from taxelkit.smart.segment_scan import mean_axis_deg, rows_from_track
 from taxelkit.smart.slip import SLIP_KINDS, Slip, slip_to_json
 from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_table import Tacteme
-from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, _drawn_half_mm, segment_tactemes
-from taxelkit.smart.track_geometry import grid_wobble_deg
+from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, segment_tactemes
+from taxelkit.smart.track_geometry import drawn_half_mm, grid_wobble_deg
 from taxelkit.smart.transitions import transition_tactemes
 
 __all__ = ["Levels34", "Recognition", "Segment", "TrackSegment", "finish"]
@@ -108,7 +108,9 @@ class TrackSegment:
         return float(c[0]), float(c[1])
 
     def grid_wobble_deg(self, stop: int) -> float:
-        return grid_wobble_deg(2.0 * _drawn_half_mm(self.track, 0, stop), self.track.pitch_mm)
+        t = self.track
+        ext = None if t.extent_mm is None else t.extent_mm[:stop]
+        return grid_wobble_deg(2.0 * drawn_half_mm(t.half_length_mm[:stop], ext), t.pitch_mm)
 
     def tactemes(self) -> list[tuple[Tacteme, int]]:
         return self._found

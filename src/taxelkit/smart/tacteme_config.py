@@ -139,7 +139,8 @@ class TactemeConfig:
         Turn from which "in an arc" may already be read, deg, with a wider
         band: the pivot's error grows as one over the turn, so below
         ``pivot_turn_deg`` an arc needs a ratio of at least ``pivot_end_ratio
-        x pivot_band ** (pivot_turn_deg / turn)`` (1.66 at 12 deg, 1.84 at 10;
+        x pivot_band ** (pivot_turn_deg / turn)`` (1.66 at 12 deg, 1.75 just
+        above 10;
         :func:`~taxelkit.smart.track_geometry.arc_ratio_limit`); "about one
         end" and "spins" still wait for ``pivot_turn_deg``. A truncated cone
         often stops rolling after 15-20 deg, its line already far from its

@@ -76,6 +76,7 @@ from taxelkit.smart.track_geometry import (
     axis_vectors,
     carried_shift,
     corner_turn,
+    drawn_half_mm,
     first,
     orthogonal_turn,
     pivot_ratios,
@@ -207,15 +208,10 @@ class SegmentTrack:
         return max(floor, math.ceil(seconds / dt - 1e-9)) if dt > 0 else floor
 
 
-def _drawn_half_mm(track: SegmentTrack, start: int, stop: int) -> NDArray[np.float64]:
-    """Half the drawn length of the lines ``start..stop - 1`` (moment half-length if not drawn)."""
-    half = track.half_length_mm[start:stop]
-    if track.extent_mm is None:
-        return half
-    ext = track.extent_mm[start:stop]
-    measured = np.isfinite(ext[:, 0]) & np.isfinite(ext[:, 1])
-    out: NDArray[np.float64] = np.where(measured, 0.5 * (ext[:, 1] - ext[:, 0]), half)
-    return out
+def _drawn_half(track: SegmentTrack, start: int, stop: int) -> NDArray[np.float64]:
+    """:func:`~taxelkit.smart.track_geometry.drawn_half_mm` of the lines ``start..stop - 1``."""
+    ext = None if track.extent_mm is None else track.extent_mm[start:stop]
+    return drawn_half_mm(track.half_length_mm[start:stop], ext)
 
 
 def _pivot_ratios(track: SegmentTrack, start: int, stop: int) -> NDArray[np.float64]:
@@ -234,7 +230,7 @@ def _pivot_ratios(track: SegmentTrack, start: int, stop: int) -> NDArray[np.floa
         offset = 0.5 * (ext[:, 0] + ext[:, 1])
         middle = centre + offset[:, None] * np.stack([np.cos(t), np.sin(t)], axis=-1)
         centre = np.where(measured[:, None], middle, centre)
-        half = np.where(measured, 0.5 * (ext[:, 1] - ext[:, 0]), half)
+        half = drawn_half_mm(half, ext)
     return pivot_ratios(theta, centre, half)
 
 
@@ -353,7 +349,7 @@ def segment_tactemes(
                 config.pivot_band,
                 config.pivot_turn_deg,
                 config.pivot_arc_turn_deg,
-                2.0 * _drawn_half_mm(track, start, stop),
+                2.0 * _drawn_half(track, start, stop),
                 track.pitch_mm,
             )
             for tac, verdict in (

@@ -21,6 +21,7 @@ __all__ = [
     "axis_vectors",
     "carried_shift",
     "corner_turn",
+    "drawn_half_mm",
     "first",
     "grid_wobble_deg",
     "line_extents",
@@ -224,6 +225,27 @@ def line_extents(
         high = (u[np.where(up, last_col, first_col)] - cx) * c + along_v
         out[a:b, 0] = np.where(row_on, low, np.inf).min(axis=0) - 0.5 * pitch_mm
         out[a:b, 1] = np.where(row_on, high, -np.inf).max(axis=0) + 0.5 * pitch_mm
+    return out
+
+
+def drawn_half_mm(
+    half_length_mm: NDArray[np.float64], extent_mm: NDArray[np.float64] | None
+) -> NDArray[np.float64]:
+    """Half of each line's drawn length, mm: from its extents where measured.
+
+    Parameters
+    ----------
+    half_length_mm : (n,) float
+        Moment half-lengths, used where no extent was measured.
+    extent_mm : (n, 2) float or None
+        :func:`line_extents` (NaN where not measured); None: none measured.
+    """
+    if extent_mm is None:
+        return half_length_mm
+    measured = np.isfinite(extent_mm[:, 0]) & np.isfinite(extent_mm[:, 1])
+    out: NDArray[np.float64] = np.where(
+        measured, 0.5 * (extent_mm[:, 1] - extent_mm[:, 0]), half_length_mm
+    )
     return out
 
 

@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.tacteme_table import Tacteme
-from taxelkit.smart.track_geometry import arc_ratio_limit
+from taxelkit.smart.track_geometry import arc_ratio_limit, drawn_half_mm
 
 __all__ = [
     "CarriedShift",
@@ -308,7 +308,7 @@ class PivotRun:
         offset = 0.5 * (ext[:, 0] + ext[:, 1])
         middle = centre + offset[:, None] * np.stack([np.cos(t), np.sin(t)], axis=-1)
         c = np.where(measured[:, None], middle, centre)
-        half = np.where(measured, 0.5 * (ext[:, 1] - ext[:, 0]), half)
+        half = drawn_half_mm(half, ext)
         nx, ny = -np.sin(t), np.cos(t)
         d = nx * c[:, 0] + ny * c[:, 1]
         terms = np.empty((t.size, 6))
@@ -416,13 +416,8 @@ class CarriedShift:
 
 
 def drawn_length_mm(rows: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Drawn length of each row's line, mm (twice its moment half-length if not drawn).
-
-    The arithmetic of :func:`~taxelkit.smart.tactemes._drawn_half_mm`, times 2.
-    """
-    half, ext = rows[:, 5], rows[:, 6:8]
-    measured = np.isfinite(ext[:, 0]) & np.isfinite(ext[:, 1])
-    out: NDArray[np.float64] = 2.0 * np.where(measured, 0.5 * (ext[:, 1] - ext[:, 0]), half)
+    """Drawn length of each row's line, mm (twice its :func:`drawn_half_mm`)."""
+    out: NDArray[np.float64] = 2.0 * drawn_half_mm(rows[:, 5], rows[:, 6:8])
     return out
 
 
