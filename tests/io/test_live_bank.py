@@ -127,7 +127,7 @@ def test_a_bank_over_udp_on_the_loopback() -> None:
 
 
 def test_background_receiver_counts_what_its_full_queue_drops() -> None:
-    from taxelkit.io.live_sources import UdpSource
+    from taxelkit.io.live_transports import UdpSource
     from taxelkit.io.udp_receiver import BackgroundReceiver
 
     blank = np.zeros((4, 4), bool)

@@ -27,13 +27,12 @@ from taxelkit.io.live_sources import (
     LiveDependencyError,
     LiveSourceError,
     LiveTimeoutError,
-    SerialSource,
     SourceSpec,
     SourceSpecError,
-    UdpSource,
     open_source,
     parse_source,
 )
+from taxelkit.io.live_transports import SerialSource, UdpSource
 from taxelkit.smart.recogniser import SmartSensor
 
 HAS_PYSERIAL = importlib.util.find_spec("serial") is not None
@@ -415,3 +414,11 @@ def test_recognize_live_on_a_serial_port_with_raw_counts() -> None:
     assert lines[-1].startswith(
         "stopped after 90 frames: 90 frames processed, damaged packets skipped: 0,"
     )
+
+
+def test_the_transports_are_still_found_under_their_old_module() -> None:
+    import taxelkit.io.live_sources as old
+
+    assert old.UdpSource is UdpSource and old.SerialSource is SerialSource
+    with pytest.raises(AttributeError, match="no attribute 'Nothing'"):
+        _ = old.Nothing

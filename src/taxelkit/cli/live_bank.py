@@ -30,7 +30,8 @@ from taxelkit.cli.live import format_event
 from taxelkit.errors import InputError
 from taxelkit.io.datagram_batch import FrameBatch
 from taxelkit.io.frame_protocol import PayloadType
-from taxelkit.io.live_sources import FrameSource, UdpSource
+from taxelkit.io.live_sources import FrameSource
+from taxelkit.io.live_transports import UdpSource
 from taxelkit.io.udp_receiver import BackgroundReceiver
 from taxelkit.smart.bank import SensorBank
 from taxelkit.smart.levels12 import DEFAULT_THRESHOLD_MM

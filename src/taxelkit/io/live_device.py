@@ -30,7 +30,7 @@ from taxelkit.io.frame_protocol import (
     encode_frame,
     to_wire,
 )
-from taxelkit.io.live_sources import LiveSourceError, _one_line
+from taxelkit.io.live_sources import LiveSourceError, one_line_message
 
 __all__ = [
     "CORRUPTION_KINDS",
@@ -112,7 +112,7 @@ def open_pseudo_terminal() -> PseudoTerminal:
 
         master, slave = os.openpty()
     except (ImportError, AttributeError, OSError) as e:
-        raise LiveSourceError(f"cannot open a pseudo-terminal: {_one_line(e)}") from e
+        raise LiveSourceError(f"cannot open a pseudo-terminal: {one_line_message(e)}") from e
     tty.setraw(slave)
     return PseudoTerminal(master, slave, os.ttyname(slave))
 

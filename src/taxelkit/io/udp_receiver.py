@@ -19,7 +19,8 @@ import threading
 
 from taxelkit.io.datagram_batch import FrameBatch, decode_datagrams
 from taxelkit.io.frame_protocol import DecodedFrame
-from taxelkit.io.live_sources import FrameSource, LiveSourceError, UdpSource
+from taxelkit.io.live_sources import FrameSource, LiveSourceError
+from taxelkit.io.live_transports import UdpSource
 
 __all__ = ["DEFAULT_MAX_QUEUED", "BackgroundReceiver"]
 
@@ -31,7 +32,7 @@ _WAIT_S = 0.05
 
 
 class BackgroundReceiver(FrameSource):
-    """A :class:`~taxelkit.io.live_sources.UdpSource` read by a background thread.
+    """A :class:`~taxelkit.io.live_transports.UdpSource` read by a background thread.
 
     Parameters
     ----------
