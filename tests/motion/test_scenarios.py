@@ -373,7 +373,7 @@ def test_fig3_motion_is_rolling_without_slip() -> None:
 
 
 def test_fit_on_array_turns_until_the_contact_fits() -> None:
-    from taxelkit.motion._script import fit_on_array
+    from taxelkit.motion.array_placement import fit_on_array
 
     half = np.array([10.0, 2.0])  # a 20 x 4 mm array
     xy = np.array([[0.0, -8.0], [0.0, 8.0]])  # a 16 mm line along y: fits only turned by pi / 2

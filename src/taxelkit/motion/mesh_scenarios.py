@@ -38,7 +38,6 @@ from numpy.typing import NDArray
 
 from taxelkit.errors import InputError, check_in_range, check_positive
 from taxelkit.motion._script import (
-    EDGE_MARGIN_MM,
     HOLD_FRACTION,
     HOLD_S,
     ROLL_MM_S,
@@ -50,11 +49,10 @@ from taxelkit.motion._script import (
     begin_contact,
     bottom_polygon,
     end_contact,
-    fit_on_array,
     landing_angle,
     unit_h,
-    yawed,
 )
+from taxelkit.motion.array_placement import EDGE_MARGIN_MM, fit_on_array, yawed
 from taxelkit.motion.roll_paths import rotate_about_line
 from taxelkit.motion.rolling import DEFAULT_DEPTH_MM, DEFAULT_RATE_HZ, E_Z, Pose, Scenario
 from taxelkit.motion.scenarios import SPHERE_MAX_CONTACT_RADIUS_MM

@@ -58,15 +58,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.errors import InputError, check_in_range, check_positive
-from taxelkit.motion._script import (
+from taxelkit.motion._script import Builder, Draws, rest_pose, roll_line
+from taxelkit.motion.array_placement import (
     EDGE_MARGIN_MM,
-    Builder,
-    Draws,
     contact_bounds,
     contact_xy,
     fit_on_array,
-    rest_pose,
-    roll_line,
     yawed,
 )
 from taxelkit.motion.rolling import (
@@ -126,7 +123,7 @@ _TOP_OVER_BOTTOM_MAX = 0.65
 _TOP_OVER_BOTTOM_MIN = 0.35
 
 
-# --- sizes and placement on the array (helpers in taxelkit.motion._script) ---------------------
+# --- sizes and placement on the array (helpers in taxelkit.motion.array_placement) --------------
 
 
 def _random_solid(name: str, gen: np.random.Generator, jitter: float) -> AnalyticSolid:

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from taxelkit.motion._script import EDGE_MARGIN_MM, patch_halfwidth_mm
+from taxelkit.motion.array_placement import EDGE_MARGIN_MM, patch_halfwidth_mm
 from taxelkit.motion.contact_truth import CONTACT_TYPES, contact_points_body_mm
 from taxelkit.world.solids import AnalyticSolid
 from taxelkit.world.solids_polyhedra import Cube, Tetrahedron
@@ -309,7 +309,7 @@ def contact_footprint_mm(
         The touching candidate points (:data:`PHYSICS_TIE_MM`): a lying cone's
         apex and far rim, a face's outline, ...
     margin : (M,) float, mm
-        :data:`~taxelkit.motion._script.EDGE_MARGIN_MM`, plus the patch
+        :data:`~taxelkit.motion.array_placement.EDGE_MARGIN_MM`, plus the patch
         half-width ``sqrt(2 rho d)`` for the points and lines of round bodies
         (as the kinematic scripts' fitting).
     """

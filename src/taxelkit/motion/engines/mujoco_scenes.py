@@ -46,7 +46,7 @@ physical gap of the lowest point above the plate is kept in
 
 Placement: the plate is uniform, so a scene is simulated about the origin and
 then turned about the vertical (in 22.5 deg steps) and shifted so that every
-contact point stays :data:`~taxelkit.motion._script.EDGE_MARGIN_MM` (plus the
+contact point stays :data:`~taxelkit.motion.array_placement.EDGE_MARGIN_MM` (plus the
 patch half-width of a curved contact) inside the array; a scene that does not
 fit is simulated again without tipping over or laying down, then with
 pushes x 0.8 per attempt, and :class:`~taxelkit.errors.InputError` is raised
@@ -66,6 +66,7 @@ from numpy.typing import NDArray
 
 from taxelkit.errors import InputError, check_in_range, check_positive
 from taxelkit.motion import _script as sc
+from taxelkit.motion.array_placement import fit_on_array
 from taxelkit.motion.engines import _mj_hand as mh
 from taxelkit.motion.engines import _mj_scripts as ms_scripts
 from taxelkit.motion.engines._mjcf import (
@@ -276,7 +277,7 @@ def _fit(
     rots = matrices_from_quats(rec.quats[idx])
     xy, margin = contact_footprint_mm(plan.solid, rots, rec.centroids_mm[idx, :2], plan.depth_mm)
     half = 0.5 * np.array([sensor.array.width_mm, sensor.array.height_mm])
-    return sc.fit_on_array(xy, margin, half, plan.shift_fraction, tries=_YAW_TRIES)
+    return fit_on_array(xy, margin, half, plan.shift_fraction, tries=_YAW_TRIES)
 
 
 def mujoco_scene(
