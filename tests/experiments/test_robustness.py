@@ -106,3 +106,32 @@ def test_the_held_out_sweep_is_the_sweep_on_another_seed_marked_as_such() -> Non
     text = robustness_heldout_markdown({"robustness": same.to_json(), "robustness-heldout": doc})
     assert "| kinematic | cone |" in text and "held out" in text
     assert text.count("\n| kinematic |") == 6
+
+
+def test_the_misses_block_names_the_failing_rolls_and_the_wrong_names() -> None:
+    from taxelkit.experiments.report import robustness_misses_markdown
+    from taxelkit.experiments.robustness_heldout import held_out_json
+
+    def outcome(rate: float, fault: str, truth: str, trial: int, ident: str | None) -> TrialOutcome:
+        return TrialOutcome("mujoco", rate, fault, truth, trial, ident, ())
+
+    outcomes = [
+        outcome(rate, fault, "cone", t, None if t == 1 else "cone")
+        for rate in (20.0, 100.0)
+        for fault in ("none", "dead")
+        for t in range(3)
+    ]
+    outcomes.append(outcome(5.0, "none", "truncated-cone", 4, "cone"))  # a wrong name at 5 fps
+    outcomes.append(outcome(20.0, "none", "truncated-cone", 4, "truncated-cone"))
+    result = RobustnessResult(
+        tuple(outcomes), ("mujoco",), (5.0, 20.0, 100.0), ("none", "dead"), 3, {}
+    )
+    doc = result.to_json()
+    cone = [c for c in doc["cells"] if c["object"] == "cone"]
+    assert all(c["missed"] == [[1, None]] for c in cone)
+    text = robustness_misses_markdown(
+        {"robustness": doc, "robustness-heldout": held_out_json(doc, 0)}
+    )
+    assert "| mujoco | cone | 4 of 4 | 1 (4) | none |" in text
+    assert "| mujoco | truncated-cone | 0 of 1 | none | cone (5 frames/s, none, roll 4) |" in text
+    assert "Seed 11 (held out)" in text

@@ -23,6 +23,11 @@ from taxelkit.experiments.report_paper000 import (
     recall_vs_s_markdown,
     trace_robustness_markdown,
 )
+from taxelkit.experiments.report_robustness import (
+    robustness_heldout_markdown,
+    robustness_markdown,
+    robustness_misses_markdown,
+)
 from taxelkit.experiments.report_slip import slip_markdown
 
 __all__ = [
@@ -37,6 +42,7 @@ __all__ = [
     "render_block",
     "robustness_heldout_markdown",
     "robustness_markdown",
+    "robustness_misses_markdown",
     "slip_markdown",
     "trace_robustness_markdown",
     "update_blocks",
@@ -45,126 +51,6 @@ __all__ = [
 
 def _pct(x: float | None) -> str:
     return "n/a" if x is None else f"{100 * x:.1f}"
-
-
-def robustness_markdown(doc: dict[str, Any]) -> str:
-    """The robustness experiment as a README section (tables and headline figures)."""
-    rates = doc["rates_hz"]
-    rows = [*doc["faults"], doc["lift_off"]]
-    summary = {(s["engine"], s["rate_hz"], s["fault"]): s for s in doc["summary"]}
-    head = "| engine | imperfection | " + " | ".join(f"{r:g} frames/s" for r in rates) + " |"
-    lines = [head, "| --- | --- |" + " --- |" * len(rates)]
-    for e in doc["engines"]:
-        for f in rows:
-            cells = []
-            for r in rates:
-                s = summary.get((e, r, f))
-                cells.append(
-                    ""
-                    if s is None
-                    else f"{_pct(s['accuracy'])} ({s['wrong']}) / "
-                    f"{_pct(s['faithful_accuracy'])} ({s['faithful_wrong']})"
-                )
-            lines.append(f"| {e} | {f} | " + " | ".join(cells) + " |")
-    in_set = [c for c in doc["cells"] if c["object"] != "sliding"]
-    fast = [c for c in in_set if c["rate_hz"] >= 20.0]
-    slow = [c for c in in_set if c["rate_hz"] < 20.0]
-    ok_fast = sum(c["accuracy"] >= 0.98 for c in fast)
-    worst = max((c["wrong"] / c["n"] for c in in_set), default=0.0)
-    o, sl = doc["overall"], doc["sliding"]
-    text = [
-        f"{doc['n_trials']} randomised trials per cell (engine x rate x imperfection x object); "
-        "each entry is the accuracy over the six objects in % and, in brackets, the count of "
-        "wrong identities: the robust default / paper 001's pipeline as printed, on the same "
-        "frames.",
-        "",
-        *lines,
-        "",
-        f"- All {o['n']} in-set trials: {_pct(o['accuracy'])} % identified, {o['wrong']} wrong "
-        f"identities, {o['undecided']} undecided, {o['unknown']} unknown; the worst cell has "
-        f"{100 * worst:.1f} % wrong identities.",
-        f"- Cells (one object, engine, rate and imperfection) at 20 frames/s and above with "
-        f"accuracy >= 0.98: {ok_fast} of {len(fast)}; at 5 frames/s: "
-        f"{sum(c['accuracy'] >= 0.98 for c in slow)} of {len(slow)}.",
-        f"- Sliding: {sl['identified']} of {sl['n']} trials given an identity (paper 001's "
-        f"pipeline as printed: {sl['faithful_wrong']}).",
-    ]
-    arrays = doc.get("arrays", {}).get("summary", [])
-    if arrays:
-        text += [
-            "",
-            f"Other arrays at {doc['arrays']['rate_hz']:g} frames/s "
-            "(accuracy over the six objects in %, wrong identities in brackets; sliding trials "
-            "given an identity):",
-            "",
-            "| array | engine | clean | every imperfection | sliding identified |",
-            "| --- | --- | --- | --- | --- |",
-        ]
-        by = {(s["array"], s["engine"], s["fault"]): s for s in arrays}
-        for a in sorted({s["array"] for s in arrays}, key=lambda x: int(x.split("x")[0])):
-            for e in doc["engines"]:
-                clean, bad = by.get((a, e, "none")), by.get((a, e, "all"))
-                if clean is None or bad is None:
-                    continue
-                lines_a = (
-                    f"| {a} mm | {e} | {_pct(clean['accuracy'])} ({clean['wrong']}) | "
-                    f"{_pct(bad['accuracy'])} ({bad['wrong']}) | "
-                    f"{clean['sliding_identified'] + bad['sliding_identified']} |"
-                )
-                text.append(lines_a)
-    return "\n".join(text)
-
-
-def _object_rows(doc: dict[str, Any]) -> dict[tuple[str, str], str]:
-    """Per engine and object: cells >= 0.98 at >= 20 frames/s, the lowest, wrong identities."""
-    out = {}
-    for e in doc["engines"]:
-        for obj in doc["objects"]:
-            cells = [c for c in doc["cells"] if c["engine"] == e and c["object"] == obj]
-            fast = [c for c in cells if c["rate_hz"] >= 20.0]
-            slow = [c for c in cells if c["rate_hz"] < 20.0]
-            n_slow = sum(c["n"] for c in slow)
-            slow_acc = sum(c["correct"] for c in slow) / n_slow if n_slow else None
-            out[(e, obj)] = (
-                f"{sum(c['accuracy'] >= 0.98 for c in fast)}/{len(fast)}, lowest "
-                f"{_pct(min((c['accuracy'] for c in fast), default=None))}, "
-                f"{sum(c['wrong'] for c in cells)} wrong; 5 frames/s {_pct(slow_acc)}"
-            )
-    return out
-
-
-def robustness_heldout_markdown(docs: dict[str, dict[str, Any]]) -> str:
-    """The robustness sweep on the seed its thresholds were set on beside a held-out seed."""
-    tuned, held = docs["robustness"], docs["robustness-heldout"]
-    a, b = _object_rows(tuned), _object_rows(held)
-    lines = [
-        f"| engine | object | seed {held['tuned_on_seed']} ({tuned['n_trials']} per cell; "
-        f"thresholds set here) | seed {held['held_out_seed']} ({held['n_trials']} per cell; "
-        "held out) |",
-        "| --- | --- | --- | --- |",
-    ]
-    lines += [f"| {e} | {o} | {a.get((e, o), 'n/a')} | {v} |" for (e, o), v in b.items()]
-    out = []
-    for name, doc in (("thresholds' seed", tuned), ("held-out seed", held)):
-        o = doc["overall"]
-        worst = max((c["wrong"] / c["n"] for c in doc["cells"] if c["n"]), default=0.0)
-        out.append(
-            f"- {name}: {_pct(o['accuracy'])} % of {o['n']} in-set trials identified, "
-            f"{o['wrong']} wrong identities (worst cell {100 * worst:.1f} %), "
-            f"{o['undecided']} undecided, {o['unknown']} unknown; sliding "
-            f"{doc['sliding']['identified']} of {doc['sliding']['n']} identified."
-        )
-    return "\n".join(
-        [
-            "Each entry: cells (imperfection x rate) at 20 frames/s and above with accuracy "
-            ">= 0.98, the lowest of them in %, the wrong identities over every rate, and the "
-            "accuracy at 5 frames/s in %.",
-            "",
-            *lines,
-            "",
-            *out,
-        ]
-    )
 
 
 def paper001_markdown(docs: dict[str, dict[str, Any]]) -> str:
@@ -301,6 +187,7 @@ BLOCKS: dict[str, tuple[tuple[str, ...], Callable[[dict[str, dict[str, Any]]], s
     ),
     "robustness": (("robustness",), lambda docs: robustness_markdown(docs["robustness"])),
     "robustness-heldout": (("robustness", "robustness-heldout"), robustness_heldout_markdown),
+    "robustness-misses": (("robustness", "robustness-heldout"), robustness_misses_markdown),
     "multi-object": (
         ("multi-object",),
         lambda docs: multi_object_markdown(docs["multi-object"]),

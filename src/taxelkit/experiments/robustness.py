@@ -272,7 +272,7 @@ class RobustnessResult:
             }
 
         cells = [
-            {"engine": e, "rate_hz": r, "fault": f, "object": t, **stats(v)}
+            {"engine": e, "rate_hz": r, "fault": f, "object": t, **stats(v), "missed": _missed(v)}
             for (e, r, f, t), v in sorted(groups.items())
         ]
         summary = []
@@ -325,6 +325,11 @@ class RobustnessResult:
                 "cells": other,
             },
         }
+
+
+def _missed(items: list[TrialOutcome]) -> list[list[Any]]:
+    """``[trial, verdict]`` of each trial not counted correct (verdict None: undecided)."""
+    return [[o.trial, o.identified] for o in sorted(items, key=lambda o: o.trial) if not o.correct]
 
 
 def _choose_engines(engines: Sequence[str] | None) -> tuple[list[str], dict[str, Any]]:
