@@ -15,7 +15,11 @@ from collections.abc import Callable
 from typing import Any
 
 from taxelkit.errors import InputError
-from taxelkit.experiments.report_capacity import capacity_markdown, capacity_twins_markdown
+from taxelkit.experiments.report_capacity import (
+    capacity_markdown,
+    capacity_partial_markdown,
+    capacity_twins_markdown,
+)
 from taxelkit.experiments.report_paper000 import (
     fig9_markdown,
     fig9_readings_markdown,
@@ -196,6 +200,10 @@ BLOCKS: dict[str, tuple[tuple[str, ...], Callable[[dict[str, dict[str, Any]]], s
     "new-objects": (("new-objects",), lambda docs: new_objects_markdown(docs["new-objects"])),
     "capacity": (("capacity",), lambda docs: capacity_markdown(docs["capacity"])),
     "capacity-twins": (("capacity",), lambda docs: capacity_twins_markdown(docs["capacity"])),
+    "capacity-partial": (
+        ("capacity",),
+        lambda docs: capacity_partial_markdown(docs["capacity"]),
+    ),
     "trace-robustness": (
         ("trace-robustness",),
         lambda docs: trace_robustness_markdown(docs["trace-robustness"]),

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-__all__ = ["capacity_markdown", "capacity_twins_markdown"]
+__all__ = ["capacity_markdown", "capacity_partial_markdown", "capacity_twins_markdown"]
 
 
 def _pct(x: float) -> str:
@@ -98,3 +98,26 @@ def capacity_twins_markdown(doc: dict[str, Any]) -> str:
             f"at full contour): {verdict}, worst pair {_pct(t['measured_min_full_contour'])} %.",
         ]
     return "\n".join(lines)
+
+
+def capacity_partial_markdown(doc: dict[str, Any]) -> str:
+    """The limitation on partial traces among many shapes, with the figures of ``capacity``."""
+    sizes, s = doc["sizes"], doc["s"]
+    size = doc["target"]["size"]
+    low = [v for v in sorted(s) if v < 0.6]
+    if size not in sizes or 0.6 not in s or not low:
+        return f"(no run at {size} shapes and s < 0.6)"
+    i, j = sizes.index(size), s.index(0.6)
+    name, best = max(doc["rules"].items(), key=lambda kv: kv[1]["accuracy"][i][j])
+    named = " and ".join(
+        f"{_pct(best['accuracy'][i][s.index(v)])} % from {100 * v:.0f} %" for v in reversed(low)
+    )
+    chain = max(
+        r["accuracy"][i][s.index(v)] for r in doc["rules"].values() if r["code"] == "chain"
+        for v in low
+    )  # fmt: skip
+    return (
+        f"- **Partial traces among many shapes.** Among {size} stored shapes the best rule "
+        f"(`{name}`) names {named} of a contour; no chain-code rule names more than "
+        f"{_pct(chain)} % from those fractions (`capacity`)."
+    )
