@@ -25,12 +25,21 @@ import dataclasses
 import importlib.util
 import os
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from taxelkit.errors import InputError
+from taxelkit.experiments.robustness_outcomes import (
+    ARRAY_FAULTS,
+    ARRAY_RATE_HZ,
+    LIFT_OFF,
+    MAIN_ARRAY,
+    SLIDING,
+    TrialOutcome,
+    outcomes_json,
+)
 from taxelkit.experiments.work_units import run_units
 from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.sensors.array_geometry import TaxelArray
@@ -64,71 +73,18 @@ FAULTS: tuple[str, ...] = (
     "threshold-spread",
     "all",
 )
-#: Label of the lift-off trials (the ``contact-loss`` preset on a clean sensor).
-LIFT_OFF = "contact-loss"
 #: Contact threshold of the simulated Bonneville frames, mm.
 THRESHOLD_MM = BONNEVILLE_16X16.contact_threshold_mm
-#: Ground-truth label of the sliding trials.
-SLIDING = "sliding"
-#: The array of the main matrix (paper 001's Bonneville, 16 x 16 at 1.76 mm).
-MAIN_ARRAY = "16x16@1.76"
 #: Other arrays, about as wide (28-32 mm) with other pitches and sizes, mm:
 #: the same objects rolled at 20 frames/s, seen clean and with every
 #: imperfection at once.
 OTHER_ARRAYS: tuple[tuple[int, float], ...] = ((8, 3.5), (12, 2.5), (20, 1.5), (32, 1.0))
-#: Imperfections the other arrays are seen through.
-ARRAY_FAULTS: tuple[str, ...] = ("none", "all")
-#: Frame rate of the other arrays' trials, Hz.
-ARRAY_RATE_HZ = 20.0
 
 
 def array_sensor(rows: int, pitch_mm: float) -> Sensor:
     """The Bonneville preset with another square array (the skin and threshold kept)."""
     array = TaxelArray(rows=rows, cols=rows, pitch_mm=pitch_mm, element_size_mm=0.85 * pitch_mm)
     return dataclasses.replace(BONNEVILLE_16X16, name=f"{rows}x{rows}@{pitch_mm:g}", array=array)
-
-
-@dataclass(frozen=True)
-class TrialOutcome:
-    """One recognition of one motion seen through one sensor.
-
-    Attributes
-    ----------
-    engine, fault : str
-    rate_hz : float
-    truth : str
-        The object, or ``"sliding"``.
-    trial : int
-    array : str
-        ``ROWSxCOLS@PITCH`` of the array (:data:`MAIN_ARRAY` for the main matrix).
-    identified : str or None
-        The recogniser's verdict (``"unknown"``, an object, or None: undecided).
-    candidates : tuple of str
-    faithful : str or None
-        The verdict of paper 001's pipeline as printed on the same frames.
-    """
-
-    engine: str
-    rate_hz: float
-    fault: str
-    truth: str
-    trial: int
-    identified: str | None
-    candidates: tuple[str, ...]
-    array: str = MAIN_ARRAY
-    faithful: str | None = None
-
-    @property
-    def correct(self) -> bool:
-        """Right: the object named, or a sliding trial not given an identity."""
-        if self.truth == SLIDING:
-            return self.identified is None or self.identified == "unknown"
-        return self.identified == self.truth
-
-    @property
-    def wrong(self) -> bool:
-        """A wrong identity: another object named (the worst outcome)."""
-        return self.identified not in (None, "unknown", self.truth)
 
 
 def available_engines() -> dict[str, str | None]:
@@ -247,89 +203,9 @@ class RobustnessResult:
 
     def to_json(self) -> dict[str, Any]:
         """Per-cell counts and accuracy, summaries per engine x rate x fault, sliding, lift-off."""
-        groups: dict[tuple[str, float, str, str], list[TrialOutcome]] = {}
-        arrays: dict[tuple[str, str, str, str], list[TrialOutcome]] = {}
-        main = [o for o in self.outcomes if o.array == MAIN_ARRAY]
-        for o in main:
-            groups.setdefault((o.engine, o.rate_hz, o.fault, o.truth), []).append(o)
-        for o in self.outcomes:
-            if o.array != MAIN_ARRAY:
-                arrays.setdefault((o.array, o.engine, o.fault, o.truth), []).append(o)
-
-        def stats(items: list[TrialOutcome]) -> dict[str, Any]:
-            n = len(items)
-            correct = sum(o.correct for o in items)
-            paper = [replace(o, identified=o.faithful) for o in items]
-            return {
-                "n": n,
-                "correct": correct,
-                "wrong": sum(o.wrong for o in items),
-                "unknown": sum(o.identified == "unknown" for o in items),
-                "undecided": sum(o.identified is None for o in items),
-                "accuracy": round(correct / n, 4) if n else None,
-                "faithful_accuracy": round(sum(o.correct for o in paper) / n, 4) if n else None,
-                "faithful_wrong": sum(o.wrong for o in paper),
-            }
-
-        cells = [
-            {"engine": e, "rate_hz": r, "fault": f, "object": t, **stats(v), "missed": _missed(v)}
-            for (e, r, f, t), v in sorted(groups.items())
-        ]
-        summary = []
-        for e in self.engines:
-            for r in self.rates_hz:
-                for f in (*self.faults, LIFT_OFF):
-                    items = [
-                        o
-                        for (ge, gr, gf, gt), v in groups.items()
-                        if (ge, gr, gf) == (e, r, f) and gt != SLIDING
-                        for o in v
-                    ]
-                    if items:
-                        summary.append({"engine": e, "rate_hz": r, "fault": f, **stats(items)})
-        in_set = [o for o in main if o.truth != SLIDING]
-        sliding = [o for o in main if o.truth == SLIDING]
-        other = [
-            {"array": a, "engine": e, "fault": f, "object": t, **stats(v)}
-            for (a, e, f, t), v in sorted(arrays.items())
-        ]
-        other_summary = []
-        for a in sorted({k[0] for k in arrays}):
-            for e in self.engines:
-                for f in ARRAY_FAULTS:
-                    items = [o for (ga, ge, gf, gt), v in arrays.items()
-                             if (ga, ge, gf) == (a, e, f) and gt != SLIDING for o in v]  # fmt: skip
-                    slid = arrays.get((a, e, f, SLIDING), [])
-                    if items:
-                        other_summary.append(
-                            {"array": a, "engine": e, "fault": f, **stats(items),
-                             "sliding_identified": sum(not o.correct for o in slid)}
-                        )  # fmt: skip
-        return {
-            "experiment": "robustness",
-            "engines": list(self.engines),
-            "skipped_engines": dict(self.skipped),
-            "rates_hz": list(self.rates_hz),
-            "faults": list(self.faults),
-            "lift_off": LIFT_OFF,
-            "n_trials": self.n_trials,
-            "objects": list(OBJECTS),
-            "overall": stats(in_set),
-            "sliding": {**stats(sliding), "identified": sum(not o.correct for o in sliding)},
-            "summary": summary,
-            "cells": cells,
-            "arrays": {
-                "rate_hz": ARRAY_RATE_HZ,
-                "faults": list(ARRAY_FAULTS),
-                "summary": other_summary,
-                "cells": other,
-            },
-        }
-
-
-def _missed(items: list[TrialOutcome]) -> list[list[Any]]:
-    """``[trial, verdict]`` of each trial not counted correct (verdict None: undecided)."""
-    return [[o.trial, o.identified] for o in sorted(items, key=lambda o: o.trial) if not o.correct]
+        return outcomes_json(
+            self.outcomes, self.engines, self.rates_hz, self.faults, self.n_trials, self.skipped
+        )
 
 
 def _choose_engines(engines: Sequence[str] | None) -> tuple[list[str], dict[str, Any]]:
