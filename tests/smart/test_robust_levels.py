@@ -298,3 +298,28 @@ def test_an_edge_angle_is_read_only_where_the_grid_cannot_fake_it() -> None:
     found = transition_tactemes(history, cfg, wobbles_deg=[fine, 0.0, fine])
     assert "LC -> AC -> LC (60 or 120 deg)" in {t.value for t in found}
     assert grid_wobble_deg(np.full(4, 10.0), 0.0) == 0.0  # pitch unknown: no share
+
+
+@pytest.mark.parametrize(
+    ("angle_deg", "doubt_deg", "expected"),
+    [
+        (72.0, 3.0, "LC -> AC -> LC (60 or 120 deg)"),
+        (73.0, 3.0, None),  # within 3 deg of 75: neither a triangle nor a square
+        (77.0, 3.0, None),
+        (78.0, 3.0, "LC -> AC -> LC (parallel or 90 deg)"),
+        (73.0, 0.0, "LC -> AC -> LC (60 or 120 deg)"),  # the paper's windows touch at 75
+        (77.0, 0.0, "LC -> AC -> LC (parallel or 90 deg)"),
+        (12.0, 3.0, "LC -> AC -> LC (parallel or 90 deg)"),
+    ],
+)
+def test_an_edge_angle_midway_between_60_and_90_reads_as_neither(
+    angle_deg: float, doubt_deg: float, expected: str | None
+) -> None:
+    from taxelkit.smart.transitions import transition_tactemes
+
+    line, area = int(ContactClass.LINE), int(ContactClass.AREA)
+    history = [(line, 10.0), (area, 0.0), (line, 10.0 + angle_deg)]
+    found = transition_tactemes(history, TactemeConfig(edge_angle_doubt_deg=doubt_deg))
+    angles = {t.value for t in found} - {"AC -> LC"}
+    assert angles == ({expected} if expected else set())
+    assert PAPER_LEVEL3.edge_angle_doubt_deg == 0.0

@@ -86,6 +86,20 @@ class TactemeConfig:
         geometry (robustness recordings of seed 0, other arrays): wrong
         identities 14 -> 11 of 1,536 rolls, identified 1,258 -> 1,250; the
         16 x 16 cubes and tetrahedra unchanged (6,383 of 6,400).
+    edge_angle_doubt_deg : float
+        Half-width of a band of doubt about 75 deg, midway between a
+        triangle's 60 and a square's 90, deg: an angle between two edges
+        inside it reads as neither (two edges each tilted by the grid towards
+        the other shape can meet there). 0: the two windows of
+        ``edge_angle_tol_deg`` touch at 75 deg (as in :data:`PAPER_LEVEL3`).
+        Set after a cube of the seed-0 robustness sweep (240 frames/s, dead
+        taxels) whose edges read 72.7-72.8 deg apart and named it a
+        tetrahedron. Over the cubes and tetrahedra of seeds 0, 3 and 11 at
+        20 frames/s and above (about 7,000 readings a seed), the angles off
+        parallel read 76.0-90 deg on cubes apart from that one and
+        52.3-70.1 deg on tetrahedra; the band takes three cube readings on
+        seeds 3 and 11 (77.0-78.0 deg), which leaves every roll's verdict
+        as it was.
     area_step : float
         A change of the smoothed area above this fraction of the area at the
         motion reference re-anchors the references of lines and areas: a
@@ -195,6 +209,7 @@ class TactemeConfig:
     area_rotate_deg: float = 10.0
     area_min_elongation: float = 1.6
     edge_angle_tol_deg: float = 15.0
+    edge_angle_doubt_deg: float = 3.0
     area_step: float = 0.3
     motion_hold_s: float = 0.15
     edge_hold_s: float = 0.3
@@ -222,6 +237,7 @@ class TactemeConfig:
         check_positive("debounce_s", self.debounce_s, allow_zero=True)
         check_positive("smooth_s", self.smooth_s, allow_zero=True)
         check_positive("lift_grace_s", self.lift_grace_s, allow_zero=True)
+        check_positive("edge_angle_doubt_deg", self.edge_angle_doubt_deg, allow_zero=True)
         for name in (
             "move_mm",
             "parallel_move_mm",
@@ -269,6 +285,7 @@ PAPER_LEVEL3 = TactemeConfig(
     lift_grace_s=0.0,
     smooth_s=0.0,
     pivot_arc_turn_deg=20.0,
+    edge_angle_doubt_deg=0.0,
     slip=None,
 )
 

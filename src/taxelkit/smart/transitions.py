@@ -58,7 +58,8 @@ def transition_tactemes(
         line (:func:`~taxelkit.smart.track_geometry.grid_wobble_deg`). The
         angle between two edges is read (square or triangular face) only
         when both wobbles are within ``edge_angle_tol_deg``: an edge three
-        taxels long on a coarse array reads 60 deg from a square's 90.
+        taxels long on a coarse array reads 60 deg from a square's 90. An
+        angle within ``edge_angle_doubt_deg`` of 75 deg reads as neither.
 
     Returns
     -------
@@ -90,8 +91,9 @@ def transition_tactemes(
         edges = len(history) >= 3 and history[-3][0] == ContactClass.LINE
         if edges and (wobbles_deg is None or max(wobbles_deg[-3], wobbles_deg[-1]) <= tol):
             d = float(axis_difference_deg(np.array([o2]), history[-3][1])[0])
-            if d <= tol or d >= 90.0 - tol:
+            doubt = config.edge_angle_doubt_deg  # about 75 deg, between 60 and 90
+            if d <= tol or d >= max(90.0 - tol, 75.0 + doubt):
                 out.append(Tacteme.LC_AC_LC_SQUARE)
-            elif abs(d - 60.0) <= tol:
+            elif abs(d - 60.0) <= tol and d <= 75.0 - doubt:
                 out.append(Tacteme.LC_AC_LC_TRIANGLE)
     return out
