@@ -22,6 +22,8 @@ randomised segments, ties included).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -189,20 +191,36 @@ def _axis_rad(c2: NDArray[np.float64], s2: NDArray[np.float64]) -> NDArray[np.fl
 
 
 def _line_motion(
-    ref: NDArray[np.float64], cur: NDArray[np.float64], unsure: NDArray[np.bool_]
+    ref: NDArray[np.float64],
+    cur: NDArray[np.float64],
+    unsure: NDArray[np.bool_],
+    across_mm: float,
+    tol: float,
 ) -> NDArray[np.float64]:
-    """A line's two ends along the bisector of the axes, mm (both must move the same way)."""
+    """A line's two ends along the bisector of the axes, mm (both must move the same way).
+
+    0 where its ends moved across it by more than ``across_mm`` (its shift
+    across plus its turn times its half-length: a line that rolls).
+    """
     c2, s2 = ref[:, _C2] + cur[:, _C2], ref[:, _S2] + cur[:, _S2]
     unsure |= np.hypot(c2, s2) < AXIS_MIN_NORM
+    for v in (ref, cur):
+        unsure |= np.hypot(v[:, _C2], v[:, _S2]) < AXIS_MIN_NORM
     th = _axis_rad(c2, s2)
     ax, ay = np.cos(th), np.sin(th)
+    th_ref, th_cur = _axis_rad(ref[:, _C2], ref[:, _S2]), _axis_rad(cur[:, _C2], cur[:, _S2])
+    turn = np.abs(np.mod(th_cur - th_ref + 0.5 * np.pi, np.pi) - 0.5 * np.pi)
+    shift_x, shift_y = cur[:, _CX] - ref[:, _CX], cur[:, _CY] - ref[:, _CY]
+    across = np.abs(shift_y * ax - shift_x * ay) + turn * ref[:, _HALF]
+    unsure |= np.abs(across - across_mm) <= tol
+    rolls = across > across_mm
     e1, e2 = cur[:, _END1] - ref[:, _END1], cur[:, _END2] - ref[:, _END2]
     d1, d2 = e1[:, 0] * ax + e1[:, 1] * ay, e2[:, 0] * ax + e2[:, 1] * ay
     both = np.where(d1 * d2 > 0.0, np.minimum(np.abs(d1), np.abs(d2)), 0.0)
     # ends not measured (NaN as in the row-by-row means): the centre less the change of length
     dx, dy = cur[:, _CX] - ref[:, _CX], cur[:, _CY] - ref[:, _CY]
     centre = np.abs(dx * ax + dy * ay) - np.abs(cur[:, _HALF] - ref[:, _HALF])
-    out: NDArray[np.float64] = np.where(np.isnan(d1 + d2), centre, both)
+    out: NDArray[np.float64] = np.where(rolls, 0.0, np.where(np.isnan(d1 + d2), centre, both))
     return out
 
 
@@ -245,6 +263,7 @@ def motions_mm(
     min_elongation: float,
     limit_mm: float,
     bound: float,
+    line_across_mm: float = math.inf,
 ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """The per-frame rule's motion for rows of mean features, and where it may differ.
 
@@ -256,6 +275,9 @@ def motions_mm(
         The measure of a line (else of a face).
     area_step, min_elongation : float
         As :class:`~taxelkit.smart.slip.SlipConfig`.
+    line_across_mm : float
+        As :class:`~taxelkit.smart.slip.SlipConfig` (a line only; default:
+        no limit).
     limit_mm : float
         The limit the motion is compared with, mm.
     bound : float
@@ -278,7 +300,7 @@ def motions_mm(
         unsure |= np.abs(dev - area_step) <= tol * (1.0 + np.abs(ratio)) / np.abs(a_ref)
         changed = ~(a_ref > 0) | (dev > area_step)
         if line:
-            motion = _line_motion(ref, cur, unsure)
+            motion = _line_motion(ref, cur, unsure, line_across_mm, tol)
         else:
             motion = _face_motion(ref, cur, unsure, min_elongation, tol)
     unsure |= ~changed & (np.abs(motion - limit_mm) <= tol)

@@ -160,6 +160,12 @@ class SlipScanner:
             c2, s2 = float(ref[_C2] + cur[_C2]), float(ref[_S2] + cur[_S2])
             th = 0.5 * math.atan2(s2, c2)
             ax, ay = math.cos(th), math.sin(th)
+            th_ref = 0.5 * math.atan2(float(ref[_S2]), float(ref[_C2]))
+            th_cur = 0.5 * math.atan2(float(cur[_S2]), float(cur[_C2]))
+            turn = abs((th_cur - th_ref + 0.5 * math.pi) % math.pi - 0.5 * math.pi)
+            across = abs(dy * ax - dx * ay) + turn * float(ref[_HALF])
+            if across > cfg.line_across_mm:  # the line turned or moved across: it rolls
+                return 0.0
             e1, e2 = cur[_END1] - ref[_END1], cur[_END2] - ref[_END2]
             d1, d2 = float(e1[0] * ax + e1[1] * ay), float(e2[0] * ax + e2[1] * ay)
             if math.isnan(d1 + d2):  # ends not measured: the centre less the change of length
@@ -287,6 +293,7 @@ class SlipScanner:
                 min_elongation=cfg.min_elongation,
                 limit_mm=limit,
                 bound=sums.error_bound(min(wa, wb)),
+                line_across_mm=cfg.line_across_mm,
             )
             changed[k0 : k0 + m], above[k0 : k0 + m] = np.isnan(motion), motion > limit
             redo = np.flatnonzero(unsure | bad_a | bad_b) + k0
