@@ -195,6 +195,34 @@ def test_a_line_at_its_across_limit_is_recomputed() -> None:
     assert checked > 10
 
 
+def test_a_face_whose_areas_spread_at_the_limit_is_recomputed() -> None:
+    """A face whose current areas spread by exactly ``area_step`` of the reference's area."""
+    seed = next(s for s in range(40) if cases(s)[0] == _AREA)
+    scanner, x = features_of(seed)
+    r, c = 8, 3
+    fast_r, _, bound_r = window_means(x[:-c], r, ENDS)
+    fast_c, _, bound_c = window_means(x[r:], c, ENDS)
+    k = np.arange(fast_c.shape[0])
+    exact_r, exact_c = exact_means(x, k, r), exact_means(x, r + k, c)
+    checked = 0
+    for j in range(0, fast_c.shape[0], 7):
+        a_ref, a_cur = exact_r[j, 2], exact_c[j, 2]
+        spread = exact_c[j, 14] - a_cur * a_cur
+        if not spread > 0.0 or not a_ref > 0.0:
+            continue
+        step = float(np.sqrt(spread) / a_ref)  # the spread at the limit
+        if abs(a_cur / a_ref - 1.0) > step:
+            continue  # the mean area's change decides first
+        _, unsure = motions_mm(
+            fast_r[j : j + 1], fast_c[j : j + 1], line=False, area_step=step,
+            min_elongation=scanner.config.min_elongation, limit_mm=1e9,
+            bound=max(bound_r, bound_c),
+        )  # fmt: skip
+        assert unsure[0]
+        checked += 1
+    assert checked > 10
+
+
 @pytest.mark.parametrize(
     ("body", "rate_hz", "seed"), [("cube", 20.0, 1), ("cylinder", 100.0, 4), ("cube", 240.0, 1)]
 )

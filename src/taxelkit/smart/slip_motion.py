@@ -180,6 +180,7 @@ def exact_means(x: NDArray[np.float64], starts: NDArray[np.intp], w: int) -> NDA
 # Feature columns (those of :class:`~taxelkit.smart.slip_scan.SlipScanner.features`).
 _CX, _CY, _AREA, _C2, _S2, _HALF, _ELONG = range(7)
 _END1, _END2, _COV = slice(7, 9), slice(9, 11), slice(11, 14)
+_AREA2 = 14
 
 #: Columns of a line's two ends (NaN where not measured).
 ENDS = slice(7, 11)
@@ -286,7 +287,8 @@ def motions_mm(
     Returns
     -------
     motion : (n,) float, mm
-        NaN where the mean area changed by more than ``area_step``.
+        NaN where the mean area changed by more than ``area_step`` or (a
+        face) the current window's areas spread by more than that.
     unsure : (n,) bool
         Frames whose decision (NaN, above ``limit_mm``) may differ from the
         per-frame rule's: recompute them with it.
@@ -303,6 +305,12 @@ def motions_mm(
             motion = _line_motion(ref, cur, unsure, line_across_mm, tol)
         else:
             motion = _face_motion(ref, cur, unsure, min_elongation, tol)
+            # the areas of the current window spread (their variance) beyond area_step
+            spread = cur[:, _AREA2] - a_cur * a_cur
+            limit2 = (area_step * a_ref) ** 2
+            scale = 1.0 + 2.0 * np.abs(a_cur) + 2.0 * area_step * area_step * np.abs(a_ref)
+            unsure |= ~changed & (np.abs(spread - limit2) <= tol * scale)
+            changed |= spread > limit2
     unsure |= ~changed & (np.abs(motion - limit_mm) <= tol)
     out: NDArray[np.float64] = np.where(changed, np.nan, motion)
     return out, unsure

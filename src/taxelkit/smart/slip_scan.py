@@ -29,7 +29,8 @@ _PIECE = 512
 _CX, _CY, _AREA_COL, _C2, _S2, _HALF, _ELONG = range(7)
 _END1, _END2 = slice(7, 9), slice(9, 11)  # a line's two ends, x y (mm), in a consistent order
 _COV = slice(11, 14)  # second central moments xx, yy, xy, mm^2
-_N_FEATURES = 14
+_AREA2 = 14  # the area squared, mm^4 (a window's mean gives the spread of its areas)
+_N_FEATURES = 15
 
 
 class SlipScanner:
@@ -104,12 +105,12 @@ class SlipScanner:
         self._ready = True
 
     def features(self, rows: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Per-frame features ``(m, 14)`` from rows ``(m, 9)`` (segment_scan's ``ROW_COLUMNS``).
+        """Per-frame features ``(m, 15)`` from rows ``(m, 9)`` (segment_scan's ``ROW_COLUMNS``).
 
         Centre, area, doubled-angle axis, half-length, elongation, a line's
         two ends (its drawn extent along its axis, the axis oriented like the
-        previous frame's so that the ends keep their order) and a face's
-        second central moments. The vectorised scan leaves the columns its
+        previous frame's so that the ends keep their order), a face's
+        second central moments and the area squared. The vectorised scan leaves the columns its
         class does not read at 0 (a face's ends, a line's moments).
         """
         m = rows.shape[0]
@@ -119,6 +120,7 @@ class SlipScanner:
         out[:, _CX], out[:, _CY], out[:, _AREA_COL] = rows[:, 0], rows[:, 1], rows[:, 3]
         out[:, _C2], out[:, _S2] = np.cos(t2), np.sin(t2)
         out[:, _HALF], out[:, _ELONG] = rows[:, 5], rows[:, 4]
+        out[:, _AREA2] = rows[:, 3] * rows[:, 3]
         line = self.cls == _LINE
         if line or self.reference:
             u = np.stack([np.cos(theta), np.sin(theta)], axis=-1)
@@ -147,9 +149,11 @@ class SlipScanner:
 
     # -- the motion measure --------------------------------------------------------------------
     def motion_mm(self, ref: NDArray[np.float64], cur: NDArray[np.float64]) -> float:
-        """How far the footprint moved from mean features ``ref`` to ``cur`` ``(7,)``, mm.
+        """How far the footprint moved from mean features ``ref`` to ``cur`` ``(15,)``, mm.
 
-        NaN when the area changed by more than ``area_step`` (no decision).
+        NaN when the mean area changed by more than ``area_step`` of the
+        reference's, or (a face) when the areas of the current window spread
+        by more than that (standard deviation): no decision.
         """
         cfg = self.config
         a_ref, a_cur = float(ref[_AREA_COL]), float(cur[_AREA_COL])
@@ -171,6 +175,9 @@ class SlipScanner:
             if math.isnan(d1 + d2):  # ends not measured: the centre less the change of length
                 return abs(dx * ax + dy * ay) - abs(float(cur[_HALF] - ref[_HALF]))
             return min(abs(d1), abs(d2)) if d1 * d2 > 0.0 else 0.0  # both ends, the same way
+        spread = float(cur[_AREA2]) - a_cur * a_cur  # the current window's areas: a face tipping
+        if spread > (cfg.area_step * a_ref) ** 2:
+            return math.nan
         # both sides of the footprint must move: one that grows or shrinks on one side
         # moves its centre by half the change of its length along the motion
         moved = math.hypot(dx, dy)
