@@ -6,7 +6,7 @@ import numpy as np
 
 from taxelkit.experiments.registry import get_experiment
 from taxelkit.experiments.report import render_block
-from taxelkit.experiments.slip import footprint_pitch_s, run_slip, score_trial, slip_phases
+from taxelkit.experiments.slip import pitch_reached_s, run_slip, score_trial, slip_phases
 from taxelkit.experiments.slip_result import SlipResult, SlipTrial
 from taxelkit.motion.scenarios import make_scenario
 from taxelkit.motion.slip_scenarios import make_partial_slip_scenario
@@ -56,15 +56,15 @@ def test_smoke_run_and_readme_block() -> None:
     assert "in time from one pitch" in block
 
 
-def test_footprint_pitch_time_of_a_dragged_face() -> None:
-    """A face dragged at a constant speed: its footprint crosses one pitch at pitch / speed."""
+def test_pitch_reached_by_a_dragged_face() -> None:
+    """A face dragged at a constant speed has slid one pitch at pitch / speed."""
     sc = make_partial_slip_scenario("cube", rng=1)
     ((a, b, _),) = slip_phases(sc)
     t = np.asarray(sc.t_s)
     speed = float(np.nan_to_num(sc.slip_mm(), nan=0.0)[a:b].sum() / (t[b] - t[a]))
-    (p,) = footprint_pitch_s(sc, [(a, b, "area")], 1.7625)
+    (p,) = pitch_reached_s(sc, [(a, b, "area")], 1.7625)
     assert p is not None and abs(p - 1.7625 / speed) <= 0.051  # within a frame at 20 frames/s
-    assert footprint_pitch_s(sc, [(a, b, "area")], 100.0) == [None]  # never 100 mm
+    assert pitch_reached_s(sc, [(a, b, "area")], 100.0) == [None]  # never 100 mm
 
 
 def test_in_time_from_one_pitch_counts_only_resolvable_phases() -> None:

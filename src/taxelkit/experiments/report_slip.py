@@ -30,11 +30,11 @@ def slip_markdown(doc: dict[str, Any]) -> str:
         f"{doc['latency_s']:g} s of its start. Detectable kinds: a face (area) sliding and a line "
         "sliding along itself; a point skidding and an isotropic face spinning leave the "
         "footprint a rolling body leaves, and are listed apart. *From one pitch* (beside the "
-        "acceptance's figure, not instead of it): what a binary footprint can resolve. A slow "
-        "slide moves it less than a taxel pitch in 0.2 s; such a phase counts when the body's "
-        "true footprint centre moved one pitch during it, in time when decided within "
-        f"{doc['latency_s']:g} s of that moment; phases whose footprint never moved a pitch (a "
-        "body skidding in place) are counted apart.",
+        "acceptance's figure, not instead of it): what a binary footprint can resolve; a slow "
+        "slide moves it less than a taxel pitch in 0.2 s. In time from one pitch: decided "
+        f"within {doc['latency_s']:g} s of the phase's slip having reached one pitch (the "
+        "contact points' slip summed from its start); phases that slid less than a pitch in "
+        "all are counted apart.",
         "",
         "| engine | rate | kind | trials | faces and lines in time (found) | median latency "
         "| other slip found | false alarms (trials, per s) | identified / wrong / not "
@@ -64,7 +64,7 @@ def slip_markdown(doc: dict[str, Any]) -> str:
     ]
     lines += ["", "| rate | faces and lines in time | in time by the phase's speed: "
               + ", ".join(band_names) + " | faces and lines in time from one pitch "
-              "(footprint never moved a pitch: found) | rolls with a false alarm "
+              "(slid less than a pitch: found) | rolls with a false alarm "
               "| partial slip identified (without slip detection) | slides identified |",
               "| --- | --- | --- | --- | --- | --- | --- |"]  # fmt: skip
     for rate, o in doc["overall"].items():

@@ -29,11 +29,11 @@ Scoring
       end; *latency* is the decision time less the phase's start (0 if
       earlier); *in time* is a latency of at most :data:`LATENCY_S`.
     * Beside it (not the acceptance's figure): what the sensor can resolve.
-      A binary footprint changes when a taxel edge is crossed, and a slow
-      slide (3-5 mm/s) moves less than one pitch (1.76 mm) in 0.2 s. A
-      phase is *resolvable* when the body's true footprint centre moved one
-      pitch during it (:func:`footprint_pitch_s`); *in time from one pitch*
-      is a decision within :data:`LATENCY_S` of that moment.
+      A binary footprint changes where a taxel edge is crossed, and a slow
+      slide (3-5 mm/s) moves less than one pitch (1.76 mm) in 0.2 s. *In
+      time from one pitch* is a decision within :data:`LATENCY_S` of the
+      phase's slip having reached one pitch (:func:`pitch_reached_s`);
+      phases that slid less than a pitch in all are counted apart.
     * A detected slip matching no phase is a *false alarm*.
     * The verdict of each trial is also taken without slip detection
       (``TactemeConfig(slip=None)``, the table's sliding rows eliminating
@@ -63,7 +63,6 @@ from taxelkit.experiments.slip_result import (
     SlipTrial,
 )
 from taxelkit.experiments.work_units import run_units
-from taxelkit.motion.contact_truth import contact_state
 from taxelkit.motion.engines.registry import engines_to_run, scenarios_from_engine
 from taxelkit.motion.rolling import Scenario, frames_from_scenario
 from taxelkit.motion.slip_scenarios import make_partial_slip_scenario
@@ -78,7 +77,7 @@ __all__ = [
     "TRIAL_KINDS",
     "SlipResult",
     "SlipTrial",
-    "footprint_pitch_s",
+    "pitch_reached_s",
     "run_slip",
     "slip_phases",
 ]
@@ -115,26 +114,23 @@ def slip_phases(scenario: Scenario) -> list[tuple[int, int, str]]:
     return out
 
 
-def footprint_pitch_s(
+def pitch_reached_s(
     scenario: Scenario, phases: list[tuple[int, int, str]], pitch_mm: float
 ) -> list[float | None]:
-    """Time from each phase's start until its footprint moved one taxel pitch, s (None: never).
+    """Time from each phase's start until its slip reached one taxel pitch, s (None: never).
 
-    The footprint's centre is the mean of the body's points touching the
-    plate (:func:`~taxelkit.motion.contact_truth.contact_state`, ground truth,
-    for scoring only); a phase in which it stays within ``pitch_mm`` of where
-    it was at the phase's start (a wheel spinning in place, a face turning
-    about its centre) moves no taxel edge that a binary image could show.
+    The slip is that of the ground truth (:meth:`Scenario.slip_mm`, the
+    contact points' largest displacement per step, for scoring only), summed
+    from the phase's start. A binary footprint changes only where a taxel
+    edge is crossed; a phase that slid less than ``pitch_mm`` in all may
+    change none.
     """
-    state = contact_state(scenario.solid, scenario.rotations)
-    w = state.touching.astype(np.float64)
-    pts = state.relative_mm[..., :2] + scenario.centroids_mm[:, None, :2]
-    centre = (pts * w[..., None]).sum(axis=1) / np.maximum(w.sum(axis=1), 1.0)[:, None]
+    slid = np.nan_to_num(scenario.slip_mm(), nan=0.0)
     t = np.asarray(scenario.t_s)
     out: list[float | None] = []
     for a, b, _ in phases:
-        far = np.flatnonzero(np.hypot(*(centre[a : b + 1] - centre[a]).T) >= pitch_mm)
-        out.append(float(t[a + far[0]] - t[a]) if far.size else None)
+        far = np.flatnonzero(np.cumsum(slid[a:b]) >= pitch_mm)
+        out.append(float(t[a + far[0] + 1] - t[a]) if far.size else None)
     return out
 
 
@@ -201,7 +197,7 @@ def _trial(unit: _Unit, sc: Scenario, rate_hz: float, rng: np.random.Generator) 
         identified_without=without.identified,
         phases=tuple(phases),
         phase_speeds_mm_s=speeds,
-        pitch_s=tuple(footprint_pitch_s(sc, truth, BONNEVILLE_16X16.array.pitch_mm)),
+        pitch_s=tuple(pitch_reached_s(sc, truth, BONNEVILLE_16X16.array.pitch_mm)),
         false_alarms=false_alarms,
         contact_s=float(np.count_nonzero(sc.in_contact)) * dt,
     )

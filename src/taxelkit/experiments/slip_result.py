@@ -64,9 +64,9 @@ class SlipTrial:
     phase_speeds_mm_s : tuple of float
         Each phase's mean speed of the contact points along the plane, mm/s.
     pitch_s : tuple of (float or None)
-        Each phase's time from its start until the body's footprint moved
-        one taxel pitch, s (None: it never did;
-        :func:`~taxelkit.experiments.slip.footprint_pitch_s`).
+        Each phase's time from its start until its slip reached one taxel
+        pitch, s (None: it never did;
+        :func:`~taxelkit.experiments.slip.pitch_reached_s`).
     false_alarms : int
         Detected slips matching no phase.
     contact_s : float
@@ -122,11 +122,11 @@ def _by_speed(trials: Sequence[SlipTrial]) -> list[dict[str, Any]]:
 
 
 def _from_pitch(trials: Sequence[SlipTrial]) -> dict[str, Any]:
-    """Detectable phases whose footprint moved one pitch, in time from that moment.
+    """Detectable phases whose slip reached one pitch, in time from that moment.
 
-    A decision within :data:`LATENCY_S` of the footprint having moved one
-    pitch (or before it) is in time; phases whose footprint never moved a
-    pitch are counted apart (``unresolvable``, and how many were found).
+    A decision within :data:`LATENCY_S` of the slip having reached one
+    pitch (or before it) is in time; phases that slid less than a pitch are
+    counted apart (``unresolvable``, and how many were found).
     """
     rows = [
         (x, p)
