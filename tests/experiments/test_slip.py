@@ -6,7 +6,8 @@ import numpy as np
 
 from taxelkit.experiments.registry import get_experiment
 from taxelkit.experiments.report import render_block
-from taxelkit.experiments.slip import run_slip, score_trial, slip_phases
+from taxelkit.experiments.slip import pitch_reached_s, run_slip, score_trial, slip_phases
+from taxelkit.experiments.slip_result import SlipResult, SlipTrial
 from taxelkit.motion.scenarios import make_scenario
 from taxelkit.motion.slip_scenarios import make_partial_slip_scenario
 
@@ -49,3 +50,37 @@ def test_smoke_run_and_readme_block() -> None:
     block = render_block("slip", {"slip": doc})
     assert "| kinematic | 20 | partial | 6 |" in block and "Acceptance:" in block
     assert "below 4 mm/s, 4-5 mm/s, from 5 mm/s" in block
+    for o in doc["overall"].values():
+        p = o["detectable_from_pitch"]
+        assert p["phases"] + p["unresolvable"] == o["detectable"]["phases"]
+    assert "in time from one pitch" in block
+
+
+def test_pitch_reached_by_a_dragged_face() -> None:
+    """A face dragged at a constant speed has slid one pitch at pitch / speed."""
+    sc = make_partial_slip_scenario("cube", rng=1)
+    ((a, b, _),) = slip_phases(sc)
+    t = np.asarray(sc.t_s)
+    speed = float(np.nan_to_num(sc.slip_mm(), nan=0.0)[a:b].sum() / (t[b] - t[a]))
+    (p,) = pitch_reached_s(sc, [(a, b, "area")], 1.7625)
+    assert p is not None and abs(p - 1.7625 / speed) <= 0.051  # within a frame at 20 frames/s
+    assert pitch_reached_s(sc, [(a, b, "area")], 100.0) == [None]  # never 100 mm
+
+
+def test_in_time_from_one_pitch_counts_only_resolvable_phases() -> None:
+    def trial(phases: tuple, pitch_s: tuple) -> SlipTrial:
+        return SlipTrial(
+            "kinematic", "slide", "cube", 20.0, 0, None, "slid", None, phases,
+            (4.0,) * len(phases), 0, 1.0, pitch_s,
+        )  # fmt: skip
+
+    res = SlipResult(
+        (
+            trial((("area", 0.5), ("line", None)), (0.4, 0.3)),  # 0.1 s after a pitch: in time
+            trial((("area", 0.7), ("area", 0.1)), (0.4, None)),  # 0.3 s late; never a pitch
+        ),
+        ("kinematic",), 1, 0, {},
+    )  # fmt: skip
+    p = res.to_json()["overall"]["20"]["detectable_from_pitch"]
+    assert (p["phases"], p["detected"], p["in_time"]) == (3, 2, 1)
+    assert (p["unresolvable"], p["unresolvable_detected"]) == (1, 1)

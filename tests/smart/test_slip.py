@@ -202,3 +202,45 @@ def test_one_noisy_dip_does_not_restart_the_hold() -> None:
     assert b.detected_frame - a.detected_frame == 4  # the strict hold restarts after the dip
     with pytest.raises(ValueError, match="hold_fraction"):
         SlipConfig(hold_fraction=0.0)
+
+
+def _line_rows(rate_hz: float, *, slide_mm_s: float, turn_deg_s: float) -> np.ndarray:
+    """Rows of a line (half-length 8 mm) still for 1 s, then moving for 1 s.
+
+    Sliding: its centre moves along its axis at ``slide_mm_s``. Turning: it
+    turns about its end at ``(-8, 0)`` (a cone's apex) at ``turn_deg_s`` while
+    its drawn ends shift along it at ``slide_mm_s`` (the footprint of a cone
+    whose apex end fades in and out).
+    """
+    n = int(2 * rate_hz)
+    t = np.arange(n) / rate_hz
+    moving = np.clip(t - 1.0, 0.0, None)
+    angle = np.deg2rad(turn_deg_s * moving)
+    u = np.stack([np.cos(angle), np.sin(angle)], axis=-1)
+    apex = np.array([-8.0, 0.0])
+    centre = apex + (8.0 + slide_mm_s * moving)[:, None] * u
+    rows = np.zeros((n, 9))
+    rows[:, :2] = centre
+    rows[:, 2] = np.rad2deg(angle)
+    rows[:, 3], rows[:, 4], rows[:, 5] = 28.0, 5.0, 8.0
+    rows[:, 6], rows[:, 7], rows[:, 8] = -8.0, 8.0, t
+    return rows
+
+
+@pytest.mark.parametrize("rate_hz", [20.0, 100.0])
+def test_a_line_sliding_along_itself_slips_and_one_turning_about_its_end_does_not(
+    rate_hz: float,
+) -> None:
+    """The turn about an end (rolling of a cone) hides a shift along the line; a slide slips."""
+    line = int(ContactClass.LINE)
+    slide = _line_rows(rate_hz, slide_mm_s=5.0, turn_deg_s=0.0)
+    (slip,) = SlipScanner(line, SlipConfig(), k=2).extend(np.arange(slide.shape[0]), slide)
+    assert slip.kind == "line slides along itself"
+    assert 1.0 <= slip.detected_frame / rate_hz <= 1.4
+    cone = _line_rows(rate_hz, slide_mm_s=5.0, turn_deg_s=20.0)  # ends 0.7 mm across in 0.25 s
+    frames = np.arange(cone.shape[0])
+    assert SlipScanner(line, SlipConfig(), k=2).extend(frames, cone) == []
+    off = SlipConfig(line_across_mm=float("inf"))  # without the test it reads as sliding
+    assert SlipScanner(line, off, k=2).extend(frames, cone)
+    with pytest.raises(ValueError, match="line_across_mm"):
+        SlipConfig(line_across_mm=0.0)

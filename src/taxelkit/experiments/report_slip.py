@@ -12,6 +12,12 @@ def _pct(num: int, den: int) -> str:
     return f"{num}/{den} ({100.0 * num / den:.1f} %)" if den else "-"
 
 
+def _from_pitch(p: dict[str, Any] | None) -> str:
+    if p is None:
+        return "-"
+    return f"{_pct(p['in_time'], p['phases'])} ({p['unresolvable']}: {p['unresolvable_detected']})"
+
+
 def slip_markdown(doc: dict[str, Any]) -> str:
     """Detection of slip phases, false alarms on rolling, recognition under slip, per engine."""
     rates = " and ".join(f"{r:g}" for r in doc["rates_hz"])
@@ -23,7 +29,12 @@ def slip_markdown(doc: dict[str, Any]) -> str:
         f"faster than {doc['gt_slip_mm_s']:g} mm/s along the plate; *in time*: decided within "
         f"{doc['latency_s']:g} s of its start. Detectable kinds: a face (area) sliding and a line "
         "sliding along itself; a point skidding and an isotropic face spinning leave the "
-        "footprint a rolling body leaves, and are listed apart.",
+        "footprint a rolling body leaves, and are listed apart. *From one pitch* (beside the "
+        "acceptance's figure, not instead of it): what a binary footprint can resolve; a slow "
+        "slide moves it less than a taxel pitch in 0.2 s. In time from one pitch: decided "
+        f"within {doc['latency_s']:g} s of the phase's slip having reached one pitch (the "
+        "contact points' slip summed from its start); phases that slid less than a pitch in "
+        "all are counted apart.",
         "",
         "| engine | rate | kind | trials | faces and lines in time (found) | median latency "
         "| other slip found | false alarms (trials, per s) | identified / wrong / not "
@@ -52,15 +63,17 @@ def slip_markdown(doc: dict[str, Any]) -> str:
         for lo, hi in itertools.pairwise(edges)
     ]
     lines += ["", "| rate | faces and lines in time | in time by the phase's speed: "
-              + ", ".join(band_names) + " | rolls with a false alarm "
+              + ", ".join(band_names) + " | faces and lines in time from one pitch "
+              "(slid less than a pitch: found) | rolls with a false alarm "
               "| partial slip identified (without slip detection) | slides identified |",
-              "| --- | --- | --- | --- | --- | --- |"]  # fmt: skip
+              "| --- | --- | --- | --- | --- | --- | --- |"]  # fmt: skip
     for rate, o in doc["overall"].items():
         det, part, base = o["detectable"], o["partial"], o["partial_without_slip"]
         n_part = sum(part.values())
         by_speed = ", ".join(_pct(b["in_time"], b["phases"]) for b in o["detectable_by_speed"])
         lines.append(
             f"| {rate} frames/s | {_pct(det['in_time'], det['phases'])} | {by_speed} "
+            f"| {_from_pitch(o.get('detectable_from_pitch'))} "
             f"| {100 * o['roll_false_alarm_trial_rate']:.1f} % "
             f"| {_pct(part['identified'], n_part)} ({base['identified']}), "
             f"{part['wrong']} wrong | {o['sliding_identified']} |"

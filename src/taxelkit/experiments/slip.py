@@ -28,6 +28,12 @@ Scoring
       between :data:`EARLY_S` before its start and :data:`LATE_S` after its
       end; *latency* is the decision time less the phase's start (0 if
       earlier); *in time* is a latency of at most :data:`LATENCY_S`.
+    * Beside it (not the acceptance's figure): what the sensor can resolve.
+      A binary footprint changes where a taxel edge is crossed, and a slow
+      slide (3-5 mm/s) moves less than one pitch (1.76 mm) in 0.2 s. *In
+      time from one pitch* is a decision within :data:`LATENCY_S` of the
+      phase's slip having reached one pitch (:func:`pitch_reached_s`);
+      phases that slid less than a pitch in all are counted apart.
     * A detected slip matching no phase is a *false alarm*.
     * The verdict of each trial is also taken without slip detection
       (``TactemeConfig(slip=None)``, the table's sliding rows eliminating
@@ -71,6 +77,7 @@ __all__ = [
     "TRIAL_KINDS",
     "SlipResult",
     "SlipTrial",
+    "pitch_reached_s",
     "run_slip",
     "slip_phases",
 ]
@@ -104,6 +111,26 @@ def slip_phases(scenario: Scenario) -> list[tuple[int, int, str]]:
         if kind == "area" and labels.count("spinning") > len(labels) / 2:
             kind = "area spin"
         out.append((a, b, kind))
+    return out
+
+
+def pitch_reached_s(
+    scenario: Scenario, phases: list[tuple[int, int, str]], pitch_mm: float
+) -> list[float | None]:
+    """Time from each phase's start until its slip reached one taxel pitch, s (None: never).
+
+    The slip is that of the ground truth (:meth:`Scenario.slip_mm`, the
+    contact points' largest displacement per step, for scoring only), summed
+    from the phase's start. A binary footprint changes only where a taxel
+    edge is crossed; a phase that slid less than ``pitch_mm`` in all may
+    change none.
+    """
+    slid = np.nan_to_num(scenario.slip_mm(), nan=0.0)
+    t = np.asarray(scenario.t_s)
+    out: list[float | None] = []
+    for a, b, _ in phases:
+        far = np.flatnonzero(np.cumsum(slid[a:b]) >= pitch_mm)
+        out.append(float(t[a + far[0] + 1] - t[a]) if far.size else None)
     return out
 
 
@@ -170,6 +197,7 @@ def _trial(unit: _Unit, sc: Scenario, rate_hz: float, rng: np.random.Generator) 
         identified_without=without.identified,
         phases=tuple(phases),
         phase_speeds_mm_s=speeds,
+        pitch_s=tuple(pitch_reached_s(sc, truth, BONNEVILLE_16X16.array.pitch_mm)),
         false_alarms=false_alarms,
         contact_s=float(np.count_nonzero(sc.in_contact)) * dt,
     )

@@ -63,6 +63,10 @@ class SlipTrial:
         Every ground-truth phase and its detection latency (None: missed).
     phase_speeds_mm_s : tuple of float
         Each phase's mean speed of the contact points along the plane, mm/s.
+    pitch_s : tuple of (float or None)
+        Each phase's time from its start until its slip reached one taxel
+        pitch, s (None: it never did;
+        :func:`~taxelkit.experiments.slip.pitch_reached_s`).
     false_alarms : int
         Detected slips matching no phase.
     contact_s : float
@@ -81,6 +85,7 @@ class SlipTrial:
     phase_speeds_mm_s: tuple[float, ...]
     false_alarms: int
     contact_s: float
+    pitch_s: tuple[float | None, ...] = ()
 
 
 #: Slip kinds a binary footprint can show (see :mod:`taxelkit.smart.slip`).
@@ -114,6 +119,31 @@ def _by_speed(trials: Sequence[SlipTrial]) -> list[dict[str, Any]]:
         in_time = sum(x is not None and x <= LATENCY_S + 1e-9 for x in lat)
         out.append({"from_mm_s": lo, "phases": len(lat), "in_time": in_time})
     return out
+
+
+def _from_pitch(trials: Sequence[SlipTrial]) -> dict[str, Any]:
+    """Detectable phases whose slip reached one pitch, in time from that moment.
+
+    A decision within :data:`LATENCY_S` of the slip having reached one
+    pitch (or before it) is in time; phases that slid less than a pitch are
+    counted apart (``unresolvable``, and how many were found).
+    """
+    rows = [
+        (x, p)
+        for t in trials
+        for (k, x), p in zip(t.phases, t.pitch_s or (None,) * len(t.phases), strict=True)
+        if k in DETECTABLE
+    ]
+    resolvable = [(x, p) for x, p in rows if p is not None]
+    in_time = sum(x is not None and x - p <= LATENCY_S + 1e-9 for x, p in resolvable)
+    return {
+        "phases": len(resolvable),
+        "detected": sum(x is not None for x, _ in resolvable),
+        "in_time": in_time,
+        "in_time_rate": in_time / len(resolvable) if resolvable else float("nan"),
+        "unresolvable": len(rows) - len(resolvable),
+        "unresolvable_detected": sum(x is not None for x, p in rows if p is None),
+    }
 
 
 def _verdicts(trials: Sequence[SlipTrial], *, without: bool = False) -> dict[str, int]:
@@ -206,6 +236,7 @@ class SlipResult:
                 "detectable": _phase_stats(slipping, DETECTABLE),
                 "all_kinds": _phase_stats(slipping, None),
                 "detectable_by_speed": _by_speed(slipping),
+                "detectable_from_pitch": _from_pitch(slipping),
                 "roll_false_alarm_trial_rate": fa,
                 "roll_false_alarms_per_s": sum(t.false_alarms for t in rolling)
                 / max(1e-9, sum(t.contact_s for t in rolling)),
@@ -246,8 +277,13 @@ class SlipResult:
                     "reason": t.reason,
                     "identified_without_slip": t.identified_without,
                     "phases": [
-                        {"kind": k, "latency_s": x, "speed_mm_s": round(v, 3)}
-                        for (k, x), v in zip(t.phases, t.phase_speeds_mm_s, strict=True)
+                        {"kind": k, "latency_s": x, "speed_mm_s": round(v, 3), "pitch_s": p}
+                        for (k, x), v, p in zip(
+                            t.phases,
+                            t.phase_speeds_mm_s,
+                            t.pitch_s or (None,) * len(t.phases),
+                            strict=True,
+                        )
                     ],
                     "false_alarms": t.false_alarms,
                 }

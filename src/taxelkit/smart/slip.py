@@ -15,7 +15,11 @@ area (a face)
 line (an edge or a generator)
     A rolling line moves across itself (a cylinder), or turns about a point
     at or beyond its end (a cone, a truncated cone); it never moves along
-    itself. The motion is how far its two drawn ends moved along it.
+    itself. The motion is how far its two drawn ends moved along it, judged
+    only while the line stays on its own line (its ends moved across it by
+    at most ``line_across_mm``): a line that turns or moves across rolls,
+    and a shift of its drawn ends along it then is the footprint of a body
+    tipping (a cone's apex end fading in and out), not slip.
 point
     Nothing: a sphere rolling and a sphere skidding leave the same footprint,
     as do a vertex dragged and a rim rolling. Slip of a point contact cannot
@@ -51,7 +55,12 @@ its footprint a column at a time); the slip is dated to end ``1.5 end_s``
 earlier. The reference then
 restarts after the slip. A relative change of the mean area above
 ``area_step`` between the windows (placing, lifting, tipping) restarts the
-reference and decides nothing (and ends a slip going on). The windows'
+reference and decides nothing (and ends a slip going on); so does, for a
+face, a spread of the current window's areas (their standard deviation)
+above ``area_step`` of the reference's area: a face starting to tip away
+loses a third of its area in a frame, which the window's mean halves (seed
+3, 20 frames/s: rolls with a false alarm 15 to 12 of 360, no slip decided
+later; seed 0: 16 to 15). The windows'
 means come from the rows themselves, so a frame's decision does not depend
 on how the segment was chunked
 (:class:`~taxelkit.smart.slip_scan.SlipScanner` is fed by the batch and
@@ -69,9 +78,9 @@ frames/s it decides as before (2 frames, both above). A check that every
 frame of the current window keeps the reference's area (a face starting
 to tip loses a third of it in one frame, which the window's mean hides)
 cut false alarms at 100 frames/s (seed 777: 5 of 72 rolls to 3 with a
-hold of 0.05 s) but cost a slip in time at 20 frames/s (19 of 71 to 18)
-and changes decisions at 20 frames/s; it is left out, so that 20
-frames/s decides exactly as before. The
+hold of 0.05 s) but cost a slip in time at 20 frames/s (19 of 71 to 18);
+the spread of the current window's areas (above) replaced it later, a
+linear window statistic like the others that cost no slip in time. The
 current window of 0.05 s
 is 2 frames (0.1 s) at 20 frames/s, 5 at 100 (a window of 0.1 s at 100
 frames/s decided later at the same false alarms).
@@ -96,7 +105,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from taxelkit.errors import check_positive
+from taxelkit.errors import InputError, check_positive
 from taxelkit.smart.contact_classes import ContactClass
 
 __all__ = ["DEFAULT_SLIP", "SLIP_KINDS", "Slip", "SlipConfig", "slip_to_json"]
@@ -126,7 +135,28 @@ class SlipConfig:
         less than 0.38 mm in 99 % of frames at 20 frames/s).
     line_slip_mm : float
         The same for a line's two ends, mm (a rolling line's drawn ends
-        jitter by about half a pitch as it crosses the rows).
+        jitter by about half a pitch as it crosses the rows). 0.6 with
+        ``line_across_mm`` (0.8 before it): see there.
+    line_across_mm : float
+        A line is judged only while it stays on its own line: its ends moved
+        across it (its centre's shift across the mean axis plus its turn
+        times its half-length) by at most this much between the windows, mm.
+        A rolling line moves across itself (a cylinder) or turns about a
+        point at or beyond its end (a cone, a truncated cone); a line sliding
+        along itself does neither. A MuJoCo cone's line, turning about its
+        apex in jerks, shifts its drawn ends along it by up to a pitch at
+        once (its apex end fading in and out, the body tipping onto its next
+        facet); those read as sliding without this test. About a seventh of
+        a pitch: the window means' axes of a line sliding along itself
+        turned by 0.6 deg at the median, 2.1 deg at the 90th percentile (its
+        ends by 0.09 and 0.28 mm). Set on seed 3 with ``line_slip_mm``
+        (kinematic lines sliding along themselves found at 20 frames/s,
+        rolls with a false alarm at 20 and 100 frames/s, of 73 and 360):
+        without the test and 0.8 mm, 63 and 30, 19; without it and 0.6 mm,
+        70 and 44, 33; with 0.25 mm and 0.6 mm, 59 and 15, 7; with 0.2 mm,
+        52 and 14, 5. It costs lines that roll and slide at once (a cylinder
+        sliding along its axis straight after rolling is judged once its
+        reference has stopped rolling). ``math.inf`` switches it off.
     still_mm : float
         A slip ends when the footprint moved less than this between two
         windows of ``end_s``, mm (a slide at 3 mm/s moves 1.8 mm in 0.6 s).
@@ -157,7 +187,8 @@ class SlipConfig:
     """
 
     slip_mm: float = 0.35
-    line_slip_mm: float = 0.8
+    line_slip_mm: float = 0.6
+    line_across_mm: float = 0.25
     still_mm: float = 0.5
     current_s: float = 0.05
     reference_s: float = 0.3
@@ -180,6 +211,8 @@ class SlipConfig:
         ):
             check_positive(name, getattr(self, name))
         check_positive("hold_s", self.hold_s, allow_zero=True)
+        if not self.line_across_mm > 0.0:  # math.inf: the test switched off
+            raise InputError(f"line_across_mm must be > 0, got {self.line_across_mm!r}")
         if not 0.0 < self.hold_fraction <= 1.0:
             raise ValueError(f"hold_fraction must be in (0, 1], got {self.hold_fraction!r}")
 

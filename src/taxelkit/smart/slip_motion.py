@@ -22,6 +22,8 @@ randomised segments, ties included).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -178,6 +180,7 @@ def exact_means(x: NDArray[np.float64], starts: NDArray[np.intp], w: int) -> NDA
 # Feature columns (those of :class:`~taxelkit.smart.slip_scan.SlipScanner.features`).
 _CX, _CY, _AREA, _C2, _S2, _HALF, _ELONG = range(7)
 _END1, _END2, _COV = slice(7, 9), slice(9, 11), slice(11, 14)
+_AREA2 = 14
 
 #: Columns of a line's two ends (NaN where not measured).
 ENDS = slice(7, 11)
@@ -189,20 +192,36 @@ def _axis_rad(c2: NDArray[np.float64], s2: NDArray[np.float64]) -> NDArray[np.fl
 
 
 def _line_motion(
-    ref: NDArray[np.float64], cur: NDArray[np.float64], unsure: NDArray[np.bool_]
+    ref: NDArray[np.float64],
+    cur: NDArray[np.float64],
+    unsure: NDArray[np.bool_],
+    across_mm: float,
+    tol: float,
 ) -> NDArray[np.float64]:
-    """A line's two ends along the bisector of the axes, mm (both must move the same way)."""
+    """A line's two ends along the bisector of the axes, mm (both must move the same way).
+
+    0 where its ends moved across it by more than ``across_mm`` (its shift
+    across plus its turn times its half-length: a line that rolls).
+    """
     c2, s2 = ref[:, _C2] + cur[:, _C2], ref[:, _S2] + cur[:, _S2]
     unsure |= np.hypot(c2, s2) < AXIS_MIN_NORM
+    for v in (ref, cur):
+        unsure |= np.hypot(v[:, _C2], v[:, _S2]) < AXIS_MIN_NORM
     th = _axis_rad(c2, s2)
     ax, ay = np.cos(th), np.sin(th)
+    th_ref, th_cur = _axis_rad(ref[:, _C2], ref[:, _S2]), _axis_rad(cur[:, _C2], cur[:, _S2])
+    turn = np.abs(np.mod(th_cur - th_ref + 0.5 * np.pi, np.pi) - 0.5 * np.pi)
+    shift_x, shift_y = cur[:, _CX] - ref[:, _CX], cur[:, _CY] - ref[:, _CY]
+    across = np.abs(shift_y * ax - shift_x * ay) + turn * ref[:, _HALF]
+    unsure |= np.abs(across - across_mm) <= tol
+    rolls = across > across_mm
     e1, e2 = cur[:, _END1] - ref[:, _END1], cur[:, _END2] - ref[:, _END2]
     d1, d2 = e1[:, 0] * ax + e1[:, 1] * ay, e2[:, 0] * ax + e2[:, 1] * ay
     both = np.where(d1 * d2 > 0.0, np.minimum(np.abs(d1), np.abs(d2)), 0.0)
     # ends not measured (NaN as in the row-by-row means): the centre less the change of length
     dx, dy = cur[:, _CX] - ref[:, _CX], cur[:, _CY] - ref[:, _CY]
     centre = np.abs(dx * ax + dy * ay) - np.abs(cur[:, _HALF] - ref[:, _HALF])
-    out: NDArray[np.float64] = np.where(np.isnan(d1 + d2), centre, both)
+    out: NDArray[np.float64] = np.where(rolls, 0.0, np.where(np.isnan(d1 + d2), centre, both))
     return out
 
 
@@ -245,6 +264,7 @@ def motions_mm(
     min_elongation: float,
     limit_mm: float,
     bound: float,
+    line_across_mm: float = math.inf,
 ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """The per-frame rule's motion for rows of mean features, and where it may differ.
 
@@ -256,6 +276,9 @@ def motions_mm(
         The measure of a line (else of a face).
     area_step, min_elongation : float
         As :class:`~taxelkit.smart.slip.SlipConfig`.
+    line_across_mm : float
+        As :class:`~taxelkit.smart.slip.SlipConfig` (a line only; default:
+        no limit).
     limit_mm : float
         The limit the motion is compared with, mm.
     bound : float
@@ -264,7 +287,8 @@ def motions_mm(
     Returns
     -------
     motion : (n,) float, mm
-        NaN where the mean area changed by more than ``area_step``.
+        NaN where the mean area changed by more than ``area_step`` or (a
+        face) the current window's areas spread by more than that.
     unsure : (n,) bool
         Frames whose decision (NaN, above ``limit_mm``) may differ from the
         per-frame rule's: recompute them with it.
@@ -278,9 +302,15 @@ def motions_mm(
         unsure |= np.abs(dev - area_step) <= tol * (1.0 + np.abs(ratio)) / np.abs(a_ref)
         changed = ~(a_ref > 0) | (dev > area_step)
         if line:
-            motion = _line_motion(ref, cur, unsure)
+            motion = _line_motion(ref, cur, unsure, line_across_mm, tol)
         else:
             motion = _face_motion(ref, cur, unsure, min_elongation, tol)
+            # the areas of the current window spread (their variance) beyond area_step
+            spread = cur[:, _AREA2] - a_cur * a_cur
+            limit2 = (area_step * a_ref) ** 2
+            scale = 1.0 + 2.0 * np.abs(a_cur) + 2.0 * area_step * area_step * np.abs(a_ref)
+            unsure |= ~changed & (np.abs(spread - limit2) <= tol * scale)
+            changed |= spread > limit2
     unsure |= ~changed & (np.abs(motion - limit_mm) <= tol)
     out: NDArray[np.float64] = np.where(changed, np.nan, motion)
     return out, unsure

@@ -29,7 +29,8 @@ _PIECE = 512
 _CX, _CY, _AREA_COL, _C2, _S2, _HALF, _ELONG = range(7)
 _END1, _END2 = slice(7, 9), slice(9, 11)  # a line's two ends, x y (mm), in a consistent order
 _COV = slice(11, 14)  # second central moments xx, yy, xy, mm^2
-_N_FEATURES = 14
+_AREA2 = 14  # the area squared, mm^4 (a window's mean gives the spread of its areas)
+_N_FEATURES = 15
 
 
 class SlipScanner:
@@ -104,12 +105,12 @@ class SlipScanner:
         self._ready = True
 
     def features(self, rows: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Per-frame features ``(m, 14)`` from rows ``(m, 9)`` (segment_scan's ``ROW_COLUMNS``).
+        """Per-frame features ``(m, 15)`` from rows ``(m, 9)`` (segment_scan's ``ROW_COLUMNS``).
 
         Centre, area, doubled-angle axis, half-length, elongation, a line's
         two ends (its drawn extent along its axis, the axis oriented like the
-        previous frame's so that the ends keep their order) and a face's
-        second central moments. The vectorised scan leaves the columns its
+        previous frame's so that the ends keep their order), a face's
+        second central moments and the area squared. The vectorised scan leaves the columns its
         class does not read at 0 (a face's ends, a line's moments).
         """
         m = rows.shape[0]
@@ -119,6 +120,7 @@ class SlipScanner:
         out[:, _CX], out[:, _CY], out[:, _AREA_COL] = rows[:, 0], rows[:, 1], rows[:, 3]
         out[:, _C2], out[:, _S2] = np.cos(t2), np.sin(t2)
         out[:, _HALF], out[:, _ELONG] = rows[:, 5], rows[:, 4]
+        out[:, _AREA2] = rows[:, 3] * rows[:, 3]
         line = self.cls == _LINE
         if line or self.reference:
             u = np.stack([np.cos(theta), np.sin(theta)], axis=-1)
@@ -147,9 +149,11 @@ class SlipScanner:
 
     # -- the motion measure --------------------------------------------------------------------
     def motion_mm(self, ref: NDArray[np.float64], cur: NDArray[np.float64]) -> float:
-        """How far the footprint moved from mean features ``ref`` to ``cur`` ``(7,)``, mm.
+        """How far the footprint moved from mean features ``ref`` to ``cur`` ``(15,)``, mm.
 
-        NaN when the area changed by more than ``area_step`` (no decision).
+        NaN when the mean area changed by more than ``area_step`` of the
+        reference's, or (a face) when the areas of the current window spread
+        by more than that (standard deviation): no decision.
         """
         cfg = self.config
         a_ref, a_cur = float(ref[_AREA_COL]), float(cur[_AREA_COL])
@@ -160,11 +164,20 @@ class SlipScanner:
             c2, s2 = float(ref[_C2] + cur[_C2]), float(ref[_S2] + cur[_S2])
             th = 0.5 * math.atan2(s2, c2)
             ax, ay = math.cos(th), math.sin(th)
+            th_ref = 0.5 * math.atan2(float(ref[_S2]), float(ref[_C2]))
+            th_cur = 0.5 * math.atan2(float(cur[_S2]), float(cur[_C2]))
+            turn = abs((th_cur - th_ref + 0.5 * math.pi) % math.pi - 0.5 * math.pi)
+            across = abs(dy * ax - dx * ay) + turn * float(ref[_HALF])
+            if across > cfg.line_across_mm:  # the line turned or moved across: it rolls
+                return 0.0
             e1, e2 = cur[_END1] - ref[_END1], cur[_END2] - ref[_END2]
             d1, d2 = float(e1[0] * ax + e1[1] * ay), float(e2[0] * ax + e2[1] * ay)
             if math.isnan(d1 + d2):  # ends not measured: the centre less the change of length
                 return abs(dx * ax + dy * ay) - abs(float(cur[_HALF] - ref[_HALF]))
             return min(abs(d1), abs(d2)) if d1 * d2 > 0.0 else 0.0  # both ends, the same way
+        spread = float(cur[_AREA2]) - a_cur * a_cur  # the current window's areas: a face tipping
+        if spread > (cfg.area_step * a_ref) ** 2:
+            return math.nan
         # both sides of the footprint must move: one that grows or shrinks on one side
         # moves its centre by half the change of its length along the motion
         moved = math.hypot(dx, dy)
@@ -287,6 +300,7 @@ class SlipScanner:
                 min_elongation=cfg.min_elongation,
                 limit_mm=limit,
                 bound=sums.error_bound(min(wa, wb)),
+                line_across_mm=cfg.line_across_mm,
             )
             changed[k0 : k0 + m], above[k0 : k0 + m] = np.isnan(motion), motion > limit
             redo = np.flatnonzero(unsure | bad_a | bad_b) + k0
