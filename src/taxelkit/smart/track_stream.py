@@ -435,5 +435,6 @@ def mean_axis_deg(theta_deg: NDArray[np.float64]) -> float:
     if theta_deg.size == 0:
         return float("nan")
     t = np.deg2rad(2.0 * theta_deg)
-    s = np.cumsum(np.stack([np.cos(t), np.sin(t)], axis=-1), axis=0)[-1]
-    return float(0.5 * np.rad2deg(np.arctan2(s[1], s[0])))
+    # each column summed in order, as np.cumsum of the stacked vectors along axis 0
+    sx, sy = np.cumsum(np.cos(t))[-1], np.cumsum(np.sin(t))[-1]
+    return float(0.5 * np.rad2deg(np.arctan2(sy, sx)))
