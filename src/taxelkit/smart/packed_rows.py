@@ -109,11 +109,7 @@ def pack_rows(images: NDArray[np.bool_]) -> NDArray[Any]:
     n, rows, cols = images.shape
     if not 1 <= cols <= MAX_TABLE_COLS:
         raise InputError(f"images must have 1 to {MAX_TABLE_COLS} columns, got {cols}")
-    if cols % 8 == 0:  # whole bytes: the flat array packed at once (several times faster)
-        flat = np.ascontiguousarray(images).reshape(-1)
-        packed = np.packbits(flat, bitorder="little").reshape(n, rows, cols // 8)
-    else:
-        packed = np.packbits(images, axis=2, bitorder="little")  # (n, rows, 1 or 2) bytes
+    packed = np.packbits(images, axis=2, bitorder="little")  # (n, rows, 1 or 2) bytes
     if cols <= 8:
         return packed.reshape(n, rows)
     out: NDArray[Any] = np.ascontiguousarray(packed).view("<u2").reshape(n, rows)
