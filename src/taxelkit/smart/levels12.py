@@ -25,7 +25,7 @@ from taxelkit.smart.contact_classes import (
 )
 from taxelkit.smart.contact_limits import ContactLimits, _length_thresholds
 from taxelkit.smart.moments import ImageStats, image_stats
-from taxelkit.smart.packed_rows import line_extents_of_images
+from taxelkit.smart.track_geometry import line_extents
 
 __all__ = [
     "DEFAULT_CLEANING",
@@ -155,7 +155,7 @@ class ChunkLevels12:
         out[:, 8] = np.asarray(t_s, dtype=np.float64)[sel].reshape(-1)
         lines = np.flatnonzero(cls == ContactClass.LINE)
         if lines.size:
-            out[lines, 6:8] = line_extents_of_images(
+            out[lines, 6:8] = line_extents(
                 flat[lines], stats.centre_mm[lines], stats.orientation_deg[lines], self.pitch_mm
             )
         return cls.reshape(m, t), out.reshape(m, t, 9)
