@@ -12,6 +12,7 @@ and close inside one chunk.
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 
 import numpy as np
@@ -31,9 +32,14 @@ from taxelkit.smart.tacteme_table import OBJECTS
 RATE_HZ = 240.0
 
 
-def _roll(name: str, seed: int, faulty: bool) -> TactileFrames:
+@functools.lru_cache(maxsize=16)
+def _simulated(name: str, seed: int) -> TactileFrames:
     sc = scenario_from_engine("kinematic", name, rng=seed, rate_hz=RATE_HZ)
-    rec = frames_from_scenario(BONNEVILLE_16X16, sc, rng=seed)
+    return frames_from_scenario(BONNEVILLE_16X16, sc, rng=seed)
+
+
+def _roll(name: str, seed: int, faulty: bool) -> TactileFrames:
+    rec = _simulated(name, seed)
     if faulty:
         return fault_model("all").apply(rec, threshold=0.03, rng=seed)
     contact = BONNEVILLE_16X16.contact_from_displacement(rec.frames)
@@ -94,3 +100,29 @@ def test_six_rolls_in_one_recording_agree_in_large_chunks(faulty: bool, tmp_path
         np.concatenate(frames), np.concatenate(times), pitch_mm=first.pitch_mm, units=first.units
     )
     _check_all_paths(rec, tmp_path, (3001, rec.n_frames))
+
+
+def test_segments_ended_within_a_chunk_skip_the_incremental_scanner(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    import taxelkit.smart.stream_state as stream_state
+
+    made: list[int] = []
+
+    class Counted(stream_state.SegmentScanner):
+        def __init__(self, *args: object, **kwargs: object) -> None:
+            made.append(1)
+            super().__init__(*args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(stream_state, "SegmentScanner", Counted)
+    rec = _roll("cube", 7, False)
+    whole = ChunkRecogniser(rec.shape[1:], pitch_mm=rec.pitch_mm)
+    whole.push(rec.frames, rec.t_s)
+    contacts = sum(e.kind == "contact" for e in whole.result().events)
+    assert contacts >= 3 and len(made) <= 1  # at most the segment still open at the end
+    made.clear()
+    pieces = ChunkRecogniser(rec.shape[1:], pitch_mm=rec.pitch_mm)
+    for a in range(0, rec.n_frames, 50):
+        pieces.push(rec.frames[a : a + 50], rec.t_s[a : a + 50])
+    assert len(made) > 1  # segments across chunks go through the scanner
+    assert pieces.result().events == whole.result().events
