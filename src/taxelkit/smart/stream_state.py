@@ -394,7 +394,12 @@ class ArrayStream:
         if d is None:
             return
         seg = SegmentScanner(d.cls, self.config, self.pitch_mm)
-        seg.extend(np.concatenate(d.first_j), np.concatenate(d.first_rows))
+        first_j, first_rows = d.first_j, d.first_rows
+        if self.chunk_every == 1:  # the chunk's later frames too: one feed, not two
+            first_j = [*first_j, *(j for j, _ in d.later)]
+            first_rows = [*first_rows, *(r for _, r in d.later)]
+            d.later = []
+        seg.extend(np.concatenate(first_j), np.concatenate(first_rows))
         self._seg = seg
         self._pend_chunks = d.later
         self.state.open_run(d.cls, d.accept, seg)
