@@ -44,6 +44,8 @@ DEFAULT_THRESHOLD_MM = 0.03
 DEFAULT_CLEANING = CleaningConfig()
 #: Level 2 limits in mm and taxels used unless switched off (``limits=None``).
 DEFAULT_LIMITS = ContactLimits()
+#: Shortest slice along time of a long chunk (a slice costs a few NumPy calls per group).
+_MIN_SLICE_FRAMES = 4096
 
 
 def _schmitt_rows(
@@ -226,7 +228,30 @@ class ChunkLevels12:
     def _process(
         self, images: NDArray[np.bool_], t_s: NDArray[np.float64], *, time_major: bool
     ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
-        """Levels 1-2 of images ``(N, T, rows, cols)`` (or ``(T, N, ...)``), a group at a time."""
+        """Levels 1-2 of images ``(N, T, rows, cols)`` (or ``(T, N, ...)``), a slice at a time.
+
+        A long chunk is cut along time into slices of about :data:`GROUP_FRAMES`
+        frames of all arrays together (the state carried across them as
+        across chunks: the same result), so that the temporaries stay in the cache.
+        """
+        t = images.shape[0] if time_major else images.shape[1]
+        step = max(_MIN_SLICE_FRAMES, GROUP_FRAMES // max(self.n, 1))
+        if t <= 2 * step:
+            return self._process_slice(images, t_s, time_major=time_major)
+        classes = np.empty((self.n, t), dtype=np.int8)
+        rows = np.empty((self.n, t, 9))
+        for a in range(0, t, step):
+            b = min(t, a + step)
+            part = images[a:b] if time_major else images[:, a:b]
+            classes[:, a:b], rows[:, a:b] = self._process_slice(
+                part, t_s[:, a:b], time_major=time_major
+            )
+        return classes, rows
+
+    def _process_slice(
+        self, images: NDArray[np.bool_], t_s: NDArray[np.float64], *, time_major: bool
+    ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
+        """Levels 1-2 of one slice of frames, a group of arrays at a time."""
         n = self.n
         t = images.shape[0] if time_major else images.shape[1]
         classes = np.zeros((n, t), dtype=np.int8)  # NONE

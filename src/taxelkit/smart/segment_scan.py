@@ -120,7 +120,7 @@ class SegmentScanner:
         self._head_len: list[float] = []
         self._head_cap: int | None = None
         self._dt: dict[int, float] = {}  # frame interval of the first frames, per k
-        self._early: list[tuple[NDArray[np.intp], NDArray[np.float64]]] = []
+        self._early: list[tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.float64]]] = []
         self._axis_sum = RunningSum(2)
         self._ready = False
         self._slip = (
@@ -198,23 +198,24 @@ class SegmentScanner:
         self.last_frame = int(frames[-1])
         if self._slip is not None:
             self._slip.extend(frames, rows)
-        t2 = np.deg2rad(2.0 * rows[:, 2])
-        self._axis_sum.push(np.stack([np.cos(t2), np.sin(t2)], axis=-1))
+        axes = axis_vectors(rows[:, 2])  # (m, 2): for the mean axis and the smoothing
+        self._axis_sum.push(axes)
         cap = self._head_cap
         # before the rate is fixed, only the frames that fix it (then the cap is known)
         self._keep_head(frames, rows, max(2, self.k) if cap is None else cap, 0)
         self.size += m
         if not self._ready:
-            self._early.append((frames, rows))
+            self._early.append((frames, rows, axes))
             if self.size < max(2, self.k):
                 return []
             self._start()
-            frames = np.concatenate([f for f, _ in self._early])
-            rows = np.concatenate([r for _, r in self._early])
+            frames = np.concatenate([f for f, _, _ in self._early])
+            rows = np.concatenate([r for _, r, _ in self._early])
+            axes = np.concatenate([a for _, _, a in self._early])
             self._early = []
             assert self._head_cap is not None
             self._keep_head(frames, rows, self._head_cap, len(self._head_frames))
-        return self._scan(frames, rows, self.size - frames.size)
+        return self._scan(frames, rows, axes, self.size - frames.size)
 
     def _keep_head(
         self, frames: NDArray[np.intp], rows: NDArray[np.float64], cap: int, offset: int
@@ -332,13 +333,17 @@ class SegmentScanner:
         return out
 
     def _scan(
-        self, frames: NDArray[np.intp], rows: NDArray[np.float64], n0: int
+        self,
+        frames: NDArray[np.intp],
+        rows: NDArray[np.float64],
+        axes: NDArray[np.float64],
+        n0: int,
     ) -> list[tuple[Tacteme, int]]:
         cfg, w, cls = self.config, self.w, self.cls
         j = n0 + np.arange(frames.size)
         raw = np.empty((rows.shape[0], 7))
         raw[:, 0:2] = rows[:, 0:2]
-        raw[:, 2:4] = axis_vectors(rows[:, 2])
+        raw[:, 2:4] = axes
         raw[:, 4:7] = rows[:, 3:6]
         smooth = self._smooth.push(raw)  # column by column: the batch's rolling means
         centre = smooth[:, 0:2]

@@ -18,6 +18,7 @@ import bisect
 import copy
 import itertools
 from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, field
 from typing import Any, overload
 
 import numpy as np
@@ -26,9 +27,9 @@ from numpy.typing import ArrayLike, NDArray
 from taxelkit.errors import InputError
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Event
-from taxelkit.smart.levels34 import Levels34, Recognition, finish
+from taxelkit.smart.levels34 import Levels34, Recognition, TrackSegment, finish
 from taxelkit.smart.segment_scan import SegmentScanner
-from taxelkit.smart.tactemes import TactemeConfig, debounce_counts
+from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, debounce_counts
 
 __all__ = ["ArrayStream", "ClassHistory", "check_chunk"]
 
@@ -148,6 +149,17 @@ class ClassHistory(Sequence[int]):
         return a if dtype is None else a.astype(dtype)
 
 
+@dataclass
+class _Deferred:
+    """A segment accepted within a chunk: its class, accepting frame and frames so far."""
+
+    cls: int
+    accept: int
+    first_j: list[NDArray[np.intp]]  # the candidate's frames (a scanner's first feed)
+    first_rows: list[NDArray[np.float64]]
+    later: list[tuple[NDArray[np.intp], NDArray[np.float64]]] = field(default_factory=list)
+
+
 class ArrayStream:
     """Debounce and Levels 3-4 of one array's stream.
 
@@ -189,6 +201,9 @@ class ArrayStream:
         self._pend_chunks: list[tuple[NDArray[np.intp], NDArray[np.float64]]] = []
         self._t_first: float | None = None
         self._dt: float | None = None
+        # within push_chunk: a segment accepted in this chunk, not yet shown to Levels 3-4
+        self._defer = False
+        self._deferred: _Deferred | None = None
 
     @property
     def idle(self) -> bool:
@@ -256,13 +271,34 @@ class ArrayStream:
         cut = np.flatnonzero(np.diff(c)) + 1
         bounds = np.concatenate([[0], cut, [c.size]]).tolist()
         k_contact, k_none = debounce_counts(self.config, self._dt)
+        self._defer = True
+        try:
+            self._runs(c, idx, bounds, rows, j0, k_contact, k_none)
+        finally:
+            self._defer = False
+            self._undefer()
+        if sum(j.size for j, _ in self._pend_chunks) >= self.chunk_every:
+            self._feed(final=False)
+        return self.state.events[before:]
+
+    def _runs(
+        self,
+        c: NDArray[np.int8],
+        idx: NDArray[np.intp],
+        bounds: list[int],
+        rows: NDArray[np.float64],
+        j0: int,
+        k_contact: int,
+        k_none: int,
+    ) -> None:
+        """The debounce over a chunk's runs of equal classes ``c`` (frames ``idx``)."""
         for s, e in itertools.pairwise(bounds):  # one step per run
             cls = int(c[s])
             sel = idx[s:e]
             if cls == self._accepted:
                 self._drop_candidate()
                 if cls != _NONE:
-                    self._pend_chunks.append((j0 + sel, rows[sel]))
+                    self._pend(j0 + sel, rows[sel])
                 continue
             if cls != self._cand:
                 self._drop_candidate()
@@ -279,10 +315,14 @@ class ArrayStream:
                 continue
             self._accept(cls, j0 + int(sel[need - 1]))
             if take.size == need and rest.size and cls != _NONE:
-                self._pend_chunks.append((j0 + rest, rows[rest]))
-        if sum(j.size for j, _ in self._pend_chunks) >= self.chunk_every:
-            self._feed(final=False)
-        return self.state.events[before:]
+                self._pend(j0 + rest, rows[rest])
+
+    def _pend(self, j: NDArray[np.intp], rows: NDArray[np.float64]) -> None:
+        """Frames of the open segment, waiting for its scanner (or, deferred, for its end)."""
+        if self._deferred is not None:
+            self._deferred.later.append((j, rows))
+        else:
+            self._pend_chunks.append((j, rows))
 
     def look(self) -> list[Event]:
         """Feed the open segment what it has waiting; the events caused."""
@@ -307,7 +347,13 @@ class ArrayStream:
 
     def _accept(self, cls: int, j: int) -> None:
         self._feed(final=True)  # the open segment ends: its last motion tactemes first
+        self._close_deferred()
         self._accepted = cls
+        if cls != _NONE and self._defer:  # it may end within this chunk: wait and see
+            self._deferred = _Deferred(cls, j, self._cand_j, self._cand_rows)
+            self._seg = None
+            self._drop_candidate()
+            return
         seg = None
         if cls != _NONE:
             seg = SegmentScanner(cls, self.config, self.pitch_mm)
@@ -315,6 +361,48 @@ class ArrayStream:
         self._seg = seg
         self._drop_candidate()
         self.state.open_run(cls, j, seg)
+
+    def _close_deferred(self) -> None:
+        """A segment accepted and ended within one chunk: Levels 3-4 on it whole (batch).
+
+        The events are those of the scanner fed the same frames in any pieces
+        (both give those of :func:`~taxelkit.smart.recogniser.recognise`), at
+        a fraction of the scanner's fixed cost per segment.
+        """
+        d, self._deferred = self._deferred, None
+        if d is None:
+            return
+        pieces = [*zip(d.first_j, d.first_rows, strict=True), *d.later]
+        frames = np.concatenate([p[0] for p in pieces])
+        rows = np.concatenate([p[1] for p in pieces])
+        track = SegmentTrack(
+            frames,
+            rows[:, 0:2],
+            rows[:, 2],
+            rows[:, 3],
+            rows[:, 4],
+            rows[:, 5],
+            rows[:, 8],
+            rows[:, 6:8],
+            self.pitch_mm,
+        )
+        self.state.open_run(d.cls, d.accept, TrackSegment(d.cls, track, self.config))
+
+    def _undefer(self) -> None:
+        """The chunk ended with a deferred segment open: it goes to a scanner after all."""
+        d, self._deferred = self._deferred, None
+        if d is None:
+            return
+        seg = SegmentScanner(d.cls, self.config, self.pitch_mm)
+        first_j, first_rows = d.first_j, d.first_rows
+        if self.chunk_every == 1:  # the chunk's later frames too: one feed, not two
+            first_j = [*first_j, *(j for j, _ in d.later)]
+            first_rows = [*first_rows, *(r for _, r in d.later)]
+            d.later = []
+        seg.extend(np.concatenate(first_j), np.concatenate(first_rows))
+        self._seg = seg
+        self._pend_chunks = d.later
+        self.state.open_run(d.cls, d.accept, seg)
 
     def _feed(self, *, final: bool) -> None:
         seg = self._seg

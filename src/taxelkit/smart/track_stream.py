@@ -52,7 +52,11 @@ class RunningSum:
         """Cumulative sums of the rows of ``x``, continuing the earlier chunks."""
         if x.shape[0] == 0:
             return x.astype(np.float64)
-        c: NDArray[np.float64] = np.cumsum(np.concatenate([self.total[None], x]), axis=0)[1:]
+        # the total added to the first row, then summed on: the floats of
+        # np.cumsum over [total, *x] (each step adds one row to the same sum)
+        c = np.array(x, dtype=np.float64)
+        c[0] += self.total
+        np.cumsum(c, axis=0, out=c)
         self.total = c[-1].copy()
         return c
 
@@ -302,30 +306,38 @@ class PivotRun:
 
     def ratios(self, rows: NDArray[np.float64]) -> NDArray[np.float64]:
         """:func:`~taxelkit.smart.tactemes._pivot_ratios` continued over ``rows``."""
-        theta, centre, half, ext = rows[:, 2], rows[:, 0:2], rows[:, 5], rows[:, 6:8]
-        measured = np.isfinite(ext[:, 0]) & np.isfinite(ext[:, 1])
-        t = np.deg2rad(theta)
-        offset = 0.5 * (ext[:, 0] + ext[:, 1])
-        middle = centre + offset[:, None] * np.stack([np.cos(t), np.sin(t)], axis=-1)
-        c = np.where(measured[:, None], middle, centre)
-        half = drawn_half_mm(half, ext)
-        nx, ny = -np.sin(t), np.cos(t)
-        d = nx * c[:, 0] + ny * c[:, 1]
-        terms = np.empty((t.size, 6))
-        terms[:, 0], terms[:, 1], terms[:, 2] = nx * nx, nx * ny, ny * ny
-        terms[:, 3], terms[:, 4], terms[:, 5] = nx * d, ny * d, half
-        sxx, sxy, syy, bx, by, sh = self.sums.push(terms).T
+        # the arithmetic of _pivot_ratios, column by column (the same floats, fewer temporaries)
+        m = rows.shape[0]
+        lo, hi = rows[:, 6], rows[:, 7]
+        measured = np.isfinite(lo) & np.isfinite(hi)
+        t = np.deg2rad(rows[:, 2])
+        cos, sin = np.cos(t), np.sin(t)
+        offset = 0.5 * (lo + hi)
+        cx = np.where(measured, rows[:, 0] + offset * cos, rows[:, 0])
+        cy = np.where(measured, rows[:, 1] + offset * sin, rows[:, 1])
+        nx = -sin
+        d = nx * cx + cos * cy
+        terms = np.empty((m, 6))
+        np.multiply(nx, nx, out=terms[:, 0])
+        np.multiply(nx, cos, out=terms[:, 1])
+        np.multiply(cos, cos, out=terms[:, 2])
+        np.multiply(nx, d, out=terms[:, 3])
+        np.multiply(cos, d, out=terms[:, 4])
+        terms[:, 5] = np.where(measured, 0.5 * (hi - lo), rows[:, 5])  # drawn_half_mm
+        sums = self.sums.push(terms)
+        sxx, sxy, syy, bx, by, sh = (sums[:, k] for k in range(6))
         det = sxx * syy - sxy * sxy
         trace = sxx + syy
         well = det > 1e-6 * trace * trace
         safe = np.where(well, det, 1.0)
         px = (syy * bx - sxy * by) / safe
         py = (sxx * by - sxy * bx) / safe
-        mean_half = sh / np.arange(self.count + 1, self.count + t.size + 1)
-        self.count += t.size
-        dist = np.hypot(px - c[:, 0], py - c[:, 1])
+        mean_half = sh / np.arange(self.count + 1, self.count + m + 1)
+        self.count += m
+        dist = np.hypot(px - cx, py - cy)
+        positive = mean_half > 0
         out: NDArray[np.float64] = np.where(
-            well & (mean_half > 0), dist / np.where(mean_half > 0, mean_half, 1.0), np.nan
+            well & positive, dist / np.where(positive, mean_half, 1.0), np.nan
         )
         return out
 
@@ -435,5 +447,6 @@ def mean_axis_deg(theta_deg: NDArray[np.float64]) -> float:
     if theta_deg.size == 0:
         return float("nan")
     t = np.deg2rad(2.0 * theta_deg)
-    s = np.cumsum(np.stack([np.cos(t), np.sin(t)], axis=-1), axis=0)[-1]
-    return float(0.5 * np.rad2deg(np.arctan2(s[1], s[0])))
+    # each column summed in order, as np.cumsum of the stacked vectors along axis 0
+    sx, sy = np.cumsum(np.cos(t))[-1], np.cumsum(np.sin(t))[-1]
+    return float(0.5 * np.rad2deg(np.arctan2(sy, sx)))
