@@ -26,6 +26,7 @@ from taxelkit.errors import InputError
 from taxelkit.frames import TactileFrames
 from taxelkit.sensors.presets import BONNEVILLE_16X16
 from taxelkit.smart.area_moments import moments_central, moments_of_area
+from taxelkit.smart.index_sums import index_sums
 from taxelkit.smart.moments import (
     CELL_SECOND_MOMENT,
     ImageStats,
@@ -398,7 +399,6 @@ def test_docstring_examples() -> None:
 @pytest.mark.parametrize("shape", [(64, 64), (40, 128), (128, 128), (20, 255)])
 def test_large_arrays_sum_by_rows_exactly(shape: tuple[int, int]) -> None:
     """Arrays from 64 x 64 up sum rows first; the sums are exact, as the one-product path's."""
-    from taxelkit.smart import moments
 
     rng = np.random.default_rng(shape[1])
     images = rng.random((30, *shape)) < 0.3
@@ -410,4 +410,4 @@ def test_large_arrays_sum_by_rows_exactly(shape: tuple[int, int]) -> None:
     expected = np.stack(
         [f.sum(axis=1)] + [f @ w.ravel() for w in (uu, vv, uu * uu, vv * vv, uu * vv)]
     )
-    np.testing.assert_array_equal(moments._index_sums(images), expected)
+    np.testing.assert_array_equal(index_sums(images), expected)

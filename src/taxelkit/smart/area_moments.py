@@ -13,7 +13,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import InputError, check_positive
-from taxelkit.smart.moments import _CHUNK_FRAMES, _centred_index, _check_images, _index_sums
+from taxelkit.smart.index_sums import CHUNK_FRAMES, centred_index, index_sums
+from taxelkit.smart.moments import check_images
 
 __all__ = ["moments_central", "moments_of_area"]
 
@@ -26,7 +27,7 @@ def _cell_power_means(
     Returns ``(order + 1, n)`` without ``origin``, else ``(T, order + 1, n)``
     for the ``(T,)`` origins.
     """
-    c = _centred_index(n)
+    c = centred_index(n)
     if origin is not None:
         c = c[None, None, :] - origin[:, None, None]
     p = np.arange(order + 1, dtype=np.float64)[:, None]
@@ -83,15 +84,15 @@ def moments_of_area(
     pitch = check_positive("pitch_mm", pitch_mm)
     if not isinstance(order, int | np.integer) or order < 0:
         raise InputError(f"order must be an integer >= 0, got {order!r}")
-    images = _check_images(frames, threshold)
+    images = check_images(frames, threshold)
     n_t, rows, cols = images.shape
     xp = _cell_power_means(cols, int(order))  # (P, cols), pitch units
     yq = _cell_power_means(rows, int(order))  # (Q, rows)
     out = np.empty((n_t, order + 1, order + 1), dtype=np.float64)
-    for a in range(0, n_t, _CHUNK_FRAMES):
-        f = images[a : a + _CHUNK_FRAMES].astype(np.float64)
+    for a in range(0, n_t, CHUNK_FRAMES):
+        f = images[a : a + CHUNK_FRAMES].astype(np.float64)
         # sum over columns first: (T, rows, P), then over rows: (T, P, Q)
-        out[a : a + _CHUNK_FRAMES] = np.einsum("trp,qr->tpq", f @ xp.T, yq, optimize=True)
+        out[a : a + CHUNK_FRAMES] = np.einsum("trp,qr->tpq", f @ xp.T, yq, optimize=True)
     powers = np.arange(order + 1, dtype=np.float64)
     scale = pitch ** (2.0 + powers[:, None] + powers[None, :])
     result: NDArray[np.float64] = out * scale
@@ -142,15 +143,15 @@ def moments_central(
     pitch = check_positive("pitch_mm", pitch_mm)
     if not isinstance(order, int | np.integer) or order < 0:
         raise InputError(f"order must be an integer >= 0, got {order!r}")
-    images = _check_images(frames, threshold)
+    images = check_images(frames, threshold)
     n_t, rows, cols = images.shape
-    sums = _index_sums(images)
+    sums = index_sums(images)
     n = sums[0]
     nn = np.where(n > 0, n, 1.0)
     uc, vc = sums[1] / nn, sums[2] / nn  # centre, pitch units (0 when empty)
     out = np.empty((n_t, order + 1, order + 1), dtype=np.float64)
-    for a in range(0, n_t, _CHUNK_FRAMES):
-        b = min(n_t, a + _CHUNK_FRAMES)
+    for a in range(0, n_t, CHUNK_FRAMES):
+        b = min(n_t, a + CHUNK_FRAMES)
         xp = _cell_power_means(cols, int(order), uc[a:b])  # (T, P, cols)
         yq = _cell_power_means(rows, int(order), vc[a:b])  # (T, Q, rows)
         f = images[a:b].astype(np.float64)

@@ -53,7 +53,6 @@ axis of minimum moment of inertia, elongation); B. K. P. Horn, *Robot Vision*
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -61,12 +60,14 @@ from numpy.typing import ArrayLike, NDArray
 from taxelkit._arrays import readonly_copy
 from taxelkit.errors import InputError, check_finite_array, check_ndim, check_positive
 from taxelkit.frames import TactileFrames
+from taxelkit.smart.index_sums import index_sums
 
 __all__ = [
     "CELL_SECOND_MOMENT",
     "FrameStats",
     "ImageStats",
     "binary_images",
+    "check_images",
     "frame_stats",
     "image_stats",
 ]
@@ -75,13 +76,6 @@ __all__ = [
 #: ``integral of x^2 over [-1/2, 1/2] = 1/12`` (in pitch^2): the term each taxel,
 #: taken as a ``pitch x pitch`` square, adds to ``mu20 / m00`` and ``mu02 / m00``.
 CELL_SECOND_MOMENT = 1.0 / 12.0
-
-#: Frames processed together: the float copy of a chunk of binary images stays
-#: in cache (0.5 MB for 16 x 16); measured 1.4 M frames/s against 1.0 M with
-#: chunks of 32768 (benchmarks/bench_smart.py).
-_CHUNK_FRAMES = 512
-#: Widest array whose row sums of ``u^2`` are exact in float32 (``cols^3 < 2^24``).
-_SEPARABLE_MAX_COLS = 256
 
 
 def binary_images(frames: ArrayLike, threshold: float | None = None) -> NDArray[np.bool_]:
@@ -136,15 +130,11 @@ def binary_images(frames: ArrayLike, threshold: float | None = None) -> NDArray[
     return np.asarray(np.asarray(f, dtype=np.float64) > thr)
 
 
-def _check_images(frames: ArrayLike, threshold: float | None) -> NDArray[np.bool_]:
+def check_images(frames: ArrayLike, threshold: float | None) -> NDArray[np.bool_]:
+    """``(T, rows, cols)`` frames as binary images (:func:`binary_images`), checked for shape."""
     f = np.asarray(frames)
     check_ndim("frames", f, 3, "(T, rows, cols)")
     return binary_images(f, threshold)
-
-
-def _centred_index(n: int) -> NDArray[np.float64]:
-    """Cell-centre coordinates ``k - (n - 1) / 2`` in pitch units (half integers)."""
-    return np.arange(n, dtype=np.float64) - (n - 1) / 2.0
 
 
 @dataclass(frozen=True)
@@ -282,87 +272,6 @@ class ImageStats:
         )
 
 
-def _index_basis(rows: int, cols: int) -> NDArray[np.float64]:
-    """``(rows * cols, 6)``: ``1, u, v, u^2, v^2, u v`` at every taxel, row-major.
-
-    ``u`` (columns) and ``v`` (rows) are centred index coordinates
-    (:func:`_centred_index`); one frame's row-major ravel times this basis
-    gives the six sums of :func:`_index_sums`.
-    """
-    uu, vv = np.meshgrid(_centred_index(cols), _centred_index(rows))
-    return np.stack(
-        [
-            np.ones(uu.size),
-            uu.ravel(),
-            vv.ravel(),
-            uu.ravel() ** 2,
-            vv.ravel() ** 2,
-            (uu * vv).ravel(),
-        ],
-        axis=1,
-    )
-
-
-def _index_sums(images: NDArray[np.bool_]) -> NDArray[np.float64]:
-    """``(6, T)``: ``n, sum u, sum v, sum u^2, sum v^2, sum u v`` over the taxels in contact.
-
-    ``u`` (columns) and ``v`` (rows) are centred index coordinates (half
-    integers), so every sum is a multiple of 1/4 below ``rows * cols^3 / 4``
-    and exact in float64 for arrays up to about 9000 x 9000 taxels; the result
-    does not depend on the order of summation, hence not on how frames are
-    batched. For arrays small enough that every sum stays below 2^24 / 4 (up to
-    about 60 x 60 taxels), one float32 matrix product per chunk computes them
-    exactly and fast.
-    """
-    n_t, rows, cols = images.shape
-    u = _centred_index(cols)
-    v = _centred_index(rows)
-    if rows * cols * max(rows, cols) ** 2 >= 2**22 and cols < _SEPARABLE_MAX_COLS:
-        return _index_sums_by_rows(images, u, v)
-    basis = _index_basis(rows, cols)
-    exact32 = rows * cols * max(rows, cols) ** 2 < 2**22  # every partial sum exact in float32
-    dtype: type[np.floating[Any]] = np.float32 if exact32 else np.float64
-    basis_t: NDArray[np.floating[Any]] = basis.astype(dtype)
-    out = np.empty((6, n_t), dtype=np.float64)
-    flat = images.reshape(n_t, rows * cols)
-    for a in range(0, n_t, _CHUNK_FRAMES):
-        b = min(n_t, a + _CHUNK_FRAMES)
-        chunk: NDArray[np.floating[Any]] = flat[a:b].astype(dtype)
-        out[:, a:b] = (chunk @ basis_t).T
-    return out
-
-
-def _index_sums_by_rows(
-    images: NDArray[np.bool_], u: NDArray[np.float64], v: NDArray[np.float64]
-) -> NDArray[np.float64]:
-    """:func:`_index_sums` of larger arrays, separably: rows first, then frames.
-
-    Each row's ``sum 1, sum u, sum u^2`` is one float32 product with a
-    ``(cols, 3)`` basis (exact: multiples of 1/4 below ``cols^3 / 4 < 2^22``
-    for ``cols`` < :data:`_SEPARABLE_MAX_COLS`); the sums over rows, weighted
-    by ``1, v, v^2``, are float64 and exact as well, so the result is that of
-    the one-product path. A ``(rows * cols, 6)`` product in float64 costs
-    three times as much per taxel from 64 x 64 up.
-    """
-    n_t, rows, cols = images.shape
-    row_basis = np.stack([np.ones(cols), u, u * u], axis=1).astype(np.float32)
-    frame_basis = np.stack([np.ones(rows), v, v * v], axis=0)  # (3, rows)
-    out = np.empty((6, n_t), dtype=np.float64)
-    step = max(1, _CHUNK_FRAMES * 256 // (rows * cols))  # the same bytes per chunk as 16 x 16
-    for a in range(0, n_t, step):
-        b = min(n_t, a + step)
-        per_row = (images[a:b].astype(np.float32) @ row_basis).astype(np.float64)  # (t, rows, 3)
-        n1 = per_row[:, :, 0] @ frame_basis.T  # (t, 3): sums of 1, v, v^2 over the taxels
-        su = per_row[:, :, 1] @ frame_basis[:2].T  # (t, 2): sums of u, u v
-        out[0, a:b] = n1[:, 0]
-        out[1, a:b] = su[:, 0]
-        out[2, a:b] = n1[:, 1]
-        out[3, a:b] = per_row[:, :, 2].sum(axis=1)
-        out[4, a:b] = n1[:, 2]
-        out[5, a:b] = su[:, 1]
-    return out
-
-
 def _stats_from_sums(sums: NDArray[np.float64], pitch: float) -> ImageStats:
     """Elementwise finish: physical statistics from the exact index sums."""
     n, su, sv, suu, svv, suv = sums
@@ -450,8 +359,8 @@ def image_stats(
         if pitch_mm is None:
             raise InputError("pitch_mm must be given for an array of frames, got None")
         pitch = check_positive("pitch_mm", pitch_mm)
-        images = _check_images(frames, threshold)
-    return _stats_from_sums(_index_sums(images), pitch)
+        images = check_images(frames, threshold)
+    return _stats_from_sums(index_sums(images), pitch)
 
 
 def frame_stats(frame: ArrayLike, *, pitch_mm: float, threshold: float | None = None) -> FrameStats:

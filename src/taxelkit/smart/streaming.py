@@ -40,6 +40,7 @@ from taxelkit.smart.contact_classes import (
 )
 from taxelkit.smart.contact_limits import ContactLimits, LimitState, limit_one
 from taxelkit.smart.elimination import Event
+from taxelkit.smart.index_sums import index_basis
 from taxelkit.smart.levels12 import (
     DEFAULT_CLEANING,
     DEFAULT_LIMITS,
@@ -47,7 +48,7 @@ from taxelkit.smart.levels12 import (
     ChunkLevels12,
 )
 from taxelkit.smart.levels34 import Recognition
-from taxelkit.smart.moments import CELL_SECOND_MOMENT, _index_basis
+from taxelkit.smart.moments import CELL_SECOND_MOMENT
 from taxelkit.smart.stream_state import ArrayStream, ClassHistory
 from taxelkit.smart.tactemes import TactemeConfig
 
@@ -68,7 +69,7 @@ class _FrameLevels12:
         rows, cols = sensor.shape
         self.pitch_mm, self.threshold = sensor.pitch_mm, sensor.threshold
         self.confidence, self.limits = sensor.confidence, sensor.limits
-        basis = _index_basis(rows, cols)
+        basis = index_basis(rows, cols)
         net = sensor.network
         # the network as plain floats: per hidden unit (w_area, w_elong, bias),
         # per output its weight column and bias (one frame is too small for NumPy)
