@@ -28,8 +28,20 @@ def add_record_option(ap: argparse.ArgumentParser) -> None:
     )
 
 
-def record(script: str, *, figure: str, ratio: str, measured: dict[str, Any]) -> Path:
-    """Write the row of ``script`` (its ``__file__``) with the figures it measured."""
+def record(
+    script: str,
+    *,
+    figure: str,
+    ratio: str,
+    measured: dict[str, Any],
+    variant: str | None = None,
+) -> Path:
+    """Write the row of ``script`` (its ``__file__``) with the figures it measured.
+
+    A ``variant`` (a run with other options than the README row's) goes to
+    ``docs/results/bench/variants/SCRIPT-VARIANT.json`` instead: the docs render
+    tables from those, and the README's benchmark table stays one row a script.
+    """
     doc = {
         "script": Path(script).name,
         "generated": True,
@@ -43,8 +55,10 @@ def record(script: str, *, figure: str, ratio: str, measured: dict[str, Any]) ->
             "python": platform.python_version(),
         },
     }
-    BENCH_DIR.mkdir(parents=True, exist_ok=True)
-    path = BENCH_DIR / f"{Path(script).stem}.json"
+    folder = BENCH_DIR if variant is None else BENCH_DIR / "variants"
+    folder.mkdir(parents=True, exist_ok=True)
+    stem = Path(script).stem if variant is None else f"{Path(script).stem}-{variant}"
+    path = folder / f"{stem}.json"
     tmp = path.with_suffix(".json.tmp")
     tmp.write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
     tmp.replace(path)

@@ -25,7 +25,10 @@ rate of the bank is printed beside.
 
 Each skin (``--active``: one or more fractions) is run ``--runs`` times and
 the range is quoted; ``--record`` writes the README row
-(``docs/results/bench/bench_bank.json``).
+(``docs/results/bench/bench_bank.json``), or, with another ``--batch-frames``
+or an ``--evaluate-every`` above 1, a variant
+(``docs/results/bench/variants/bench_bank-batchB[-everyE].json``) that only
+the table of ``docs/tutorials/stream-many-arrays.md`` shows.
 
 Usage: ``python benchmarks/bench_bank.py [--arrays N] [--frames T] [--batch-frames B]
 [--active F ...] [--runs R] [--record]``.
@@ -167,13 +170,16 @@ def span(values: list[float], scale: float = 1.0, digits: int = 0, step: float =
 
 
 FRACTION_NAMES = {0.1: "a tenth", 0.25: "a quarter", 0.5: "half", 1.0: "all"}
+#: ``batch_frames`` of the README row; other values (and ``evaluate_every`` > 1)
+#: are recorded as variants for the tutorial's table.
+DEFAULT_BATCH_FRAMES = 256
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--arrays", type=int, default=1000)
     ap.add_argument("--frames", type=int, default=1024)
-    ap.add_argument("--batch-frames", type=int, default=256)
+    ap.add_argument("--batch-frames", type=int, default=DEFAULT_BATCH_FRAMES)
     ap.add_argument("--stream-batch-frames", type=int, default=4096)
     ap.add_argument("--evaluate-every", type=int, default=1)
     ap.add_argument(
@@ -284,7 +290,11 @@ def write_record(
         "skins": {str(a): s for a, s in skins.items()},
         "one_stream": streams,
     }
-    record(__file__, figure=figure, ratio=ratio, measured=measured)
+    measured["evaluate_every"] = args.evaluate_every
+    variant = None
+    if (b, args.evaluate_every) != (DEFAULT_BATCH_FRAMES, 1):
+        variant = f"batch{b}" + (f"-every{args.evaluate_every}" if args.evaluate_every > 1 else "")
+    record(__file__, figure=figure, ratio=ratio, measured=measured, variant=variant)
 
 
 if __name__ == "__main__":

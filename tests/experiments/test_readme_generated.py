@@ -35,10 +35,25 @@ def test_readme_generated_blocks_match_the_records() -> None:
     )
 
 
+def test_the_bank_tutorial_table_matches_the_bank_records() -> None:
+    module = render_module()
+    text = module.BANK_TUTORIAL.read_text(encoding="utf-8")
+    assert module.render_tutorial(text) == text, (
+        "the bank table of stream-many-arrays.md is stale: run python benchmarks/render_readme.py"
+    )
+    records = module.bank_records()
+    assert records[0]["measured"]["batch_frames"] <= records[-1]["measured"]["batch_frames"]
+    table = module.bank_table(records)
+    assert table.count("\n") == 1 + sum(len(r["measured"]["skins"]) for r in records)
+
+
 def test_every_benchmark_record_names_a_script() -> None:
     scripts = {p.stem for p in (ROOT / "benchmarks").glob("bench_*.py")}
-    records = {p.stem for p in (ROOT / "docs" / "results" / "bench").glob("*.json")}
+    bench = ROOT / "docs" / "results" / "bench"
+    records = {p.stem for p in bench.glob("*.json")}
     assert records and records <= scripts
+    variants = {p.stem.split("-")[0] for p in (bench / "variants").glob("*.json")}
+    assert variants <= scripts
 
 
 def test_bench_rows_say_whether_they_were_generated() -> None:
