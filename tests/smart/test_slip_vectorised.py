@@ -10,6 +10,7 @@ close, and the vectorised scan must not depend on how the segment is chunked.
 from __future__ import annotations
 
 from functools import partial
+from typing import Any
 
 import numpy as np
 import pytest
@@ -170,15 +171,21 @@ def _across_mm(ref: np.ndarray, cur: np.ndarray) -> float:
     return float(abs(dy * np.cos(th) - dx * np.sin(th)) + turn * ref[5])
 
 
-def test_a_line_at_its_across_limit_is_recomputed() -> None:
-    """A line whose ends moved across it by exactly ``line_across_mm``: decided by the rule."""
-    seed = next(s for s in range(40) if cases(s)[0] == _LINE)
+def _windows_of(kind: int) -> tuple[Any, ...]:
+    """The first case of ``kind``: its scanner, fast and exact window means (8 and 3 frames)."""
+    seed = next(s for s in range(40) if cases(s)[0] == kind)
     scanner, x = features_of(seed)
     r, c = 8, 3
     fast_r, _, bound_r = window_means(x[:-c], r, ENDS)
     fast_c, _, bound_c = window_means(x[r:], c, ENDS)
     k = np.arange(fast_c.shape[0])
     exact_r, exact_c = exact_means(x, k, r), exact_means(x, r + k, c)
+    return scanner, fast_r, fast_c, bound_r, bound_c, exact_r, exact_c
+
+
+def test_a_line_at_its_across_limit_is_recomputed() -> None:
+    """A line whose ends moved across it by exactly ``line_across_mm``: decided by the rule."""
+    scanner, fast_r, fast_c, bound_r, bound_c, exact_r, exact_c = _windows_of(_LINE)
     cfg = scanner.config
     checked = 0
     for j in range(0, fast_c.shape[0], 7):
@@ -197,13 +204,7 @@ def test_a_line_at_its_across_limit_is_recomputed() -> None:
 
 def test_a_face_whose_areas_spread_at_the_limit_is_recomputed() -> None:
     """A face whose current areas spread by exactly ``area_step`` of the reference's area."""
-    seed = next(s for s in range(40) if cases(s)[0] == _AREA)
-    scanner, x = features_of(seed)
-    r, c = 8, 3
-    fast_r, _, bound_r = window_means(x[:-c], r, ENDS)
-    fast_c, _, bound_c = window_means(x[r:], c, ENDS)
-    k = np.arange(fast_c.shape[0])
-    exact_r, exact_c = exact_means(x, k, r), exact_means(x, r + k, c)
+    scanner, fast_r, fast_c, bound_r, bound_c, exact_r, exact_c = _windows_of(_AREA)
     checked = 0
     for j in range(0, fast_c.shape[0], 7):
         a_ref, a_cur = exact_r[j, 2], exact_c[j, 2]

@@ -219,8 +219,7 @@ def _line_motion(
     d1, d2 = e1[:, 0] * ax + e1[:, 1] * ay, e2[:, 0] * ax + e2[:, 1] * ay
     both = np.where(d1 * d2 > 0.0, np.minimum(np.abs(d1), np.abs(d2)), 0.0)
     # ends not measured (NaN as in the row-by-row means): the centre less the change of length
-    dx, dy = cur[:, _CX] - ref[:, _CX], cur[:, _CY] - ref[:, _CY]
-    centre = np.abs(dx * ax + dy * ay) - np.abs(cur[:, _HALF] - ref[:, _HALF])
+    centre = np.abs(shift_x * ax + shift_y * ay) - np.abs(cur[:, _HALF] - ref[:, _HALF])
     out: NDArray[np.float64] = np.where(rolls, 0.0, np.where(np.isnan(d1 + d2), centre, both))
     return out
 
