@@ -48,6 +48,7 @@ from typing import Any  # noqa: E402
 import numpy as np  # noqa: E402
 
 from _record import add_record_option, record  # noqa: E402
+from taxelkit.experiments.readme_tables import span  # noqa: E402
 from taxelkit.frames import TactileFrames  # noqa: E402
 from taxelkit.motion.rolling import frames_from_scenario  # noqa: E402
 from taxelkit.motion.scenarios import make_scenario  # noqa: E402
@@ -158,17 +159,6 @@ def one_stream(pool: list[np.ndarray], batch_frames: int) -> dict[str, float]:
     return {"frames": s, "batched": s / t_one, "one_at_a_time": s / t_slow, "batch": s / t_batch}
 
 
-def span(values: list[float], scale: float = 1.0, digits: int = 0, step: float = 0.0) -> str:
-    """``lo-hi`` (or one value) of ``values / scale`` (rounded to ``step``), thousands separated."""
-    lo, hi = min(values) / scale, max(values) / scale
-    if step:
-        lo, hi = step * round(lo / step), step * round(hi / step)
-    fmt = f"{{:,.{digits}f}}"
-    return (
-        fmt.format(lo) if fmt.format(lo) == fmt.format(hi) else f"{fmt.format(lo)}-{fmt.format(hi)}"
-    )
-
-
 FRACTION_NAMES = {0.1: "a tenth", 0.25: "a quarter", 0.5: "half", 1.0: "all"}
 #: ``batch_frames`` of the README row; other values (and ``evaluate_every`` > 1)
 #: are recorded as variants for the tutorial's table.
@@ -212,12 +202,12 @@ def main() -> None:
             f"{os.getloadavg()[0]:.1f}); per push mean "
             f"{span([r['push_mean_ms'] for r in runs], digits=2)} ms, longest "
             f"{span([r['push_max_ms'] for r in runs], digits=0)} ms; "
-            f"{span(rates, RATE_HZ * n, 1)}x real time"
+            f"{span(rates, 1, scale=RATE_HZ * n)}x real time"
         )
         print(
             f"       baseline {n:,} separate SmartSensor.push (measured on "
             f"{min(args.baseline_arrays, n)} arrays, scaled): {sep:,.0f} frames/s; "
-            f"ratio bank / separate {span(rates, sep, 1)}x"
+            f"ratio bank / separate {span(rates, 1, scale=sep)}x"
         )
     streams = [one_stream(pool, args.stream_batch_frames) for _ in range(max(1, args.runs - 1))]
     s = streams[0]["frames"]
@@ -268,7 +258,7 @@ def write_record(
                 f"runs a batch {longest} ms)"
             )
         parts.append(text)
-        ratios.append(f"{span(rates, skin['separate'], 1)}x ({name})")
+        ratios.append(f"{span(rates, 1, scale=skin['separate'])}x ({name})")
     batched = [r["batched"] for r in streams]
     figure = (
         "; ".join(parts)

@@ -45,6 +45,7 @@ import numpy as np  # noqa: E402
 from _live_udp import run_live, write_packets  # noqa: E402
 from _record import add_record_option, record  # noqa: E402
 from bench_out_of_core import base_block  # noqa: E402
+from taxelkit.experiments.readme_tables import span  # noqa: E402
 from taxelkit.smart.bank import SensorBank  # noqa: E402
 from taxelkit.smart.recognise_chunks import ChunkRecogniser  # noqa: E402
 from taxelkit.smart.recogniser import SmartSensor  # noqa: E402
@@ -79,16 +80,6 @@ def bank_rate(frames: np.ndarray, rate_hz: float, arrays: int, per_push: int = 2
     for a in range(0, n, per_push):
         bank.push_many(stack[:, a : a + per_push], t_s[:, a : a + per_push])
     return arrays * n / (time.process_time() - t0)
-
-
-def span(values: list[float], digits: int = 0, step: float = 0.0, sign: str = "") -> str:
-    """``lo-hi`` (or one value), rounded to ``step`` if given, with thousands separators."""
-    fmt = f"{{:{sign},.{digits}f}}"
-    a, b = min(values), max(values)
-    if step:
-        a, b = step * round(a / step), step * round(b / step)
-    lo, hi = fmt.format(a), fmt.format(b)
-    return lo if lo == hi else f"{lo}{' to ' if sign else '-'}{hi}"
 
 
 def live_runs(

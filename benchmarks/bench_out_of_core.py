@@ -42,6 +42,7 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 from _record import add_record_option, record  # noqa: E402
+from taxelkit.experiments.readme_tables import span  # noqa: E402
 from taxelkit.io.chunked_write import RecordingAppender  # noqa: E402
 from taxelkit.motion.rolling import frames_from_scenario  # noqa: E402
 from taxelkit.motion.scenarios import make_scenario  # noqa: E402
@@ -126,16 +127,6 @@ def run(script: str, *args: object) -> dict[str, object]:
         raise SystemExit(out.stderr)
     doc: dict[str, object] = json.loads(out.stdout)
     return doc
-
-
-def span(values: list[float], digits: int = 0, step: float = 0.0, sign: str = "") -> str:
-    """``lo-hi`` (or one value), rounded to ``step`` if given, with thousands separators."""
-    fmt = f"{{:{sign},.{digits}f}}"
-    a, b = min(values), max(values)
-    if step:
-        a, b = step * round(a / step), step * round(b / step)
-    lo, hi = fmt.format(a), fmt.format(b)
-    return lo if lo == hi else f"{lo}{' to ' if sign else '-'}{hi}"
 
 
 def main() -> None:

@@ -18,6 +18,7 @@ from typing import Any
 from taxelkit.experiments.readme_tables import (
     bench_markdown,
     replace_generated_block,
+    span,
     timings_markdown,
 )
 
@@ -53,14 +54,6 @@ def bank_records() -> list[dict[str, Any]]:
     )
 
 
-def _span(values: list[float], digits: int = 0, step: float = 0.0) -> str:
-    lo, hi = min(values), max(values)
-    if step:
-        lo, hi = step * round(lo / step), step * round(hi / step)
-    a, b = f"{lo:,.{digits}f}", f"{hi:,.{digits}f}"
-    return a if a == b else f"{a}-{b}"
-
-
 def bank_table(records: list[dict[str, Any]]) -> str:
     """The tutorial's table: each skin of each bank run, with its latency and pushes."""
     rows = []
@@ -73,10 +66,10 @@ def bank_table(records: list[dict[str, Any]]) -> str:
             runs = skin["runs"]
             rates = [r["rate"] for r in runs]
             rows.append(
-                (float(active), b, every, latency, _span(rates, step=1000),
-                 _span([r["push_mean_ms"] for r in runs], 1),
-                 _span([r["push_max_ms"] for r in runs]),
-                 _span([r / skin["separate"] for r in rates], 1), len(runs),
+                (float(active), b, every, latency, span(rates, step=1000),
+                 span([r["push_mean_ms"] for r in runs], 1),
+                 span([r["push_max_ms"] for r in runs]),
+                 span([r / skin["separate"] for r in rates], 1), len(runs),
                  doc["machine"]["load_average_1min"], doc["date"])
             )  # fmt: skip
     lines = [

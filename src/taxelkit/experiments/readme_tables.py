@@ -23,7 +23,13 @@ from typing import Any
 
 from taxelkit.errors import InputError
 
-__all__ = ["bench_markdown", "replace_generated_block", "timings_markdown", "update_timings"]
+__all__ = [
+    "bench_markdown",
+    "replace_generated_block",
+    "span",
+    "timings_markdown",
+    "update_timings",
+]
 
 #: Order of the benchmark rows (scripts not listed follow, by name).
 BENCH_ORDER: tuple[str, ...] = (
@@ -47,6 +53,29 @@ BENCH_ORDER: tuple[str, ...] = (
 def _order(doc: Mapping[str, Any]) -> tuple[int, str]:
     script = str(doc["script"])
     return (BENCH_ORDER.index(script) if script in BENCH_ORDER else len(BENCH_ORDER), script)
+
+
+def span(
+    values: Sequence[float],
+    digits: int = 0,
+    step: float = 0.0,
+    sign: str = "",
+    *,
+    scale: float = 1.0,
+) -> str:
+    """``lo-hi`` (or one value) of ``values / scale`` for a benchmark row, thousands separated.
+
+    Rounded to ``step`` if given; with ``sign="+"`` the range reads ``+lo to +hi``.
+
+    >>> span([1234.0, 987.6], step=10), span([0.5, 1.5], 1, sign="+"), span([2.0, 2.0], scale=4)
+    ('990-1,230', '+0.5 to +1.5', '0')
+    """
+    fmt = f"{{:{sign},.{digits}f}}"
+    a, b = min(values) / scale, max(values) / scale
+    if step:
+        a, b = step * round(a / step), step * round(b / step)
+    lo, hi = fmt.format(a), fmt.format(b)
+    return lo if lo == hi else f"{lo}{' to ' if sign else '-'}{hi}"
 
 
 def bench_markdown(docs: Sequence[Mapping[str, Any]]) -> str:
