@@ -63,6 +63,20 @@ def test_single_flickers_are_dropped_and_a_real_point_kept() -> None:
     assert f.sum() - f[:, 7:11, 7:11].sum() > 50
 
 
+def test_two_flips_riding_on_a_flip_the_frame_before_are_dropped() -> None:
+    f = blank()
+    f[1:, 8:11, 8:11] = True  # a real contact
+    f[9, 1, 4] = True  # a flip ...
+    f[10, 0, 3:5] = True  # ... and two beside it the next frame, far from the contact
+    one = clean_images(f, T, config=CleaningConfig(persistence_depth=1))
+    assert one[10, 0, 3:5].all()  # the one-frame test lets the pair through
+    out = clean_images(f, T)
+    assert not out[9:11, :2, 3:6].any()
+    assert out[1:, 8:11, 8:11].all()  # a cluster of nine counts at once
+    with pytest.raises(InputError, match="persistence_depth"):
+        CleaningConfig(persistence_depth=3)
+
+
 def test_strays_beside_a_larger_contact_are_dropped() -> None:
     f = blank()
     f[:, 3:6, 3:6] = True
@@ -98,8 +112,11 @@ def test_streaming_equals_batch_and_one_word_equals_several(
     f[:, rows // 2, :] |= rng.random(cols) < 0.5  # something persistent
     t = np.cumsum(rng.uniform(0.01, 0.1, 25))
     batch = clean_images(f, t)
-    cleaner = ImageCleaner((rows, cols))
-    stream = np.stack([cleaner.push(img, ts) for img, ts in zip(f, t, strict=True)])
+    for depth in (1, 2):
+        cfg = CleaningConfig(persistence_depth=depth)
+        cleaner = ImageCleaner((rows, cols), config=cfg)
+        stream = np.stack([cleaner.push(img, ts) for img, ts in zip(f, t, strict=True)])
+        np.testing.assert_array_equal(stream, clean_images(f, t, config=cfg))
     np.testing.assert_array_equal(stream, batch)
     wide = cleaning_module._Words(cols)  # the path of arrays over 64 columns, forced
     original = cleaning_module._backend

@@ -14,7 +14,7 @@ stream (tested). The state per array:
   over a chunk's edge is the batch's own shifted AND;
 * the masked (stuck) taxels and how long each has read off (rule 1's
   release), for the few taxels concerned;
-* the last bridged frame (rule 3, persistence).
+* the last bridged frame and its one-frame test (rule 3, persistence).
 """
 
 from __future__ import annotations
@@ -29,10 +29,8 @@ from taxelkit.smart.cleaning import (
     CleaningConfig,
     _backend,
     _bridged,
-    _crowded,
-    _dilate3,
+    _clean,
     _neighbours8,
-    _stray,
     release_frames_for,
     stuck_frames_for,
 )
@@ -103,6 +101,7 @@ class ChunkCleaner:
             np.zeros(0, dtype=np.int64) for _ in range(4)
         )
         self._prev = blank
+        self._prev_passed = blank.copy()
         self._busy = np.ones(n, bool)  # some state that a clear chunk would change
 
     def push(self, images: NDArray[np.bool_], t_s: NDArray[np.float64]) -> NDArray[np.bool_]:
@@ -176,15 +175,15 @@ class ChunkCleaner:
         a = _bridged(ops, on, stuck, cfg)
         out = a
         a3 = a.reshape(n, t, *word)
-        if cfg.persistence:
-            before = np.concatenate([self._prev[sel, None], a3[:, :-1]], axis=1).reshape(a.shape)
-            out = a & (_dilate3(ops, before) | _crowded(ops, a))
-        if cfg.strays:
-            stray = _stray(ops, out)
-            big = ops.any_per_frame(out & ~stray)
-            out = out & ~(stray & ops.per_frame(big, out))
+
+        def after(first: NDArray[Any], frames: NDArray[Any]) -> NDArray[Any]:
+            f3 = frames.reshape(n, t, *word)
+            return np.concatenate([first[:, None], f3[:, :-1]], axis=1).reshape(frames.shape)
+
+        out, passed = _clean(ops, a, self._prev[sel], self._prev_passed[sel], cfg, after)
         last = a3[:, -1]
         self._prev[sel] = last
+        self._prev_passed[sel] = passed.reshape(n, t, *word)[:, -1]
         armed = np.zeros(self.n, bool)  # after _stuck: this chunk's armed taxels
         armed[self._armed[0]] = True
         flat = self._iso_hist[sel].reshape(n, -1)

@@ -122,6 +122,7 @@ class ImageCleaner:
         self._off: dict[int, int] = {}  # masked bit -> frames off
         self._armed = 0
         self._prev = 0
+        self._prev_passed = 0  # the one-frame test of the frame before (rule 3)
 
     def push(self, image: Any, t_s: float) -> NDArray[np.bool_]:
         """Clean one image ``(rows, cols)`` bool taken at ``t_s``; return the cleaned image."""
@@ -138,14 +139,17 @@ class ImageCleaner:
         self._since_start &= on
         stuck = self._stuck(on) if cfg.stuck else 0
         a = _bridged(ops, on, stuck, cfg)
-        out = a
+        out = passed = a
         if cfg.persistence:
-            out = a & (_dilate3(ops, self._prev) | _crowded(ops, a))
+            crowded = _crowded(ops, a)
+            passed = out = a & (_dilate3(ops, self._prev) | crowded)
+            if cfg.persistence_depth > 1:
+                out = a & (self._prev | crowded | _dilate3(ops, self._prev_passed))
         if cfg.strays:
             stray = _stray(ops, out)
             if out & ~stray:
                 out &= ~stray
-        self._prev = a
+        self._prev, self._prev_passed = a, passed
         return ops.unpack(out)
 
     def _stuck(self, on: int) -> int:
