@@ -262,6 +262,23 @@ def test_a_short_turn_about_a_far_pivot_reads_as_an_arc() -> None:
     assert list(sensor.result().events) == list(early.events)
 
 
+def test_the_pivot_of_a_line_too_short_for_the_grid_is_not_read() -> None:
+    """The same 20 mm arc with a limit of 13 pitches (23 mm): no pivot verdict, batch or stream."""
+    turns = np.concatenate([np.zeros(10), np.linspace(0.0, 40.0, 60), np.full(30, 40.0)])
+    rec = TactileFrames(arc_frames(turns), t_s=np.arange(turns.size) / 20.0, pitch_mm=PITCH)
+    assert recognise(rec, cleaning=None).identified == "truncated-cone"  # 11 pitches: read
+    cfg = TactemeConfig(pivot_min_line_taxels=13.0)
+    short = recognise(rec, cleaning=None, config=cfg)
+    assert not {"LCMT in an arc", "LCMT about one end"} & {n for n, _ in short.tactemes}
+    assert short.identified is None
+    sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None, config=cfg)
+    for f, t in zip(rec.frames, rec.t_s, strict=True):
+        sensor.push(f, t)
+    assert list(sensor.result().events) == list(short.events)
+    with pytest.raises(InputError, match="pivot_min_line_taxels"):
+        TactemeConfig(pivot_min_line_taxels=-1.0)
+
+
 def test_the_arc_limit_widens_as_the_turn_shrinks() -> None:
     from taxelkit.smart.track_geometry import arc_ratio_limit
 

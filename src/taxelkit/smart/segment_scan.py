@@ -273,6 +273,7 @@ class SegmentScanner:
             cfg.pivot_turn_deg,
             cfg.pivot_arc_turn_deg,
             self.pitch_mm,
+            cfg.pivot_min_line_taxels * self.pitch_mm,
         )
         self._last_angle = float("nan")
         self._done: set[Tacteme] = set()

@@ -339,6 +339,8 @@ def segment_tactemes(
             # cone's line keeps turning about the same point while its width varies
             start, stop = int(anchor[j_turn]), n
             ratio = _pivot_ratios(track, start, stop)
+            line_mm = 2.0 * _drawn_half(track, start, stop)
+            ratio = np.where(line_mm < config.pivot_min_line_taxels * track.pitch_mm, np.nan, ratio)
             pivot_hold = track.frames_for(config.pivot_hold_s, k, minimum=hold)
             turned_now = turn(angle, ref[start] + np.zeros(n, np.intp))[start:]
             ready = turned_now > config.pivot_turn_deg
@@ -349,7 +351,7 @@ def segment_tactemes(
                 config.pivot_band,
                 config.pivot_turn_deg,
                 config.pivot_arc_turn_deg,
-                2.0 * _drawn_half(track, start, stop),
+                line_mm,
                 track.pitch_mm,
             )
             for tac, verdict in (

@@ -350,13 +350,15 @@ class PivotRun:
         turn_deg: float,
         arc_turn_deg: float,
         pitch_mm: float = 0.0,
+        min_line_mm: float = 0.0,
     ) -> None:
         """Run the three verdicts over the pending frames (their reference angle is known).
 
         Spins below ``min_ratio`` half-lengths and about one end up to
         ``end_lo``, on frames turned more than ``turn_deg`` from the
         reference; in an arc from
-        :func:`~taxelkit.smart.track_geometry.arc_ratio_limit` of the turn.
+        :func:`~taxelkit.smart.track_geometry.arc_ratio_limit` of the turn;
+        no verdict on lines drawn shorter than ``min_line_mm``.
         """
         for ratio, angle, frames, line_mm in self.pending:
             if self.found is not None:
@@ -365,6 +367,7 @@ class PivotRun:
                 continue
             assert self.ref_angle is not None
             turned = turn_from(angle, self.ref_angle)
+            ratio = np.where(line_mm < min_line_mm, np.nan, ratio)
             ready = turned > turn_deg
             arc = ratio >= arc_ratio_limit(
                 turned, end_ratio, band, turn_deg, arc_turn_deg, line_mm, pitch_mm
