@@ -10,6 +10,7 @@ resident memory (``/proc/self/statm``) every 0.1 s.
 from __future__ import annotations
 
 import os
+import re
 import socket
 import subprocess
 import sys
@@ -50,7 +51,7 @@ class LiveRun:
     """What one measured live run saw."""
 
     sent: int
-    processed: int
+    processed: int  # frames received and recognised (a bank's repeats of missing ones left out)
     summary: str
     send_s: float
     rss_mb: tuple[float, ...]
@@ -142,5 +143,9 @@ def run_live(path: Path, rate_hz: float, shape: tuple[int, int], arrays: int = 1
         out, _ = sender.communicate(timeout=120)
         done.set()
         sampler.join()
-    processed = int(lines[-1].split(": ")[1].split()[0])
-    return LiveRun(n, processed, lines[-1], float(out.strip()), tuple(rss))
+    summary = lines[-1]
+    processed = int(summary.split(": ")[1].split()[0])
+    repeats = re.search(r"(\d+) repeated for missing frames", summary)
+    if repeats:  # a bank fills the frames lost on the way: they were not received
+        processed -= int(repeats.group(1))
+    return LiveRun(n, processed, summary, float(out.strip()), tuple(rss))

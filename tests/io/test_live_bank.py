@@ -63,7 +63,7 @@ def test_each_array_gets_the_events_of_its_own_recording(tmp_path: Path) -> None
 
 def test_frames_of_unknown_arrays_and_late_frames_are_counted(tmp_path: Path) -> None:
     blank = np.zeros((16, 16), bool)
-    packets = [encode_frame(blank, index=j, t_s=j * 0.05, array_id=j % 3) for j in range(30)]
+    packets = [encode_frame(blank, index=j // 3, t_s=j * 0.05, array_id=j % 3) for j in range(30)]
     packets.append(encode_frame(blank, index=99, t_s=0.0, array_id=1))  # back in time
     path = tmp_path / "odd.bin"
     path.write_bytes(b"".join(packets))
@@ -77,6 +77,31 @@ def test_frames_of_unknown_arrays_and_late_frames_are_counted(tmp_path: Path) ->
     recognize_live(f"file:{path}", pitch_mm=PITCH_MM, echo=one.append)  # one array: array 0
     assert ", 21 of array ids > 0 (use --arrays)" in one[-1]
     assert one[-1].startswith("end of stream: 10 frames processed")
+
+
+def test_a_frame_lost_on_the_way_is_filled_and_holds_no_array_back(tmp_path: Path) -> None:
+    streams = [moving_contacts(seed, 240) for seed in range(2)]
+    packets = []
+    for j in range(240):
+        for k, frames in enumerate(streams):
+            if not (k == 1 and 100 <= j < 103):  # three datagrams of array 1 lost
+                packets.append(encode_frame(frames[j], index=j, t_s=j / RATE_HZ, array_id=k))
+    path = tmp_path / "lossy.bin"
+    path.write_bytes(b"".join(packets))
+    lines: list[str] = []
+    recognize_live(f"file:{path}", pitch_mm=PITCH_MM, arrays=2, echo=lines.append)
+    assert lines[-1].startswith(
+        "end of stream: 480 frames processed from 2 arrays, 3 repeated for missing frames, "
+    ), lines[-1]
+    t_s = np.arange(240) / RATE_HZ
+    want = recognise(TactileFrames(streams[0], t_s, pitch_mm=PITCH_MM))
+    expected = [f"array 0: {format_event(e, e.frame, t_s[e.frame])}" for e in want.events]
+    assert [line for line in lines[:-1] if line.startswith("array 0: ")] == expected
+    held = streams[1].copy()
+    held[100:103] = held[99]  # what array 1 was recognised from: its frame 99 held
+    want = recognise(TactileFrames(held, t_s, pitch_mm=PITCH_MM))
+    expected = [f"array 1: {format_event(e, e.frame, t_s[e.frame])}" for e in want.events]
+    assert [line for line in lines[:-1] if line.startswith("array 1: ")] == expected
 
 
 def test_arrays_is_checked_and_takes_no_recording(tmp_path: Path) -> None:

@@ -13,6 +13,12 @@ recognise it. Events name their array.
 The bank advances all arrays together, so a silent array holds the others
 back: an array more than :data:`BANK_LAG_FRAMES` frames ahead of the slowest
 drops its oldest frames (counted in the summary), which bounds the memory.
+A frame lost on the way (a datagram dropped by the network or the receive
+buffer) would leave its array one frame behind the others for the rest of
+the run: a gap of at most :data:`BANK_FILL_FRAMES` in an array's sender
+indices is filled with its last frame repeated (the usual hold of a sensor
+read-out that missed a scan), timestamps interpolated, and counted in the
+summary as repeated for missing frames.
 At the end the frames every array has are processed; those some arrays
 have and others lack are reported as waiting, not processed. A UDP source
 is read by a background thread (:func:`background`), so that datagrams keep
@@ -36,7 +42,14 @@ from taxelkit.io.udp_receiver import BackgroundReceiver
 from taxelkit.smart.bank import SensorBank
 from taxelkit.smart.levels12 import DEFAULT_THRESHOLD_MM
 
-__all__ = ["BANK_LAG_FRAMES", "BANK_MIN_PUSH_FRAMES", "BANK_WIRE_FRAMES", "BankRun", "background"]
+__all__ = [
+    "BANK_FILL_FRAMES",
+    "BANK_LAG_FRAMES",
+    "BANK_MIN_PUSH_FRAMES",
+    "BANK_WIRE_FRAMES",
+    "BankRun",
+    "background",
+]
 
 #: Frames an array may run ahead of the slowest before its oldest are dropped
 #: (2.1 s at 240 frames/s; 26 MB of queued 16 x 16 bool frames for 200 arrays).
@@ -47,6 +60,10 @@ BANK_WIRE_FRAMES = 2048
 #: frames/s): a push's fixed cost (Levels 3-4 of each touched array) is spread
 #: over this many frames rather than the two or three of one read.
 BANK_MIN_PUSH_FRAMES = 128
+#: Longest gap in an array's sender indices filled by repeating its last frame
+#: (0.27 s at 240 frames/s); a longer gap (a sender restarted, an array that was
+#: silent) is left as it is.
+BANK_FILL_FRAMES = 64
 
 
 def background(source: FrameSource) -> FrameSource:
@@ -78,6 +95,8 @@ class BankRun:
         self.other_array = 0
         self.out_of_order = 0
         self.dropped = 0
+        self.filled = 0  # frames repeated for missing ones
+        self._last: list[tuple[NDArray[np.generic], int, float] | None] = [None] * self.n
         self._per_array = 0  # frames processed per array (the bank keeps them in step)
         self._t_last = np.full(self.n, -math.inf)
         self._queue: list[list[tuple[NDArray[np.generic], ...]]] = [[] for _ in range(self.n)]
@@ -119,8 +138,47 @@ class BankRun:
             return
         sel = group[keep]
         self._t_last[k] = float(batch.t_s[sel[-1]])
-        self._queue[k].append((batch.values[sel], batch.t_s[sel], batch.index[sel]))
-        self._queued[k] += sel.size
+        values, t_s, index = self._fill(k, batch.values[sel], batch.t_s[sel], batch.index[sel])
+        self._last[k] = (values[-1], int(index[-1]), float(t_s[-1]))
+        self._queue[k].append((values, t_s, index))
+        self._queued[k] += index.size
+
+    def _fill(
+        self,
+        k: int,
+        values: NDArray[np.generic],
+        t_s: NDArray[np.float64],
+        index: NDArray[np.int64],
+    ) -> tuple[NDArray[np.generic], NDArray[np.float64], NDArray[np.int64]]:
+        """Array ``k``'s frames with the gaps of its sender indices filled (repeats)."""
+        last = self._last[k]
+        if last is None:  # the array's first frames: no gap before the first
+            last = (values[0], int(index[0]) - 1, float(t_s[0]))
+        before = np.concatenate([[last[1]], index[:-1]])
+        gap = index - before - 1
+        fill = (gap > 0) & (gap <= BANK_FILL_FRAMES)
+        if not fill.any():
+            return values, t_s, index
+        reps = np.where(fill, gap, 0) + 1  # each frame, preceded by its gap's repeats
+        n = int(reps.sum())
+        pos = np.cumsum(reps) - 1  # where each received frame lands
+        src = np.repeat(np.arange(index.size), reps)  # the received frame each slot waits for
+        held = np.zeros(n, bool)
+        held[pos] = True
+        prev = np.maximum.accumulate(np.where(held, np.arange(n), -1))  # last received slot
+        out_v = np.empty((n, *values.shape[1:]), values.dtype)
+        out_v[pos] = values
+        first = prev < 0  # repeats of the frame before this batch
+        out_v[first] = last[0]
+        out_v[~held & ~first] = out_v[prev[~held & ~first]]
+        step = np.arange(n) - np.concatenate([[-1], pos])[src]  # 1.. within each gap
+        t_prev = np.concatenate([[last[2]], t_s[:-1]])[src]
+        i_prev = before[src]
+        frac = step / reps[src]
+        out_t = np.where(held, t_s[src], t_prev + frac * (t_s[src] - t_prev))
+        out_i = np.where(held, index[src], i_prev + step)
+        self.filled += n - index.size
+        return out_v, out_t, out_i.astype(np.int64)
 
     def _take(self, k: int, m: int) -> tuple[NDArray[np.generic], ...]:
         """The oldest ``m`` queued frames of array ``k`` (values, times, indices), dequeued."""
@@ -182,6 +240,7 @@ class BankRun:
             for count, what in (
                 (int(self._queued.sum()), "waiting for other arrays"),
                 (self.dropped, "dropped while another array lagged"),
+                (self.filled, "repeated for missing frames"),
                 (self.other_array, f"of array ids >= {self.n}"),
                 (self.wrong_shape, "of another shape"),
                 (self.out_of_order, "out of time order"),
