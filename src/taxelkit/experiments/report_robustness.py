@@ -13,6 +13,11 @@ from typing import Any
 __all__ = ["robustness_heldout_markdown", "robustness_markdown", "robustness_misses_markdown"]
 
 
+def _wrong(n: int) -> str:
+    """``"1 wrong identity"``, ``"3 wrong identities"``."""
+    return f"{n} wrong identit{'y' if n == 1 else 'ies'}"
+
+
 def _pct(x: float | None) -> str:
     return "n/a" if x is None else f"{100 * x:.1f}"
 
@@ -50,8 +55,9 @@ def robustness_markdown(doc: dict[str, Any]) -> str:
         "",
         *lines,
         "",
-        f"- All {o['n']} in-set trials: {_pct(o['accuracy'])} % identified, {o['wrong']} wrong "
-        f"identities, {o['undecided']} undecided, {o['unknown']} unknown; the worst cell has "
+        f"- All {o['n']} in-set trials: {_pct(o['accuracy'])} % identified, "
+        f"{_wrong(o['wrong'])}, {o['undecided']} undecided, {o['unknown']} unknown; "
+        "the worst cell has "
         f"{100 * worst:.1f} % wrong identities.",
         f"- Cells (one object, engine, rate and imperfection) at 20 frames/s and above with "
         f"accuracy >= 0.98: {ok_fast} of {len(fast)}; at 5 frames/s: "
@@ -120,7 +126,7 @@ def robustness_heldout_markdown(docs: dict[str, dict[str, Any]]) -> str:
         worst = max((c["wrong"] / c["n"] for c in doc["cells"] if c["n"]), default=0.0)
         out.append(
             f"- {name}: {_pct(o['accuracy'])} % of {o['n']} in-set trials identified, "
-            f"{o['wrong']} wrong identities (worst cell {100 * worst:.1f} %), "
+            f"{_wrong(o['wrong'])} (worst cell {100 * worst:.1f} %), "
             f"{o['undecided']} undecided, {o['unknown']} unknown; sliding "
             f"{doc['sliding']['identified']} of {doc['sliding']['n']} identified."
         )
