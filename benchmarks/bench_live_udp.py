@@ -165,14 +165,15 @@ def write_record(
     banks: dict[int, float],
 ) -> None:
     """The README row of this run."""
-    parts, ratios, lost_ok, rss_ok = [], [], True, True
+    parts, ratios, lost_bad, rss_bad, n_runs = [], [], 0, 0, 0
     for arrays, res in results.items():
         runs = res["runs"]
         lost = [r["lost_pct"] for r in runs]
         growth = [r["rss_growth_mb"] for r in runs]
         load = [r["load_average"] for r in runs]
-        lost_ok &= max(lost) < 0.1
-        rss_ok &= max(growth) < 10
+        lost_bad += sum(x >= 0.1 for x in lost)
+        rss_bad += sum(x >= 10 for x in growth)
+        n_runs += len(runs)
         what = (
             f"`recognize --live udp:` offered {res['rate']:,.0f} frames/s for {res['seconds']:g} s"
             if arrays == 1
@@ -187,9 +188,12 @@ def write_record(
         ratios.append(
             f"{span(sustained, 1)}x ({'one array' if arrays == 1 else f'{arrays} arrays'})"
         )
+
+    def verdict(bad: int) -> str:
+        return "met in every run" if bad == 0 else f"missed in {bad} of {n_runs} runs"
+
     figure = "; ".join(parts) + (
-        f" (target < 0.1 % lost {'met' if lost_ok else 'missed'}, "
-        f"< 10 MB growth {'met' if rss_ok else 'missed'}, in every run)"
+        f" (target < 0.1 % lost {verdict(lost_bad)}; < 10 MB growth {verdict(rss_bad)})"
     )
     ratio = f"the live path sustains {', '.join(ratios)} `SmartSensor.push` one frame per call"
     if banks:

@@ -151,12 +151,13 @@ def test_a_bank_over_udp_on_the_loopback() -> None:
     assert any(line.startswith("array ") for line in lines[:-1])
 
 
-def test_background_receiver_counts_what_its_full_queue_drops() -> None:
+@pytest.mark.parametrize("process", [False, True])
+def test_background_receiver_counts_what_its_full_queue_drops(process: bool) -> None:
     from taxelkit.io.live_transports import UdpSource
     from taxelkit.io.udp_receiver import BackgroundReceiver
 
     blank = np.zeros((4, 4), bool)
-    with BackgroundReceiver(UdpSource("127.0.0.1", 0), max_queued=10) as src:
+    with BackgroundReceiver(UdpSource("127.0.0.1", 0), max_queued=10, process=process) as src:
         with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as out:
             for j in range(100):
                 out.sendto(encode_frame(blank, index=j, t_s=j * 0.01), src.source.address)
@@ -166,3 +167,22 @@ def test_background_receiver_counts_what_its_full_queue_drops() -> None:
             got += sum(b.n_frames for b in src.poll_batches(0.05))
     assert got + src.dropped == 100 and src.dropped > 0
     assert src.stats.frames == got
+
+
+def test_the_receiver_process_passes_every_datagram_in_order_and_ends_with_close() -> None:
+    from taxelkit.io.live_transports import UdpSource
+    from taxelkit.io.udp_receiver import BackgroundReceiver
+
+    frames = np.random.default_rng(3).random((500, 4, 4)) < 0.5
+    src = BackgroundReceiver(UdpSource("127.0.0.1", 0), process=True)
+    proc = src._proc
+    with src, socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as out:
+        for j, f in enumerate(frames):
+            out.sendto(encode_frame(f, index=j, t_s=j * 0.01), src.source.address)
+        batches = []
+        deadline = time.monotonic() + 5.0
+        while sum(b.n_frames for b in batches) < 500 and time.monotonic() < deadline:
+            batches += src.poll_batches(0.05)
+    assert np.concatenate([b.index for b in batches]).tolist() == list(range(500))
+    np.testing.assert_array_equal(np.concatenate([b.values for b in batches]), frames)
+    assert src.dropped == 0 and not proc.is_alive()

@@ -21,8 +21,9 @@ read-out that missed a scan), timestamps interpolated, and counted in the
 summary as repeated for missing frames.
 At the end the frames every array has are processed; those some arrays
 have and others lack are reported as waiting, not processed. A UDP source
-is read by a background thread (:func:`background`), so that datagrams keep
-being received while the bank works on a batch.
+is read in the background (:func:`background`, a receiver process where
+processes can be forked), so that datagrams keep being received while the
+bank works on a batch.
 """
 
 from __future__ import annotations
@@ -67,7 +68,7 @@ BANK_FILL_FRAMES = 64
 
 
 def background(source: FrameSource) -> FrameSource:
-    """A UDP source read by a background thread (a BackgroundReceiver); others as given."""
+    """A UDP source read in the background (a BackgroundReceiver); others as given."""
     return BackgroundReceiver(source) if isinstance(source, UdpSource) else source
 
 

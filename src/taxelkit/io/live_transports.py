@@ -146,6 +146,10 @@ class UdpSource(FrameSource):
         self.address: tuple[str, int] = (str(bound[0]), int(bound[1]))
         self.description = f"udp:{shown}:{self.address[1]}"
 
+    def fileno(self) -> int:
+        """The socket's file descriptor (read by :mod:`taxelkit.io.udp_receiver`'s process)."""
+        return self._sock.fileno()
+
     def poll(self, timeout_s: float) -> list[DecodedFrame]:
         out: list[DecodedFrame] = []
         try:
