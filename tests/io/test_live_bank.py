@@ -44,6 +44,18 @@ def interleaved(streams: list[np.ndarray]) -> bytes:
     return bytes(out)
 
 
+def own_events(k: int, frames: np.ndarray) -> list[str]:
+    """The lines array ``k`` should print: ``recognise`` of its frames alone, at 20 frames/s."""
+    t_s = np.arange(frames.shape[0]) / RATE_HZ
+    want = recognise(TactileFrames(frames, t_s, pitch_mm=PITCH_MM))
+    return [f"array {k}: {format_event(e, e.frame, t_s[e.frame])}" for e in want.events]
+
+
+def printed(lines: list[str], k: int) -> list[str]:
+    """The event lines of array ``k`` (the summary left out)."""
+    return [line for line in lines[:-1] if line.startswith(f"array {k}: ")]
+
+
 def test_each_array_gets_the_events_of_its_own_recording(tmp_path: Path) -> None:
     streams = [moving_contacts(seed, 240) for seed in range(4)]
     path = tmp_path / "bank.bin"
@@ -51,12 +63,9 @@ def test_each_array_gets_the_events_of_its_own_recording(tmp_path: Path) -> None
     lines: list[str] = []
     code = recognize_live(f"file:{path}", pitch_mm=PITCH_MM, arrays=4, echo=lines.append)
     assert code == EXIT_OK
-    t_s = np.arange(240) / RATE_HZ
     for k, frames in enumerate(streams):
-        want = recognise(TactileFrames(frames, t_s, pitch_mm=PITCH_MM))
-        expected = [f"array {k}: {format_event(e, e.frame, t_s[e.frame])}" for e in want.events]
-        got = [line for line in lines[:-1] if line.startswith(f"array {k}: ")]
-        assert got == expected, k
+        expected = own_events(k, frames)
+        assert printed(lines, k) == expected, k
         assert len(expected) > 2
     assert lines[-1].startswith("end of stream: 960 frames processed from 4 arrays, ")
 
@@ -93,15 +102,10 @@ def test_a_frame_lost_on_the_way_is_filled_and_holds_no_array_back(tmp_path: Pat
     assert lines[-1].startswith(
         "end of stream: 480 frames processed from 2 arrays, 3 repeated for missing frames, "
     ), lines[-1]
-    t_s = np.arange(240) / RATE_HZ
-    want = recognise(TactileFrames(streams[0], t_s, pitch_mm=PITCH_MM))
-    expected = [f"array 0: {format_event(e, e.frame, t_s[e.frame])}" for e in want.events]
-    assert [line for line in lines[:-1] if line.startswith("array 0: ")] == expected
+    assert printed(lines, 0) == own_events(0, streams[0])
     held = streams[1].copy()
     held[100:103] = held[99]  # what array 1 was recognised from: its frame 99 held
-    want = recognise(TactileFrames(held, t_s, pitch_mm=PITCH_MM))
-    expected = [f"array 1: {format_event(e, e.frame, t_s[e.frame])}" for e in want.events]
-    assert [line for line in lines[:-1] if line.startswith("array 1: ")] == expected
+    assert printed(lines, 1) == own_events(1, held)
 
 
 def test_arrays_is_checked_and_takes_no_recording(tmp_path: Path) -> None:
