@@ -279,8 +279,40 @@ def test_the_pivot_of_a_line_too_short_for_the_grid_is_not_read() -> None:
         TactemeConfig(pivot_min_line_taxels=-1.0)
 
 
+def end_frames(turns_deg: np.ndarray, pitch: float = PITCH) -> np.ndarray:
+    """A 20 mm line rotating about its own end (a cone about its apex, pivot ratio 1)."""
+    ax = (np.arange(16) - 7.5) * pitch
+    x, y = np.meshgrid(ax, ax)
+    px, py = -12.0, -8.0
+    out = np.zeros((turns_deg.size, 16, 16), dtype=bool)
+    for i, deg in enumerate(turns_deg):
+        t = np.deg2rad(deg)
+        u, v = np.cos(t), np.sin(t)
+        along = (x - px) * u + (y - py) * v
+        across = -(x - px) * v + (y - py) * u
+        out[i] = (np.abs(across) <= 0.9) & (along >= 0.0) & (along <= 20.0)
+    return out
+
+
+def test_about_one_end_waits_until_the_pivot_is_certain_enough() -> None:
+    """A line turning about its end reads "about one end", unless its error is weighed heavily."""
+    turns = np.concatenate([np.zeros(10), np.linspace(0.0, 40.0, 60), np.full(30, 40.0)])
+    rec = TactileFrames(end_frames(turns), t_s=np.arange(turns.size) / 20.0, pitch_mm=PITCH)
+    for cfg, about_end in ((TactemeConfig(), True), (TactemeConfig(pivot_end_sigmas=50.0), False)):
+        res = recognise(rec, cleaning=None, config=cfg)
+        assert ("LCMT about one end" in [n for n, _ in res.tactemes]) is about_end
+        assert "LCMT in an arc" not in [n for n, _ in res.tactemes]
+        assert res.identified == ("cone" if about_end else None)
+        sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None, config=cfg)
+        for f, t in zip(rec.frames, rec.t_s, strict=True):
+            sensor.push(f, t)
+        assert list(sensor.result().events) == list(res.events)
+    with pytest.raises(InputError, match="pivot_end_sigmas"):
+        TactemeConfig(pivot_end_sigmas=-0.5)
+
+
 def test_the_arc_limit_widens_as_the_turn_shrinks() -> None:
-    from taxelkit.smart.track_geometry import arc_ratio_limit
+    from taxelkit.smart.pivots import arc_ratio_limit
 
     turns = np.array([5.0, 10.0, 12.0, 20.0, 40.0])
     limit = arc_ratio_limit(turns, 1.32, 1.15, 20.0, 10.0)

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from taxelkit.smart.moments import image_stats
-from taxelkit.smart.track_geometry import carried_shift, line_extents, pivot_ratios
+from taxelkit.smart.pivots import pivot_fit, pivot_ratios, pivot_upper
+from taxelkit.smart.track_geometry import carried_shift, line_extents
 
 
 def _tapered_line(length: int, rows: int = 16) -> np.ndarray:
@@ -36,6 +37,55 @@ def test_pivot_of_lines_turning_about_their_end_is_one_half_length_away() -> Non
     centre = np.stack([half * np.cos(t), half * np.sin(t)], axis=-1)  # end fixed at 0
     ratio = pivot_ratios(angles, centre, np.full(angles.size, half))
     assert np.allclose(ratio[5:], 1.0, atol=1e-9)
+
+
+def _turning_lines(noise_mm: float, seed: int = 0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Lines of half-length 5 mm turning 40 deg about their end, centres jittered across."""
+    angles = np.linspace(0.0, 40.0, 60)
+    t = np.deg2rad(angles)
+    half = 5.0
+    centre = np.stack([half * np.cos(t), half * np.sin(t)], axis=-1)
+    normal = np.stack([-np.sin(t), np.cos(t)], axis=-1)
+    jitter = np.random.default_rng(seed).normal(0.0, noise_mm, angles.size)
+    return angles, centre + jitter[:, None] * normal, np.full(angles.size, half)
+
+
+def test_pivot_error_is_zero_for_lines_through_one_point_and_grows_with_their_noise() -> None:
+    ratio, error = pivot_fit(*_turning_lines(0.0))
+    assert np.allclose(ratio[5:], 1.0, atol=1e-9)
+    assert np.allclose(error[5:], 0.0, atol=1e-6)
+    errors = [np.nanmedian(pivot_fit(*_turning_lines(s))[1][20:]) for s in (0.05, 0.2, 0.8)]
+    assert 0.0 < errors[0] < errors[1] < errors[2]
+    # the first result is pivot_ratios', float for float
+    lines = _turning_lines(0.3)
+    assert np.array_equal(pivot_fit(*lines)[0], pivot_ratios(*lines), equal_nan=True)
+
+
+def test_pivot_error_does_not_shrink_with_the_frame_rate() -> None:
+    # the same turn seen in 60 frames and in 600: the error is one line's, not a mean's
+    angles, centre, half = _turning_lines(0.2)
+    dense = np.linspace(0.0, 40.0, 600)
+    t = np.deg2rad(dense)
+    rng = np.random.default_rng(1)
+    c = np.stack([5.0 * np.cos(t), 5.0 * np.sin(t)], axis=-1)
+    c += rng.normal(0.0, 0.2, dense.size)[:, None] * np.stack([-np.sin(t), np.cos(t)], axis=-1)
+    coarse = pivot_fit(angles, centre, half)[1][-1]
+    fine = pivot_fit(dense, c, np.full(dense.size, 5.0))[1][-1]
+    assert 0.5 < fine / coarse < 2.0
+
+
+def test_pivot_error_is_nan_where_the_lines_are_parallel() -> None:
+    angles = np.zeros(10)
+    centre = np.stack([np.arange(10.0), np.zeros(10)], axis=-1)
+    ratio, error = pivot_fit(angles, centre, np.full(10, 5.0))
+    assert np.isnan(ratio).all() and np.isnan(error).all()
+
+
+def test_pivot_upper_adds_the_allowance_only_when_asked() -> None:
+    ratio, error = np.array([1.0, np.nan]), np.array([0.4, np.nan])
+    assert np.array_equal(pivot_upper(ratio, error, 0.0), ratio, equal_nan=True)
+    assert np.allclose(pivot_upper(ratio, error, 0.5)[0], 1.2)
+    assert np.isnan(pivot_upper(ratio, error, 0.5)[1])
 
 
 def test_carried_shift_keeps_what_earlier_stretches_moved() -> None:

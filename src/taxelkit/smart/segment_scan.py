@@ -274,6 +274,7 @@ class SegmentScanner:
             cfg.pivot_arc_turn_deg,
             self.pitch_mm,
             cfg.pivot_min_line_taxels * self.pitch_mm,
+            cfg.pivot_end_sigmas,
         )
         self._last_angle = float("nan")
         self._done: set[Tacteme] = set()
@@ -466,8 +467,10 @@ class SegmentScanner:
                 piv = self._piv = PivotRun(a, self.pivot_hold)
             if piv.found is not None:
                 continue
-            ratio = piv.ratios(rows[lo:hi])
-            piv.pending.append((ratio, angle[lo:hi], frames[lo:hi], drawn_length_mm(rows[lo:hi])))
+            ratio, error = piv.ratios(rows[lo:hi])
+            piv.pending.append(
+                (ratio, error, angle[lo:hi], frames[lo:hi], drawn_length_mm(rows[lo:hi]))
+            )
             r = piv.start + w - 1
             if piv.ref_angle is None and int(j[lo]) <= r < int(j[hi - 1]) + 1:
                 piv.ref_angle = float(angle[lo + r - int(j[lo])])

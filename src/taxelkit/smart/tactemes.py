@@ -62,6 +62,7 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.face_shapes import face_masks, triangularity
+from taxelkit.smart.pivots import arc_ratio_limit, pivot_fit, pivot_upper
 from taxelkit.smart.tacteme_config import (
     PAPER_LEVEL3,
     TactemeConfig,
@@ -71,7 +72,6 @@ from taxelkit.smart.tacteme_config import (
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_geometry import (
     anchors,
-    arc_ratio_limit,
     axis_angle_deg,
     axis_vectors,
     carried_shift,
@@ -79,7 +79,6 @@ from taxelkit.smart.track_geometry import (
     drawn_half_mm,
     first,
     orthogonal_turn,
-    pivot_ratios,
     rolling_mean,
     sustained,
     turn,
@@ -214,8 +213,10 @@ def _drawn_half(track: SegmentTrack, start: int, stop: int) -> NDArray[np.float6
     return drawn_half_mm(track.half_length_mm[start:stop], ext)
 
 
-def _pivot_ratios(track: SegmentTrack, start: int, stop: int) -> NDArray[np.float64]:
-    """:func:`~taxelkit.smart.track_geometry.pivot_ratios` of the lines ``start..stop - 1``.
+def _pivot_ratios(
+    track: SegmentTrack, start: int, stop: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """:func:`~taxelkit.smart.pivots.pivot_fit` of the lines ``start..stop - 1``.
 
     With the lines' extents, each line is its drawn segment (its middle and
     half its length); without, its centre and moment half-length.
@@ -231,7 +232,7 @@ def _pivot_ratios(track: SegmentTrack, start: int, stop: int) -> NDArray[np.floa
         middle = centre + offset[:, None] * np.stack([np.cos(t), np.sin(t)], axis=-1)
         centre = np.where(measured[:, None], middle, centre)
         half = drawn_half_mm(half, ext)
-    return pivot_ratios(theta, centre, half)
+    return pivot_fit(theta, centre, half)
 
 
 def _orthogonal_turn(centre: NDArray[np.float64], start: int, config: TactemeConfig) -> int | None:
@@ -338,7 +339,7 @@ def segment_tactemes(
             # the lines from the turn's anchor on, across later re-anchors: a rolling
             # cone's line keeps turning about the same point while its width varies
             start, stop = int(anchor[j_turn]), n
-            ratio = _pivot_ratios(track, start, stop)
+            ratio, error = _pivot_ratios(track, start, stop)
             line_mm = 2.0 * _drawn_half(track, start, stop)
             ratio = np.where(line_mm < config.pivot_min_line_taxels * track.pitch_mm, np.nan, ratio)
             pivot_hold = track.frames_for(config.pivot_hold_s, k, minimum=hold)
@@ -356,7 +357,12 @@ def segment_tactemes(
             )
             for tac, verdict in (
                 (Tacteme.LC_SPINS, ready & (ratio < config.pivot_min_ratio)),
-                (Tacteme.LCMT_ABOUT_END, ready & (ratio >= config.pivot_min_ratio) & (ratio <= lo)),
+                (
+                    Tacteme.LCMT_ABOUT_END,
+                    ready
+                    & (ratio >= config.pivot_min_ratio)
+                    & (pivot_upper(ratio, error, config.pivot_end_sigmas) <= lo),
+                ),
                 (Tacteme.LCMT_ARC, ratio >= arc),
             ):
                 j = first(sustained(verdict, pivot_hold), 0)

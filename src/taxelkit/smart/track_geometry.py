@@ -15,7 +15,6 @@ from numpy.typing import NDArray
 
 __all__ = [
     "anchors",
-    "arc_ratio_limit",
     "axis_angle_deg",
     "axis_difference_deg",
     "axis_vectors",
@@ -26,7 +25,6 @@ __all__ = [
     "grid_wobble_deg",
     "line_extents",
     "orthogonal_turn",
-    "pivot_ratios",
     "rolling_mean",
     "sustained",
     "turn",
@@ -246,86 +244,6 @@ def drawn_half_mm(
     out: NDArray[np.float64] = np.where(
         measured, 0.5 * (extent_mm[:, 1] - extent_mm[:, 0]), half_length_mm
     )
-    return out
-
-
-def pivot_ratios(
-    orientation_deg: NDArray[np.float64],
-    centre_mm: NDArray[np.float64],
-    half_length_mm: NDArray[np.float64],
-) -> NDArray[np.float64]:
-    """Distance from each line's centre to the common point of the lines so far, in half-lengths.
-
-    For each ``j``: the least-squares common point of the lines ``0..j``
-    (running sums of ``n n^T`` and ``n (n . c)``, ``n`` the lines' normals),
-    its distance from the centre of line ``j``, divided by the mean
-    half-length of lines ``0..j``. NaN while the lines are too
-    close to parallel for a common point (condition number above 1e6).
-    """
-    t = np.deg2rad(orientation_deg)
-    nx, ny = -np.sin(t), np.cos(t)  # line normals
-    c = centre_mm
-    d = nx * c[:, 0] + ny * c[:, 1]
-    sxx, sxy, syy = np.cumsum(nx * nx), np.cumsum(nx * ny), np.cumsum(ny * ny)
-    bx, by = np.cumsum(nx * d), np.cumsum(ny * d)
-    det = sxx * syy - sxy * sxy
-    trace = sxx + syy
-    well = det > 1e-6 * trace * trace  # eigenvalue ratio above ~1e-6
-    safe = np.where(well, det, 1.0)
-    px = (syy * bx - sxy * by) / safe
-    py = (sxx * by - sxy * bx) / safe
-    half = np.cumsum(half_length_mm) / np.arange(1, t.size + 1)
-    dist = np.hypot(px - c[:, 0], py - c[:, 1])
-    out: NDArray[np.float64] = np.where(
-        well & (half > 0), dist / np.where(half > 0, half, 1.0), np.nan
-    )
-    return out
-
-
-def arc_ratio_limit(
-    turn_deg: NDArray[np.float64],
-    end_ratio: float,
-    band: float,
-    full_turn_deg: float,
-    arc_turn_deg: float,
-    line_mm: NDArray[np.float64] | None = None,
-    pitch_mm: float = 0.0,
-) -> NDArray[np.float64]:
-    """Least pivot ratio that reads "in an arc" at each frame's turn, in half-lengths.
-
-    From ``full_turn_deg`` on it is ``end_ratio x band``; below, the pivot is
-    located from a shorter turn and its error grows as one over the turn, so
-    the band widens in log: ``end_ratio x band ** (full_turn_deg / turn)``.
-    Below ``arc_turn_deg``, and (up to ``full_turn_deg``) below twice the
-    angle one taxel subtends over the line's drawn length (``2 atan(pitch /
-    length)``: a straight roll seen on a coarse array turns by about that much
-    from the grid alone): infinite (no verdict).
-
-    Parameters
-    ----------
-    turn_deg : (n,) float
-        Each frame's turn from the reference, deg.
-    end_ratio, band : float
-        ``pivot_end_ratio`` and ``pivot_band`` of
-        :class:`~taxelkit.smart.tacteme_config.TactemeConfig`.
-    full_turn_deg, arc_turn_deg : float
-        ``pivot_turn_deg`` and ``pivot_arc_turn_deg``, deg.
-    line_mm : (n,) float, optional
-        Each frame's drawn line length, mm (with ``pitch_mm``).
-    pitch_mm : float
-        Taxel pitch, mm; 0: the grid is not taken into account.
-
-    Returns
-    -------
-    (n,) float
-    """
-    counted = turn_deg > arc_turn_deg
-    if line_mm is not None and pitch_mm > 0:
-        grid = 2.0 * np.rad2deg(np.arctan2(pitch_mm, np.where(line_mm > 0, line_mm, 0.0)))
-        counted &= (turn_deg > grid) | (turn_deg > full_turn_deg)  # never stricter than that
-    scale = np.maximum(1.0, full_turn_deg / np.where(counted, turn_deg, full_turn_deg))
-    with np.errstate(over="ignore"):  # a tiny arc_turn_deg: an infinite limit, no arc
-        out: NDArray[np.float64] = np.where(counted, end_ratio * band**scale, np.inf)
     return out
 
 

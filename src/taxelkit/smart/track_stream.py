@@ -20,8 +20,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit.smart.pivots import arc_ratio_limit, pivot_from_sums, pivot_upper
 from taxelkit.smart.tacteme_table import Tacteme
-from taxelkit.smart.track_geometry import arc_ratio_limit, drawn_half_mm
+from taxelkit.smart.track_geometry import drawn_half_mm
 
 __all__ = [
     "CarriedShift",
@@ -294,18 +295,25 @@ class PivotRun:
 
     def __init__(self, start: int, hold: int) -> None:
         self.start = start  # segment index of the anchor
-        self.sums = RunningSum(6)  # sxx, sxy, syy, bx, by, half: column by column
+        self.sums = RunningSum(7)  # sxx, sxy, syy, bx, by, half, dd: column by column
         self.count = 0
         self.ref_angle: float | None = None
-        # (ratios, angles, frames, drawn line lengths in mm) awaiting their reference angle
+        # (ratios, their errors, angles, frames, drawn line lengths in mm) awaiting their
+        # reference angle
         self.pending: list[
-            tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp], NDArray[np.float64]]
+            tuple[
+                NDArray[np.float64],
+                NDArray[np.float64],
+                NDArray[np.float64],
+                NDArray[np.intp],
+                NDArray[np.float64],
+            ]
         ] = []
         self.verdicts = [Sustained(hold) for _ in range(3)]
         self.found: tuple[int, Tacteme] | None = None
 
-    def ratios(self, rows: NDArray[np.float64]) -> NDArray[np.float64]:
-        """:func:`~taxelkit.smart.tactemes._pivot_ratios` continued over ``rows``."""
+    def ratios(self, rows: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """:func:`~taxelkit.smart.tactemes._pivot_ratios` continued over ``rows``: ratio, error."""
         # the arithmetic of _pivot_ratios, column by column (the same floats, fewer temporaries)
         m = rows.shape[0]
         lo, hi = rows[:, 6], rows[:, 7]
@@ -317,28 +325,17 @@ class PivotRun:
         cy = np.where(measured, rows[:, 1] + offset * sin, rows[:, 1])
         nx = -sin
         d = nx * cx + cos * cy
-        terms = np.empty((m, 6))
+        terms = np.empty((m, 7))
         np.multiply(nx, nx, out=terms[:, 0])
         np.multiply(nx, cos, out=terms[:, 1])
         np.multiply(cos, cos, out=terms[:, 2])
         np.multiply(nx, d, out=terms[:, 3])
         np.multiply(cos, d, out=terms[:, 4])
         terms[:, 5] = np.where(measured, 0.5 * (hi - lo), rows[:, 5])  # drawn_half_mm
+        np.multiply(d, d, out=terms[:, 6])
         sums = self.sums.push(terms)
-        sxx, sxy, syy, bx, by, sh = (sums[:, k] for k in range(6))
-        det = sxx * syy - sxy * sxy
-        trace = sxx + syy
-        well = det > 1e-6 * trace * trace
-        safe = np.where(well, det, 1.0)
-        px = (syy * bx - sxy * by) / safe
-        py = (sxx * by - sxy * bx) / safe
-        mean_half = sh / np.arange(self.count + 1, self.count + m + 1)
+        out = pivot_from_sums(sums, self.count, cx, cy)
         self.count += m
-        dist = np.hypot(px - cx, py - cy)
-        positive = mean_half > 0
-        out: NDArray[np.float64] = np.where(
-            well & positive, dist / np.where(positive, mean_half, 1.0), np.nan
-        )
         return out
 
     def decide(
@@ -351,16 +348,18 @@ class PivotRun:
         arc_turn_deg: float,
         pitch_mm: float = 0.0,
         min_line_mm: float = 0.0,
+        end_sigmas: float = 0.0,
     ) -> None:
         """Run the three verdicts over the pending frames (their reference angle is known).
 
         Spins below ``min_ratio`` half-lengths and about one end up to
-        ``end_lo``, on frames turned more than ``turn_deg`` from the
-        reference; in an arc from
-        :func:`~taxelkit.smart.track_geometry.arc_ratio_limit` of the turn;
+        ``end_lo`` (the ratio plus ``end_sigmas`` times its error,
+        :func:`~taxelkit.smart.pivots.pivot_upper`), on frames turned
+        more than ``turn_deg`` from the reference; in an arc from
+        :func:`~taxelkit.smart.pivots.arc_ratio_limit` of the turn;
         no verdict on lines drawn shorter than ``min_line_mm``.
         """
-        for ratio, angle, frames, line_mm in self.pending:
+        for ratio, error, angle, frames, line_mm in self.pending:
             if self.found is not None:
                 break
             if frames.size == 0:
@@ -378,7 +377,12 @@ class PivotRun:
                 continue
             verdicts = (
                 (Tacteme.LC_SPINS, ready & (ratio < min_ratio)),
-                (Tacteme.LCMT_ABOUT_END, ready & (ratio >= min_ratio) & (ratio <= end_lo)),
+                (
+                    Tacteme.LCMT_ABOUT_END,
+                    ready
+                    & (ratio >= min_ratio)
+                    & (pivot_upper(ratio, error, end_sigmas) <= end_lo),
+                ),
                 (Tacteme.LCMT_ARC, arc),
             )
             hits = []

@@ -1,0 +1,190 @@
+"""The pivot of a turning line for Level 3: where the lines of a roll meet, and how surely.
+
+A rolling cone's contact line turns about its apex, a truncated cone's about a
+virtual apex beyond the line's end, and a line spun in place about its
+middle. The least-squares common point of the lines seen so far (the pivot),
+its distance from the current line's centre in half-lengths (the ratio), and
+the uncertainty of that ratio, from running sums shared by the batch rules
+(:mod:`taxelkit.smart.tactemes`) and their streaming twin
+(:class:`~taxelkit.smart.track_stream.PivotRun`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["arc_ratio_limit", "pivot_fit", "pivot_from_sums", "pivot_ratios", "pivot_upper"]
+
+
+def pivot_ratios(
+    orientation_deg: NDArray[np.float64],
+    centre_mm: NDArray[np.float64],
+    half_length_mm: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """Distance from each line's centre to the common point of the lines so far, in half-lengths.
+
+    For each ``j``: the least-squares common point of the lines ``0..j``
+    (running sums of ``n n^T`` and ``n (n . c)``, ``n`` the lines' normals),
+    its distance from the centre of line ``j``, divided by the mean
+    half-length of lines ``0..j``. NaN while the lines are too
+    close to parallel for a common point (condition number above 1e6).
+    The first of :func:`pivot_fit`'s two results.
+    """
+    return pivot_fit(orientation_deg, centre_mm, half_length_mm)[0]
+
+
+def pivot_fit(
+    orientation_deg: NDArray[np.float64],
+    centre_mm: NDArray[np.float64],
+    half_length_mm: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """:func:`pivot_ratios` and the uncertainty of each, both in half-lengths.
+
+    Parameters
+    ----------
+    orientation_deg : (n,) float
+        The lines' axes, deg.
+    centre_mm : (n, 2) float
+        Their centres, mm.
+    half_length_mm : (n,) float
+        Their half-lengths, mm.
+
+    Returns
+    -------
+    ratio, error : (n,) float
+        The ratio of :func:`pivot_ratios`, and its uncertainty (see
+        :func:`pivot_from_sums`); NaN where the ratio is.
+    """
+    t = np.deg2rad(orientation_deg)
+    nx, ny = -np.sin(t), np.cos(t)  # line normals
+    c = centre_mm
+    d = nx * c[:, 0] + ny * c[:, 1]
+    sums = np.stack(
+        [
+            np.cumsum(nx * nx),
+            np.cumsum(nx * ny),
+            np.cumsum(ny * ny),
+            np.cumsum(nx * d),
+            np.cumsum(ny * d),
+            np.cumsum(half_length_mm),
+            np.cumsum(d * d),
+        ],
+        axis=-1,
+    )
+    return pivot_from_sums(sums, 0, c[:, 0], c[:, 1])
+
+
+def pivot_from_sums(
+    sums: NDArray[np.float64],
+    count: int,
+    cx: NDArray[np.float64],
+    cy: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Pivot ratio and its uncertainty from the running sums of the lines (batch and streaming).
+
+    Parameters
+    ----------
+    sums : (m, 7) float
+        Running sums over the lines so far of ``nx nx``, ``nx ny``, ``ny ny``,
+        ``nx d``, ``ny d``, the half-length (mm) and ``d d``, where ``(nx, ny)``
+        is a line's normal and ``d`` its distance from the origin along it (mm).
+    count : int
+        Lines summed before the first row.
+    cx, cy : (m,) float
+        Each row's line centre, mm.
+
+    Returns
+    -------
+    ratio : (m,) float
+        Distance from the line's centre to the least-squares common point,
+        over the mean half-length; NaN while the lines are too close to
+        parallel (condition number above 1e6).
+    error : (m,) float
+        The common point's uncertainty along the lines, in the same
+        half-lengths: the lines' rms distance from it over the rms sine of
+        their spread about their mean direction (the error of one line's
+        noise seen across the turn; it does not shrink with the number of
+        frames, so it reads the same at any frame rate). Zero for lines
+        through one point.
+    """
+    sxx, sxy, syy, bx, by, sh, dd = (sums[:, k] for k in range(7))
+    det = sxx * syy - sxy * sxy
+    trace = sxx + syy
+    well = det > 1e-6 * trace * trace  # eigenvalue ratio above ~1e-6
+    safe = np.where(well, det, 1.0)
+    px = (syy * bx - sxy * by) / safe
+    py = (sxx * by - sxy * bx) / safe
+    half = sh / np.arange(count + 1, count + sums.shape[0] + 1)
+    dist = np.hypot(px - cx, py - cy)
+    ok = well & (half > 0)
+    scale = np.where(half > 0, half, 1.0)
+    ratio: NDArray[np.float64] = np.where(ok, dist / scale, np.nan)
+    # residual sum of squares of the lines about (px, py), and the smaller eigenvalue
+    # of the normals' scatter (det / larger one: no cancellation)
+    rss = px * (px * sxx + 2.0 * py * sxy) + py * py * syy - 2.0 * (px * bx + py * by) + dd
+    rss = np.maximum(rss, 0.0)
+    big = 0.5 * (trace + np.sqrt(np.maximum(trace * trace - 4.0 * det, 0.0)))
+    small = np.where(ok, det / np.where(big > 0, big, 1.0), 1.0)
+    error: NDArray[np.float64] = np.where(ok, np.sqrt(rss / small) / scale, np.nan)
+    return ratio, error
+
+
+def pivot_upper(
+    ratio: NDArray[np.float64], error: NDArray[np.float64], sigmas: float
+) -> NDArray[np.float64]:
+    """The ratio that "about one end" must keep below: ``ratio + sigmas x error``.
+
+    ``sigmas`` 0: the ratio itself (no allowance for the estimate's uncertainty).
+    """
+    if sigmas == 0.0:
+        return ratio
+    out: NDArray[np.float64] = ratio + sigmas * error
+    return out
+
+
+def arc_ratio_limit(
+    turn_deg: NDArray[np.float64],
+    end_ratio: float,
+    band: float,
+    full_turn_deg: float,
+    arc_turn_deg: float,
+    line_mm: NDArray[np.float64] | None = None,
+    pitch_mm: float = 0.0,
+) -> NDArray[np.float64]:
+    """Least pivot ratio that reads "in an arc" at each frame's turn, in half-lengths.
+
+    From ``full_turn_deg`` on it is ``end_ratio x band``; below, the pivot is
+    located from a shorter turn and its error grows as one over the turn, so
+    the band widens in log: ``end_ratio x band ** (full_turn_deg / turn)``.
+    Below ``arc_turn_deg``, and (up to ``full_turn_deg``) below twice the
+    angle one taxel subtends over the line's drawn length (``2 atan(pitch /
+    length)``: a straight roll seen on a coarse array turns by about that much
+    from the grid alone): infinite (no verdict).
+
+    Parameters
+    ----------
+    turn_deg : (n,) float
+        Each frame's turn from the reference, deg.
+    end_ratio, band : float
+        ``pivot_end_ratio`` and ``pivot_band`` of
+        :class:`~taxelkit.smart.tacteme_config.TactemeConfig`.
+    full_turn_deg, arc_turn_deg : float
+        ``pivot_turn_deg`` and ``pivot_arc_turn_deg``, deg.
+    line_mm : (n,) float, optional
+        Each frame's drawn line length, mm (with ``pitch_mm``).
+    pitch_mm : float
+        Taxel pitch, mm; 0: the grid is not taken into account.
+
+    Returns
+    -------
+    (n,) float
+    """
+    counted = turn_deg > arc_turn_deg
+    if line_mm is not None and pitch_mm > 0:
+        grid = 2.0 * np.rad2deg(np.arctan2(pitch_mm, np.where(line_mm > 0, line_mm, 0.0)))
+        counted &= (turn_deg > grid) | (turn_deg > full_turn_deg)  # never stricter than that
+    scale = np.maximum(1.0, full_turn_deg / np.where(counted, turn_deg, full_turn_deg))
+    with np.errstate(over="ignore"):  # a tiny arc_turn_deg: an infinite limit, no arc
+        out: NDArray[np.float64] = np.where(counted, end_ratio * band**scale, np.inf)
+    return out
