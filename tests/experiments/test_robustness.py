@@ -16,6 +16,7 @@ from taxelkit.experiments.robustness import (
     TrialOutcome,
     run_robustness,
 )
+from taxelkit.experiments.robustness_outcomes import outcomes_json
 
 
 def small(**kw: object) -> RobustnessResult:
@@ -57,6 +58,20 @@ def test_outcomes_score_wrong_names_worse_than_doubt() -> None:
     assert o("cube", "tetrahedron").wrong
     assert o("sliding", "unknown").correct and o("sliding", None).correct
     assert not o("sliding", "cylinder").correct
+
+
+def test_a_name_withdrawn_later_still_counts_as_named_wrongly() -> None:
+    def o(truth: str, ident: str | None, named: tuple[str, ...]) -> TrialOutcome:
+        return TrialOutcome("kinematic", 20.0, "none", truth, 0, ident, (), named=named)
+
+    withdrawn = o("truncated-cone", "unknown", ("cylinder",))
+    assert not withdrawn.wrong and withdrawn.named_wrongly
+    assert not o("cube", "cube", ("cube",)).named_wrongly
+    assert not o("cube", None, ()).named_wrongly
+    assert o("sliding", None, ("cylinder",)).named_wrongly
+    doc = outcomes_json([withdrawn, o("cube", "cube", ("cube",))], ["kinematic"], [20.0],
+                        ["none"], 1, {})  # fmt: skip
+    assert doc["overall"]["named_wrongly"] == 1 and doc["overall"]["wrong"] == 0
 
 
 def test_unknown_engines_and_trials_are_refused() -> None:

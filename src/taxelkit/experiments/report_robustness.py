@@ -13,6 +13,18 @@ from typing import Any
 __all__ = ["robustness_heldout_markdown", "robustness_markdown", "robustness_misses_markdown"]
 
 
+def _named(overall: dict[str, Any]) -> str:
+    """Rolls whose events named a wrong object at some moment (absent from older results)."""
+    n = overall.get("named_wrongly")
+    if n is None:
+        return ""
+    return (
+        f" Counting every event, not only the final verdicts: {n} of the {overall['n']} "
+        "named a wrong object at some moment (a later event withdrew the name where the final "
+        "verdict is not wrong)."
+    )
+
+
 def _wrong(n: int) -> str:
     """``"1 wrong identity"``, ``"3 wrong identities"``."""
     return f"{n} wrong identit{'y' if n == 1 else 'ies'}"
@@ -58,7 +70,7 @@ def robustness_markdown(doc: dict[str, Any]) -> str:
         f"- All {o['n']} in-set trials: {_pct(o['accuracy'])} % identified, "
         f"{_wrong(o['wrong'])}, {o['undecided']} undecided, {o['unknown']} unknown; "
         "the worst cell has "
-        f"{100 * worst:.1f} % wrong identities.",
+        f"{100 * worst:.1f} % wrong identities.{_named(o)}",
         f"- Cells (one object, engine, rate and imperfection) at 20 frames/s and above with "
         f"accuracy >= 0.98: {ok_fast} of {len(fast)}; at 5 frames/s: "
         f"{sum(c['accuracy'] >= 0.98 for c in slow)} of {len(slow)}.",
@@ -128,7 +140,7 @@ def robustness_heldout_markdown(docs: dict[str, dict[str, Any]]) -> str:
             f"- {name}: {_pct(o['accuracy'])} % of {o['n']} in-set trials identified, "
             f"{_wrong(o['wrong'])} (worst cell {100 * worst:.1f} %), "
             f"{o['undecided']} undecided, {o['unknown']} unknown; sliding "
-            f"{doc['sliding']['identified']} of {doc['sliding']['n']} identified."
+            f"{doc['sliding']['identified']} of {doc['sliding']['n']} identified.{_named(o)}"
         )
     return "\n".join(
         [

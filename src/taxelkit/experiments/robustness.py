@@ -142,6 +142,7 @@ def _run_unit(unit: _Unit) -> list[TrialOutcome]:
                 TrialOutcome(
                     unit.engine, rate, name, unit.truth, unit.trial, r.identified,
                     r.candidates, label, paper.identified,
+                    tuple(str(e.value) for e in r.events if e.kind == "identified"),
                 )
             )  # fmt: skip
     return out

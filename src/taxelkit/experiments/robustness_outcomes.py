@@ -56,6 +56,9 @@ class TrialOutcome:
     candidates : tuple of str
     faithful : str or None
         The verdict of paper 001's pipeline as printed on the same frames.
+    named : tuple of str
+        Every object the robust recogniser's events named ("identified"), in
+        order: a live user saw each of them, whatever the final verdict.
     """
 
     engine: str
@@ -67,6 +70,7 @@ class TrialOutcome:
     candidates: tuple[str, ...]
     array: str = MAIN_ARRAY
     faithful: str | None = None
+    named: tuple[str, ...] = ()
 
     @property
     def correct(self) -> bool:
@@ -79,6 +83,11 @@ class TrialOutcome:
     def wrong(self) -> bool:
         """A wrong identity: another object named (the worst outcome)."""
         return self.identified not in (None, "unknown", self.truth)
+
+    @property
+    def named_wrongly(self) -> bool:
+        """Another object named by an event at some moment (counted even if later withdrawn)."""
+        return any(n not in ("unknown", self.truth) for n in self.named)
 
 
 def _missed(items: list[TrialOutcome]) -> list[list[Any]]:
@@ -123,6 +132,7 @@ def outcomes_json(
             "n": n,
             "correct": correct,
             "wrong": sum(o.wrong for o in items),
+            "named_wrongly": sum(o.named_wrongly for o in items),
             "unknown": sum(o.identified == "unknown" for o in items),
             "undecided": sum(o.identified is None for o in items),
             "accuracy": round(correct / n, 4) if n else None,
