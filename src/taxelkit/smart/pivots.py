@@ -6,7 +6,7 @@ middle. The least-squares common point of the lines seen so far (the pivot),
 its distance from the current line's centre in half-lengths (the ratio), and
 the uncertainty of that ratio, from running sums shared by the batch rules
 (:mod:`taxelkit.smart.tactemes`) and their streaming twin
-(:class:`~taxelkit.smart.track_stream.PivotRun`).
+(:class:`~taxelkit.smart.pivot_stream.PivotRun`).
 """
 
 from __future__ import annotations

@@ -32,6 +32,7 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.face_shapes import face_masks, triangularity
+from taxelkit.smart.pivot_stream import PivotRun
 from taxelkit.smart.slip import Slip
 from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_config import TactemeConfig, face_limits
@@ -42,7 +43,6 @@ from taxelkit.smart.track_stream import (
     CarriedShift,
     CornerScan,
     LegScan,
-    PivotRun,
     RollingMean,
     RunningSum,
     Sustained,

@@ -20,15 +20,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from taxelkit.smart.pivots import arc_ratio_limit, pivot_from_sums, pivot_upper
-from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_geometry import drawn_half_mm
 
 __all__ = [
     "CarriedShift",
     "CornerScan",
     "LegScan",
-    "PivotRun",
     "RollingMean",
     "RunningSum",
     "Sustained",
@@ -277,122 +274,6 @@ class CornerScan:
         if cut:
             self._p, self._arc, self._idx = self._p[cut:], arc[cut:], self._idx[cut:]
             self._cand = self._cand - cut
-
-
-class PivotRun:
-    """The pivot of a turning line from one anchor on: least-squares sums, three verdicts.
-
-    Frames before the anchor's reference (its first full window) wait in
-    ``pending`` for it.
-
-    Parameters
-    ----------
-    start : int
-        Segment index of the anchor.
-    hold : int
-        Frames a verdict must hold.
-    """
-
-    def __init__(self, start: int, hold: int) -> None:
-        self.start = start  # segment index of the anchor
-        self.sums = RunningSum(7)  # sxx, sxy, syy, bx, by, half, dd: column by column
-        self.count = 0
-        self.ref_angle: float | None = None
-        # (ratios, their errors, angles, frames, drawn line lengths in mm) awaiting their
-        # reference angle
-        self.pending: list[
-            tuple[
-                NDArray[np.float64],
-                NDArray[np.float64],
-                NDArray[np.float64],
-                NDArray[np.intp],
-                NDArray[np.float64],
-            ]
-        ] = []
-        self.verdicts = [Sustained(hold) for _ in range(3)]
-        self.found: tuple[int, Tacteme] | None = None
-
-    def ratios(self, rows: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """:func:`~taxelkit.smart.tactemes._pivot_ratios` continued over ``rows``: ratio, error."""
-        # the arithmetic of _pivot_ratios, column by column (the same floats, fewer temporaries)
-        m = rows.shape[0]
-        lo, hi = rows[:, 6], rows[:, 7]
-        measured = np.isfinite(lo) & np.isfinite(hi)
-        t = np.deg2rad(rows[:, 2])
-        cos, sin = np.cos(t), np.sin(t)
-        offset = 0.5 * (lo + hi)
-        cx = np.where(measured, rows[:, 0] + offset * cos, rows[:, 0])
-        cy = np.where(measured, rows[:, 1] + offset * sin, rows[:, 1])
-        nx = -sin
-        d = nx * cx + cos * cy
-        terms = np.empty((m, 7))
-        np.multiply(nx, nx, out=terms[:, 0])
-        np.multiply(nx, cos, out=terms[:, 1])
-        np.multiply(cos, cos, out=terms[:, 2])
-        np.multiply(nx, d, out=terms[:, 3])
-        np.multiply(cos, d, out=terms[:, 4])
-        terms[:, 5] = np.where(measured, 0.5 * (hi - lo), rows[:, 5])  # drawn_half_mm
-        np.multiply(d, d, out=terms[:, 6])
-        sums = self.sums.push(terms)
-        out = pivot_from_sums(sums, self.count, cx, cy)
-        self.count += m
-        return out
-
-    def decide(
-        self,
-        min_ratio: float,
-        end_lo: float,
-        end_ratio: float,
-        band: float,
-        turn_deg: float,
-        arc_turn_deg: float,
-        pitch_mm: float = 0.0,
-        min_line_mm: float = 0.0,
-        end_sigmas: float = 0.0,
-    ) -> None:
-        """Run the three verdicts over the pending frames (their reference angle is known).
-
-        Spins below ``min_ratio`` half-lengths and about one end up to
-        ``end_lo`` (the ratio plus ``end_sigmas`` times its error,
-        :func:`~taxelkit.smart.pivots.pivot_upper`), on frames turned
-        more than ``turn_deg`` from the reference; in an arc from
-        :func:`~taxelkit.smart.pivots.arc_ratio_limit` of the turn;
-        no verdict on lines drawn shorter than ``min_line_mm``.
-        """
-        for ratio, error, angle, frames, line_mm in self.pending:
-            if self.found is not None:
-                break
-            if frames.size == 0:
-                continue
-            assert self.ref_angle is not None
-            turned = turn_from(angle, self.ref_angle)
-            ratio = np.where(line_mm < min_line_mm, np.nan, ratio)
-            ready = turned > turn_deg
-            arc = ratio >= arc_ratio_limit(
-                turned, end_ratio, band, turn_deg, arc_turn_deg, line_mm, pitch_mm
-            )
-            if not (ready.any() or arc.any()):  # no verdict can hold on these frames
-                for s in self.verdicts:
-                    s.run = 0
-                continue
-            verdicts = (
-                (Tacteme.LC_SPINS, ready & (ratio < min_ratio)),
-                (
-                    Tacteme.LCMT_ABOUT_END,
-                    ready
-                    & (ratio >= min_ratio)
-                    & (pivot_upper(ratio, error, end_sigmas) <= end_lo),
-                ),
-                (Tacteme.LCMT_ARC, arc),
-            )
-            hits = []
-            for s, (tac, verdict) in zip(self.verdicts, verdicts, strict=True):
-                f = s.push(verdict, frames)
-                if f is not None:
-                    hits.append((f, tac))
-            if hits:
-                self.found = min(hits)
-        self.pending = []
 
 
 class CarriedShift:
