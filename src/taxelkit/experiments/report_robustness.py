@@ -100,6 +100,14 @@ def robustness_markdown(doc: dict[str, Any]) -> str:
                     f"{clean['sliding_identified'] + bad['sliding_identified']} |"
                 )
                 text.append(lines_a)
+        if all("named_wrongly" in s for s in arrays):
+            n = sum(s["n"] for s in arrays)
+            named = sum(s["named_wrongly"] for s in arrays)
+            text += [
+                "",
+                f"Counting every event on the other arrays: {named} of {n} in-set rolls named a "
+                "wrong object at some moment (the brackets count only final verdicts).",
+            ]
     return "\n".join(text)
 
 
