@@ -67,6 +67,76 @@ def test_limits_batch_equals_one_frame_at_a_time() -> None:
     )
 
 
+def test_limits_with_times_batch_equals_one_frame_at_a_time() -> None:
+    rng = np.random.default_rng(5)
+    m = 300
+    classes = rng.choice([POINT, INDET, int(ContactClass.AREA)], m).astype(np.int8)
+    n = rng.integers(0, 14, m)
+    length, elong = rng.uniform(2.0, 9.0, m), rng.uniform(1.0, 3.0, m)
+    area = rng.choice([18.0, 22.0, 24.0, 27.0, 31.0], m)  # around the band 20-26 mm^2
+    t = np.cumsum(rng.choice([0.01, 0.05, 0.2], m))  # irregular intervals
+    lim = ContactLimits()
+    batch = apply_limits(classes, n, length, elong, lim, area_mm2=area, t_s=t)
+    state = LimitState()
+    pieces = [
+        apply_limits(classes[i : i + 7], n[i : i + 7], length[i : i + 7], elong[i : i + 7], lim,
+                     area_mm2=area[i : i + 7], state=state, t_s=t[i : i + 7])
+        for i in range(0, m, 7)
+    ]  # fmt: skip
+    np.testing.assert_array_equal(batch, np.concatenate(pieces))
+    scalar_state = LimitState()
+    scalar = [
+        limit_one(int(c), int(k), float(x), float(e), float(ar), lim, scalar_state, float(ts))
+        for c, k, x, e, ar, ts in zip(classes, n, length, elong, area, t, strict=True)
+    ]
+    np.testing.assert_array_equal(batch, scalar)
+    # without a dwell, the times change nothing
+    now = ContactLimits(area_enter_s=0.0)
+    np.testing.assert_array_equal(
+        apply_limits(classes, n, length, elong, now, area_mm2=area, t_s=t),
+        apply_limits(classes, n, length, elong, now, area_mm2=area),
+    )
+    with pytest.raises(InputError, match="area_enter_s"):
+        ContactLimits(area_enter_s=-0.1)
+
+
+def _ball_with_a_spike(rate_hz: float) -> TactileFrames:
+    """A ball's 7-taxel disc (22 mm^2, inside the area band) with 3 more taxels for one frame."""
+    t = int(2.0 * rate_hz)
+    frames = np.zeros((t, 16, 16), bool)
+    frames[:, 7:10, 6:8] = True  # 3 x 2
+    frames[:, 8, 5] = True  # 7 taxels
+    frames[t // 2, 9:11, 8] = True  # two more beside it, and one below
+    frames[t // 2, 10, 7] = True
+    return TactileFrames(frames, t_s=np.arange(t) / rate_hz, pitch_mm=PITCH)
+
+
+@pytest.mark.parametrize("rate_hz", [20.0, 100.0])
+def test_one_frame_over_the_area_mark_does_not_make_an_area(rate_hz: float) -> None:
+    rec = _ball_with_a_spike(rate_hz)
+    held = recognise(rec, cleaning=None)
+    assert int(ContactClass.AREA) not in held.classes.tolist()
+    assert "AC" not in [n for n, _ in held.tactemes]
+    at_once = recognise(rec, cleaning=None, limits=ContactLimits(area_enter_s=0.0))
+    assert int(ContactClass.AREA) in at_once.classes.tolist()  # latched by the hysteresis
+    # the streaming sensor and the chunked Levels 1-2 (the bank's) agree with the batch
+    sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None)
+    sensor.push_many(rec.frames, rec.t_s)
+    np.testing.assert_array_equal(sensor.result().classes, held.classes)
+    from taxelkit.smart.contact_classes import DEFAULT_CONFIDENCE, HAND_SET
+    from taxelkit.smart.levels12 import DEFAULT_LIMITS, ChunkLevels12
+
+    chunk = ChunkLevels12(
+        2, (16, 16), pitch_mm=PITCH, threshold=0.5, network=HAND_SET,
+        confidence=DEFAULT_CONFIDENCE, cleaning=None, limits=DEFAULT_LIMITS,
+    )  # fmt: skip
+    frames = np.stack([rec.frames, np.zeros_like(rec.frames)])
+    times = np.stack([rec.t_s, rec.t_s])
+    k = rec.frames.shape[0] // 3  # in three chunks
+    got = [chunk.process(frames[:, a : a + k], times[:, a : a + k])[0] for a in range(0, 3 * k, k)]
+    np.testing.assert_array_equal(np.concatenate(got, axis=1)[0], held.classes[: 3 * k])
+
+
 def test_a_three_taxel_bar_is_no_edge_but_a_long_line_is() -> None:
     frames = np.zeros((30, 16, 16), bool)
     frames[2:14, 8, 6:9] = True  # three taxels: 5.3 mm

@@ -23,7 +23,7 @@ from taxelkit.smart.contact_classes import (
     ContactNetwork,
     classify_contacts,
 )
-from taxelkit.smart.contact_limits import ContactLimits, _length_thresholds
+from taxelkit.smart.contact_limits import ContactLimits, _length_thresholds, enter_frames
 from taxelkit.smart.moments import ImageStats, image_stats
 from taxelkit.smart.track_geometry import line_extents
 
@@ -49,12 +49,11 @@ _MIN_SLICE_FRAMES = 4096
 
 
 def _schmitt_rows(
-    value: NDArray[np.float64], high: float, low: float, start: NDArray[np.bool_]
+    on: NDArray[np.bool_], off: NDArray[np.bool_], start: NDArray[np.bool_]
 ) -> NDArray[np.bool_]:
-    """:func:`~taxelkit.smart.contact_limits.schmitt` along each row, each from its own state."""
-    on = value >= high
-    decisive = on | (value < low)
-    idx = np.maximum.accumulate(np.where(decisive, np.arange(value.shape[1]), -1), axis=1)
+    """:func:`~taxelkit.smart.contact_limits.schmitt_masks` along each row, from its own state."""
+    decisive = on | off
+    idx = np.maximum.accumulate(np.where(decisive, np.arange(on.shape[1]), -1), axis=1)
     last = np.take_along_axis(on, np.maximum(idx, 0), axis=1)
     out: NDArray[np.bool_] = np.where(idx >= 0, last, start[:, None])
     return out
@@ -133,6 +132,8 @@ class ChunkLevels12:
         )
         self._long = np.zeros(self.n, bool)  # the limits' hysteresis (LimitState), per array
         self._big = np.zeros(self.n, bool)
+        self._run = np.zeros(self.n, np.int64)  # frames in a row over the area's higher mark
+        self._t_prev = np.full(self.n, np.nan)  # each array's last frame time, s
 
     def _levels(
         self, images: NDArray[np.bool_], t_s: NDArray[np.float64], sel: NDArray[np.intp]
@@ -144,7 +145,9 @@ class ChunkLevels12:
         cls = classify_contacts(stats, self.network, confidence=self.confidence)
         half = half_length(stats)
         if self.limits is not None:
-            cls = self._limited(cls.reshape(m, t), stats, half.reshape(m, t), sel).reshape(-1)
+            times = np.asarray(t_s, dtype=np.float64)[sel]
+            cls = self._limited(cls.reshape(m, t), stats, half.reshape(m, t), sel, times)
+            cls = cls.reshape(-1)
         out = np.empty((m * t, 9))
         out[:, 0:2] = stats.centre_mm
         out[:, 2] = stats.orientation_deg
@@ -166,16 +169,20 @@ class ChunkLevels12:
         stats: ImageStats,
         half: NDArray[np.float64],
         sel: NDArray[np.intp],
+        t_s: NDArray[np.float64],
     ) -> NDArray[np.int8]:
-        """:func:`~taxelkit.smart.contact_limits.apply_limits` on the arrays ``sel``, ``(m, T)``."""
+        """:func:`~taxelkit.smart.contact_limits.apply_limits` on the arrays ``sel``, ``(m, T)``,
+        taken at ``t_s`` ``(m, T)``."""
         assert self.limits is not None
         n, t = classes.shape
         taxels = stats.n_taxels.reshape(n, t)
         length = np.where(taxels > 0, 2.0 * half, 0.0)
         high, low = _length_thresholds(self.limits)
-        long = _schmitt_rows(length, high, low, self._long[sel])
+        long = _schmitt_rows(length >= high, length < low, self._long[sel])
         enter = AREA_MIN_AREA_MM2 * (1.0 + self.limits.area_hysteresis)
-        big = _schmitt_rows(stats.area_mm2.reshape(n, t), enter, AREA_MIN_AREA_MM2, self._big[sel])
+        area = stats.area_mm2.reshape(n, t)
+        held = self._held_rows(area, enter, t_s, sel)
+        big = _schmitt_rows(held, area < AREA_MIN_AREA_MM2, self._big[sel])
         self._long[sel], self._big[sel] = long[:, -1], big[:, -1]
         out = classes.copy()
         out[(out == _LINE) & ~long] = _INDET
@@ -188,6 +195,27 @@ class ChunkLevels12:
         few = (taxels > 0) & (taxels <= self.limits.point_max_taxels) & (elong <= 2.0)
         out[few & (out != _LINE)] = _POINT
         return out
+
+    def _held_rows(
+        self,
+        area: NDArray[np.float64],
+        enter: float,
+        t_s: NDArray[np.float64],
+        sel: NDArray[np.intp],
+    ) -> NDArray[np.bool_]:
+        """:func:`~taxelkit.smart.contact_limits.held_high` along each row ``(m, T)``, carried."""
+        assert self.limits is not None
+        on = area >= enter
+        m, t = on.shape
+        idx = np.broadcast_to(np.arange(t), (m, t))
+        last_off = np.maximum.accumulate(np.where(on, -1, idx), axis=1)
+        runs = np.where(last_off >= 0, idx - last_off, idx + 1 + self._run[sel][:, None])
+        dt = np.diff(t_s, axis=1, prepend=self._t_prev[sel][:, None])
+        need = enter_frames(dt, self.limits.area_enter_s)
+        self._run[sel] = np.where(on[:, -1], runs[:, -1], 0)
+        self._t_prev[sel] = t_s[:, -1]
+        held: NDArray[np.bool_] = on & (runs >= need)
+        return held
 
     def process(
         self, frames: NDArray[np.generic], t_s: NDArray[np.float64]
@@ -284,4 +312,7 @@ class ChunkLevels12:
             quiet[gt] = False
         self._long[quiet] = False  # no contact: no length, no area
         self._big[quiet] = False
+        self._run[quiet] = 0
+        if t:
+            self._t_prev[quiet] = np.asarray(t_s, dtype=np.float64)[quiet, -1]
         return classes, rows

@@ -119,7 +119,13 @@ def recognise(
     half = half_length(stats)
     if limits is not None:
         classes = apply_limits(
-            classes, stats.n_taxels, 2.0 * half, stats.elongation, limits, area_mm2=stats.area_mm2
+            classes,
+            stats.n_taxels,
+            2.0 * half,
+            stats.elongation,
+            limits,
+            area_mm2=stats.area_mm2,
+            t_s=t_s if images.ndim == 3 else None,
         ).astype(np.int8)
 
     extent = np.full((classes.size, 2), np.nan)

@@ -98,6 +98,8 @@ class _FrameLevels12:
         if n == 0:
             self._limit_state.long = False  # as the batch path: no contact, no length
             self._limit_state.big = False
+            self._limit_state.run = 0  # no area either
+            self._limit_state.t_prev = t_s
             return int(ContactClass.NONE), ()
         p = self.pitch_mm
         cuu = (n * suu - su * su) / (n * n) + CELL_SECOND_MOMENT
@@ -124,7 +126,9 @@ class _FrameLevels12:
         )
         half = math.sqrt(3.0 * lam_max * p * p)
         if self.limits is not None:
-            cls = limit_one(cls, int(n), 2.0 * half, elong, area, self.limits, self._limit_state)
+            cls = limit_one(
+                cls, int(n), 2.0 * half, elong, area, self.limits, self._limit_state, t_s
+            )
         cx, cy = su / n * p, sv / n * p
         lo = hi = math.nan
         if cls == ContactClass.LINE:  # the drawn ends along the axis (the pivot's yardstick)
