@@ -300,19 +300,31 @@ def test_short_runs_of_a_ball_show_their_orthogonal_turn(
     assert recognise(rec).identified is None  # legs alone miss the corner
 
 
-def arc_frames(turns_deg: np.ndarray, pitch: float = PITCH) -> np.ndarray:
-    """A 20 mm line rotating about a pivot 16 mm beyond its end (pivot ratio 2.6)."""
+def turning_line_frames(
+    turns_deg: np.ndarray, pivot_mm: tuple[float, float], from_mm: float, pitch: float = PITCH
+) -> np.ndarray:
+    """A 20 mm line from ``from_mm`` to ``from_mm + 20`` beyond ``pivot_mm``, turning about it."""
     ax = (np.arange(16) - 7.5) * pitch
     x, y = np.meshgrid(ax, ax)
-    px, py = -26.0, -5.0
+    px, py = pivot_mm
     out = np.zeros((turns_deg.size, 16, 16), dtype=bool)
     for i, deg in enumerate(turns_deg):
         t = np.deg2rad(deg)
         u, v = np.cos(t), np.sin(t)
         along = (x - px) * u + (y - py) * v
         across = -(x - px) * v + (y - py) * u
-        out[i] = (np.abs(across) <= 0.9) & (along >= 16.0) & (along <= 36.0)
+        out[i] = (np.abs(across) <= 0.9) & (along >= from_mm) & (along <= from_mm + 20.0)
     return out
+
+
+def arc_frames(turns_deg: np.ndarray) -> np.ndarray:
+    """A 20 mm line rotating about a pivot 16 mm beyond its end (pivot ratio 2.6)."""
+    return turning_line_frames(turns_deg, (-26.0, -5.0), 16.0)
+
+
+def end_frames(turns_deg: np.ndarray) -> np.ndarray:
+    """A 20 mm line rotating about its own end (a cone about its apex, pivot ratio 1)."""
+    return turning_line_frames(turns_deg, (-12.0, -8.0), 0.0)
 
 
 def test_a_short_turn_about_a_far_pivot_reads_as_an_arc() -> None:
@@ -347,21 +359,6 @@ def test_the_pivot_of_a_line_too_short_for_the_grid_is_not_read() -> None:
     assert list(sensor.result().events) == list(short.events)
     with pytest.raises(InputError, match="pivot_min_line_taxels"):
         TactemeConfig(pivot_min_line_taxels=-1.0)
-
-
-def end_frames(turns_deg: np.ndarray, pitch: float = PITCH) -> np.ndarray:
-    """A 20 mm line rotating about its own end (a cone about its apex, pivot ratio 1)."""
-    ax = (np.arange(16) - 7.5) * pitch
-    x, y = np.meshgrid(ax, ax)
-    px, py = -12.0, -8.0
-    out = np.zeros((turns_deg.size, 16, 16), dtype=bool)
-    for i, deg in enumerate(turns_deg):
-        t = np.deg2rad(deg)
-        u, v = np.cos(t), np.sin(t)
-        along = (x - px) * u + (y - py) * v
-        across = -(x - px) * v + (y - py) * u
-        out[i] = (np.abs(across) <= 0.9) & (along >= 0.0) & (along <= 20.0)
-    return out
 
 
 def test_about_one_end_waits_until_the_pivot_is_certain_enough() -> None:

@@ -56,6 +56,7 @@ __all__ = [
     "apply_limits",
     "enter_frames",
     "held_high",
+    "held_high_rows",
     "limit_one",
     "schmitt",
     "schmitt_masks",
@@ -198,16 +199,37 @@ def held_high(
     run, t_last : int, float
         The run and the last time, to carry to the next call.
     """
+    if value.size == 0:
+        return value >= high, run, t_prev
+    held, runs, last = held_high_rows(
+        value[None], high, np.asarray(t_s, dtype=np.float64)[None], enter_s,
+        np.array([run]), np.array([t_prev]),
+    )  # fmt: skip
+    return held[0], int(runs[0]), float(last[0])
+
+
+def held_high_rows(
+    value: NDArray[np.float64],
+    high: float,
+    t_s: NDArray[np.float64],
+    enter_s: float,
+    run: NDArray[np.int64],
+    t_prev: NDArray[np.float64],
+) -> tuple[NDArray[np.bool_], NDArray[np.int64], NDArray[np.float64]]:
+    """:func:`held_high` along each row of ``value`` and ``t_s`` ``(m, T)``, ``T >= 1``.
+
+    ``run`` and ``t_prev`` ``(m,)`` are each row's carried run and last
+    time; returns the held samples ``(m, T)`` and the new run and last time.
+    """
     on = value >= high
-    n = on.size
-    if n == 0:
-        return on, run, t_prev
-    idx = np.arange(n)
-    last_off = np.maximum.accumulate(np.where(on, -1, idx))
-    runs = np.where(last_off >= 0, idx - last_off, idx + 1 + run)
-    dt = np.diff(np.asarray(t_s, dtype=np.float64), prepend=t_prev)
+    m, t = on.shape
+    idx = np.broadcast_to(np.arange(t), (m, t))
+    last_off = np.maximum.accumulate(np.where(on, -1, idx), axis=1)
+    runs = np.where(last_off >= 0, idx - last_off, idx + 1 + run[:, None])
+    dt = np.diff(t_s, axis=1, prepend=t_prev[:, None])
     held: NDArray[np.bool_] = on & (runs >= enter_frames(dt, enter_s))
-    return held, int(runs[-1]) if on[-1] else 0, float(t_s[-1])
+    run_end: NDArray[np.int64] = np.where(on[:, -1], runs[:, -1], 0)
+    return held, run_end, t_s[:, -1].copy()
 
 
 @dataclass

@@ -23,7 +23,7 @@ from taxelkit.smart.contact_classes import (
     ContactNetwork,
     classify_contacts,
 )
-from taxelkit.smart.contact_limits import ContactLimits, _length_thresholds, enter_frames
+from taxelkit.smart.contact_limits import ContactLimits, _length_thresholds, held_high_rows
 from taxelkit.smart.moments import ImageStats, image_stats
 from taxelkit.smart.track_geometry import line_extents
 
@@ -181,7 +181,9 @@ class ChunkLevels12:
         long = _schmitt_rows(length >= high, length < low, self._long[sel])
         enter = AREA_MIN_AREA_MM2 * (1.0 + self.limits.area_hysteresis)
         area = stats.area_mm2.reshape(n, t)
-        held = self._held_rows(area, enter, t_s, sel)
+        held, self._run[sel], self._t_prev[sel] = held_high_rows(
+            area, enter, t_s, self.limits.area_enter_s, self._run[sel], self._t_prev[sel]
+        )
         big = _schmitt_rows(held, area < AREA_MIN_AREA_MM2, self._big[sel])
         self._long[sel], self._big[sel] = long[:, -1], big[:, -1]
         out = classes.copy()
@@ -195,27 +197,6 @@ class ChunkLevels12:
         few = (taxels > 0) & (taxels <= self.limits.point_max_taxels) & (elong <= 2.0)
         out[few & (out != _LINE)] = _POINT
         return out
-
-    def _held_rows(
-        self,
-        area: NDArray[np.float64],
-        enter: float,
-        t_s: NDArray[np.float64],
-        sel: NDArray[np.intp],
-    ) -> NDArray[np.bool_]:
-        """:func:`~taxelkit.smart.contact_limits.held_high` along each row ``(m, T)``, carried."""
-        assert self.limits is not None
-        on = area >= enter
-        m, t = on.shape
-        idx = np.broadcast_to(np.arange(t), (m, t))
-        last_off = np.maximum.accumulate(np.where(on, -1, idx), axis=1)
-        runs = np.where(last_off >= 0, idx - last_off, idx + 1 + self._run[sel][:, None])
-        dt = np.diff(t_s, axis=1, prepend=self._t_prev[sel][:, None])
-        need = enter_frames(dt, self.limits.area_enter_s)
-        self._run[sel] = np.where(on[:, -1], runs[:, -1], 0)
-        self._t_prev[sel] = t_s[:, -1]
-        held: NDArray[np.bool_] = on & (runs >= need)
-        return held
 
     def process(
         self, frames: NDArray[np.generic], t_s: NDArray[np.float64]
