@@ -439,3 +439,37 @@ def test_an_edge_angle_midway_between_60_and_90_reads_as_neither(
     angles = {t.value for t in found} - {"AC -> LC"}
     assert angles == ({expected} if expected else set())
     assert PAPER_LEVEL3.edge_angle_doubt_deg == 0.0
+
+
+def flickering_arc_frames(turns_deg: np.ndarray) -> np.ndarray:
+    """A line turning about a pivot 6.5 mm beyond its near end, its far end 8 mm short every
+    other frame: its middle jumps by 4 mm, the current line's pivot ratio by about 0.5."""
+    start = 6.5
+    pivot = (-10.0 - start, -5.0)
+    frames = turning_line_frames(turns_deg, pivot, start)
+    ax = (np.arange(16) - 7.5) * PITCH
+    x, y = np.meshgrid(ax, ax)
+    for i in range(1, turns_deg.size, 2):
+        t = np.deg2rad(turns_deg[i])
+        along = (x - pivot[0]) * np.cos(t) + (y - pivot[1]) * np.sin(t)
+        frames[i] &= along <= start + 12.0
+    return frames
+
+
+def test_the_arc_reads_the_mean_middle_of_the_recent_lines() -> None:
+    """A truncated cone whose line end flickers: an arc from the lines' mean middle only."""
+    turns = np.concatenate([np.zeros(20), np.linspace(0.0, 40.0, 120), np.full(60, 40.0)])
+    rec = TactileFrames(
+        flickering_arc_frames(turns), t_s=np.arange(turns.size) / 40.0, pitch_mm=PITCH
+    )
+    for cfg, arc in ((TactemeConfig(), True), (TactemeConfig(pivot_arc_smooth=False), False)):
+        res = recognise(rec, cleaning=None, config=cfg)
+        names = [n for n, _ in res.tactemes]
+        assert ("LCMT in an arc" in names) is arc
+        assert "LCMT about one end" not in names
+        assert res.identified == ("truncated-cone" if arc else None)
+        sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None, config=cfg)
+        for chunk in np.array_split(np.arange(turns.size), 7):
+            sensor.push_many(rec.frames[chunk], rec.t_s[chunk])
+        assert list(sensor.result().events) == list(res.events)
+    assert not PAPER_LEVEL3.pivot_arc_smooth

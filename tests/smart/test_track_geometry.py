@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from taxelkit.smart.moments import image_stats
-from taxelkit.smart.pivots import pivot_fit, pivot_ratios, pivot_upper
+from taxelkit.smart.pivots import pivot_fit, pivot_ratios, pivot_upper, trailing_mean
 from taxelkit.smart.track_geometry import carried_shift, line_extents
 
 
@@ -109,3 +109,20 @@ def test_carried_shift_without_re_anchors_is_the_shift_from_the_reference() -> N
     out = carried_shift(centre, anchor, ref)
     assert np.allclose(out[2:], centre[2:] - centre[2])
     assert np.allclose(out[:2], 0.0)
+
+
+def test_trailing_mean_is_the_same_in_chunks_and_at_once() -> None:
+    """The window's mean, float for float, however the rows are split; w = 1 is the rows."""
+    rng = np.random.default_rng(3)
+    values = rng.normal(size=(50, 2)) * 7.3
+    for w in (1, 2, 6):
+        whole = trailing_mean(values, w)
+        expect = np.array([values[max(0, i - w + 1) : i + 1].mean(axis=0) for i in range(50)])
+        assert np.allclose(whole, expect)
+        for cuts in ((1, 2, 3), (5, 17, 40), (49,)):
+            parts, before = [], values[:0]
+            for piece in np.split(values, cuts):
+                parts.append(trailing_mean(piece, w, before))
+                before = np.concatenate([before, piece])
+            assert np.array_equal(np.concatenate(parts), whole)
+    assert np.array_equal(trailing_mean(values, 1), values)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from taxelkit.smart.pivots import arc_ratio_limit, pivot_from_sums, pivot_upper
+from taxelkit.smart.pivots import arc_ratio_limit, pivot_from_sums, pivot_upper, trailing_mean
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_stream import RunningSum, Sustained, turn_from
 
@@ -31,17 +31,22 @@ class PivotRun:
         Segment index of the anchor.
     hold : int
         Frames a verdict must hold.
+    arc_w : int
+        Lines whose mean middle "in an arc" reads (1: the current line's).
     """
 
-    def __init__(self, start: int, hold: int) -> None:
+    def __init__(self, start: int, hold: int, arc_w: int = 1) -> None:
         self.start = start  # segment index of the anchor
         self.sums = RunningSum(7)  # sxx, sxy, syy, bx, by, half, dd: column by column
         self.count = 0
+        self.arc_w = arc_w
+        self.tail = np.empty((0, 2))  # the last arc_w - 1 line middles, mm
         self.ref_angle: float | None = None
-        # (ratios, their errors, angles, frames, drawn line lengths in mm) awaiting their
-        # reference angle
+        # (ratios, their errors, the arc's ratios, angles, frames, drawn line lengths in mm)
+        # awaiting their reference angle
         self.pending: list[
             tuple[
+                NDArray[np.float64],
                 NDArray[np.float64],
                 NDArray[np.float64],
                 NDArray[np.float64],
@@ -52,8 +57,14 @@ class PivotRun:
         self.verdicts = [Sustained(hold) for _ in range(3)]
         self.found: tuple[int, Tacteme] | None = None
 
-    def ratios(self, rows: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """:func:`~taxelkit.smart.tactemes._pivot_ratios` continued over ``rows``: ratio, error."""
+    def ratios(
+        self, rows: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """:func:`~taxelkit.smart.tactemes._pivot_ratios` continued over ``rows``.
+
+        Returns the ratio, its error and the arc's ratio (from the mean middle
+        of the last ``arc_w`` lines).
+        """
         # the arithmetic of _pivot_ratios, column by column (the same floats, fewer temporaries)
         m = rows.shape[0]
         lo, hi = rows[:, 6], rows[:, 7]
@@ -74,9 +85,14 @@ class PivotRun:
         terms[:, 5] = np.where(measured, 0.5 * (hi - lo), rows[:, 5])  # drawn_half_mm
         np.multiply(d, d, out=terms[:, 6])
         sums = self.sums.push(terms)
-        out = pivot_from_sums(sums, self.count, cx, cy)
+        ratio, error = pivot_from_sums(sums, self.count, cx, cy)
         self.count += m
-        return out
+        if self.arc_w <= 1:
+            return ratio, error, ratio
+        middle = np.stack([cx, cy], axis=-1)
+        mean = trailing_mean(middle, self.arc_w, self.tail)
+        self.tail = np.concatenate([self.tail, middle])[-(self.arc_w - 1) :]
+        return ratio, error, pivot_from_sums(sums, self.count - m, mean[:, 0], mean[:, 1])[0]
 
     def decide(
         self,
@@ -99,16 +115,17 @@ class PivotRun:
         :func:`~taxelkit.smart.pivots.arc_ratio_limit` of the turn;
         no verdict on lines drawn shorter than ``min_line_mm``.
         """
-        for ratio, error, angle, frames, line_mm in self.pending:
+        for ratio, error, arc_ratio, angle, frames, line_mm in self.pending:
             if self.found is not None:
                 break
             if frames.size == 0:
                 continue
             assert self.ref_angle is not None
             turned = turn_from(angle, self.ref_angle)
-            ratio = np.where(line_mm < min_line_mm, np.nan, ratio)
+            short = line_mm < min_line_mm
+            ratio = np.where(short, np.nan, ratio)
             ready = turned > turn_deg
-            arc = ratio >= arc_ratio_limit(
+            arc = np.where(short, np.nan, arc_ratio) >= arc_ratio_limit(
                 turned, end_ratio, band, turn_deg, arc_turn_deg, line_mm, pitch_mm
             )
             if not (ready.any() or arc.any()):  # no verdict can hold on these frames

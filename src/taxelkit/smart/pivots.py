@@ -14,7 +14,18 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["arc_ratio_limit", "pivot_fit", "pivot_from_sums", "pivot_ratios", "pivot_upper"]
+from taxelkit.smart.track_geometry import drawn_half_mm
+
+__all__ = [
+    "arc_ratio_limit",
+    "drawn_pivot_fit",
+    "pivot_fit",
+    "pivot_from_sums",
+    "pivot_ratios",
+    "pivot_sums",
+    "pivot_upper",
+    "trailing_mean",
+]
 
 
 def pivot_ratios(
@@ -56,11 +67,83 @@ def pivot_fit(
         The ratio of :func:`pivot_ratios`, and its uncertainty (see
         :func:`pivot_from_sums`); NaN where the ratio is.
     """
+    sums = pivot_sums(orientation_deg, centre_mm, half_length_mm)
+    return pivot_from_sums(sums, 0, centre_mm[:, 0], centre_mm[:, 1])
+
+
+def drawn_pivot_fit(
+    orientation_deg: NDArray[np.float64],
+    centre_mm: NDArray[np.float64],
+    half_length_mm: NDArray[np.float64],
+    extent_mm: NDArray[np.float64] | None = None,
+    arc_w: int = 1,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """:func:`pivot_fit` of drawn lines, and the ratio that "in an arc" reads.
+
+    With the lines' extents, each line is its drawn segment (its middle and
+    half its length); without, its moment centre and half-length.
+
+    Parameters
+    ----------
+    orientation_deg : (n,) float
+        The lines' axes, deg.
+    centre_mm : (n, 2) float
+        Their moment centres, mm.
+    half_length_mm : (n,) float
+        Their moment half-lengths, mm.
+    extent_mm : (n, 2) float, optional
+        Each line's drawn ends along its axis from its centre, mm (NaN where
+        not measured; :func:`~taxelkit.smart.track_geometry.line_extents`).
+    arc_w : int
+        Lines whose mean middle (:func:`trailing_mean`) the third ratio is
+        measured from; 1: the current line's, the first ratio itself.
+
+    Returns
+    -------
+    ratio, error, arc_ratio : (n,) float
+    """
+    theta, centre, half = orientation_deg, centre_mm, half_length_mm
+    if extent_mm is not None:
+        ext = extent_mm
+        measured: NDArray[np.bool_] = np.isfinite(ext[:, 0]) & np.isfinite(ext[:, 1])
+        t = np.deg2rad(theta)
+        offset = 0.5 * (ext[:, 0] + ext[:, 1])
+        middle = centre + offset[:, None] * np.stack([np.cos(t), np.sin(t)], axis=-1)
+        centre = np.where(measured[:, None], middle, centre)
+        half = drawn_half_mm(half, ext)
+    sums = pivot_sums(theta, centre, half)
+    ratio, error = pivot_from_sums(sums, 0, centre[:, 0], centre[:, 1])
+    if arc_w <= 1:
+        return ratio, error, ratio
+    mean = trailing_mean(centre, arc_w)
+    return ratio, error, pivot_from_sums(sums, 0, mean[:, 0], mean[:, 1])[0]
+
+
+def pivot_sums(
+    orientation_deg: NDArray[np.float64],
+    centre_mm: NDArray[np.float64],
+    half_length_mm: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """The running sums of :func:`pivot_from_sums` over the lines ``0..j``, for each ``j``.
+
+    Parameters
+    ----------
+    orientation_deg : (n,) float
+        The lines' axes, deg.
+    centre_mm : (n, 2) float
+        Their centres, mm.
+    half_length_mm : (n,) float
+        Their half-lengths, mm.
+
+    Returns
+    -------
+    (n, 7) float
+    """
     t = np.deg2rad(orientation_deg)
     nx, ny = -np.sin(t), np.cos(t)  # line normals
     c = centre_mm
     d = nx * c[:, 0] + ny * c[:, 1]
-    sums = np.stack(
+    return np.stack(
         [
             np.cumsum(nx * nx),
             np.cumsum(nx * ny),
@@ -72,7 +155,47 @@ def pivot_fit(
         ],
         axis=-1,
     )
-    return pivot_from_sums(sums, 0, c[:, 0], c[:, 1])
+
+
+def trailing_mean(
+    values: NDArray[np.float64], w: int, before: NDArray[np.float64] | None = None
+) -> NDArray[np.float64]:
+    """Mean of each row and the ``w - 1`` rows before it (fewer at the start), along axis 0.
+
+    The sum is taken row by row, newest first, so that the same window gives
+    the same floats whether the rows arrive at once (batch) or in chunks
+    (streaming, with the rows before the chunk in ``before``).
+
+    Parameters
+    ----------
+    values : (n, ...) float
+        The rows.
+    w : int
+        Window, rows (>= 1).
+    before : (b, ...) float, optional
+        The rows just before ``values``, oldest first: at least ``w - 1`` of
+        them, or all there were. None: none.
+
+    Returns
+    -------
+    (n, ...) float
+    """
+    head = values[:0] if before is None else before[max(0, before.shape[0] - (w - 1)) :]
+    rows = np.concatenate([head, values]) if head.shape[0] else values
+    b, n = head.shape[0], values.shape[0]
+    acc = np.zeros_like(values)
+    count = np.zeros(n)
+    at = np.arange(b, b + n)
+    for lag in range(w):
+        idx = at - lag
+        ok = idx >= 0
+        if not ok.any():
+            break
+        acc[ok] += rows[idx[ok]]
+        count += ok
+    shape = (-1,) + (1,) * (values.ndim - 1)
+    out: NDArray[np.float64] = acc / count.reshape(shape)
+    return out
 
 
 def pivot_from_sums(

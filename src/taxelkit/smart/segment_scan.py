@@ -255,6 +255,7 @@ class SegmentScanner:
         self.w = self.frames_for(cfg.smooth_s, k)
         self.hold = self.frames_for(cfg.motion_hold_s, k, minimum=MOTION_MIN_FRAMES)
         self.pivot_hold = self.frames_for(cfg.pivot_hold_s, k, minimum=self.hold)
+        self._arc_w = self.w if cfg.pivot_arc_smooth else 1
         self._head_cap = max(k, self.frames_for(cfg.edge_hold_s, k))
         del self._head_frames[self._head_cap :], self._head_t[self._head_cap :]
         del self._head_theta[self._head_cap :]
@@ -464,12 +465,12 @@ class SegmentScanner:
             if piv is None or (
                 piv.start != a and (self._j_turn_seg is None or a <= self._j_turn_seg)
             ):
-                piv = self._piv = PivotRun(a, self.pivot_hold)
+                piv = self._piv = PivotRun(a, self.pivot_hold, self._arc_w)
             if piv.found is not None:
                 continue
-            ratio, error = piv.ratios(rows[lo:hi])
+            ratio, error, arc = piv.ratios(rows[lo:hi])
             piv.pending.append(
-                (ratio, error, angle[lo:hi], frames[lo:hi], drawn_length_mm(rows[lo:hi]))
+                (ratio, error, arc, angle[lo:hi], frames[lo:hi], drawn_length_mm(rows[lo:hi]))
             )
             r = piv.start + w - 1
             if piv.ref_angle is None and int(j[lo]) <= r < int(j[hi - 1]) + 1:

@@ -35,7 +35,9 @@ a row, so the one-frame collapse of a contact that tips away is not motion)
       virtual apex); nearer than ``pivot_min_ratio`` half-lengths it is "LC
       spins about its middle" (beyond paper 001: a line spun in place).
       A pivot far beyond the line may be called "in an arc" from
-      ``pivot_arc_turn_deg`` on, with a band that widens as the turn shrinks.
+      ``pivot_arc_turn_deg`` on, with a band that widens as the turn shrinks;
+      "in an arc" reads the pivot's distance from the mean middle of the
+      lines of the last ``smooth_s`` (``pivot_arc_smooth``).
 
     References re-anchor whenever the smoothed area differs from the area at
     the reference by more than ``area_step`` (see :class:`TactemeConfig`):
@@ -62,7 +64,7 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.face_shapes import face_masks, triangularity
-from taxelkit.smart.pivots import arc_ratio_limit, pivot_fit, pivot_upper
+from taxelkit.smart.pivots import arc_ratio_limit, drawn_pivot_fit, pivot_upper
 from taxelkit.smart.tacteme_config import (
     PAPER_LEVEL3,
     TactemeConfig,
@@ -214,25 +216,17 @@ def _drawn_half(track: SegmentTrack, start: int, stop: int) -> NDArray[np.float6
 
 
 def _pivot_ratios(
-    track: SegmentTrack, start: int, stop: int
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """:func:`~taxelkit.smart.pivots.pivot_fit` of the lines ``start..stop - 1``.
-
-    With the lines' extents, each line is its drawn segment (its middle and
-    half its length); without, its centre and moment half-length.
-    """
-    theta = track.orientation_deg[start:stop]
-    centre = track.centre_mm[start:stop]
-    half = track.half_length_mm[start:stop]
-    if track.extent_mm is not None:
-        ext = track.extent_mm[start:stop]
-        measured: NDArray[np.bool_] = np.isfinite(ext[:, 0]) & np.isfinite(ext[:, 1])
-        t = np.deg2rad(theta)
-        offset = 0.5 * (ext[:, 0] + ext[:, 1])
-        middle = centre + offset[:, None] * np.stack([np.cos(t), np.sin(t)], axis=-1)
-        centre = np.where(measured[:, None], middle, centre)
-        half = drawn_half_mm(half, ext)
-    return pivot_fit(theta, centre, half)
+    track: SegmentTrack, start: int, stop: int, arc_w: int = 1
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """:func:`~taxelkit.smart.pivots.drawn_pivot_fit` of the lines ``start..stop - 1``."""
+    ext = None if track.extent_mm is None else track.extent_mm[start:stop]
+    return drawn_pivot_fit(
+        track.orientation_deg[start:stop],
+        track.centre_mm[start:stop],
+        track.half_length_mm[start:stop],
+        ext,
+        arc_w,
+    )
 
 
 def _orthogonal_turn(centre: NDArray[np.float64], start: int, config: TactemeConfig) -> int | None:
@@ -339,9 +333,12 @@ def segment_tactemes(
             # the lines from the turn's anchor on, across later re-anchors: a rolling
             # cone's line keeps turning about the same point while its width varies
             start, stop = int(anchor[j_turn]), n
-            ratio, error = _pivot_ratios(track, start, stop)
+            arc_w = w if config.pivot_arc_smooth else 1
+            ratio, error, arc_ratio = _pivot_ratios(track, start, stop, arc_w)
             line_mm = 2.0 * _drawn_half(track, start, stop)
-            ratio = np.where(line_mm < config.pivot_min_line_taxels * track.pitch_mm, np.nan, ratio)
+            short = line_mm < config.pivot_min_line_taxels * track.pitch_mm
+            ratio = np.where(short, np.nan, ratio)
+            arc_ratio = np.where(short, np.nan, arc_ratio)
             pivot_hold = track.frames_for(config.pivot_hold_s, k, minimum=hold)
             turned_now = turn(angle, ref[start] + np.zeros(n, np.intp))[start:]
             ready = turned_now > config.pivot_turn_deg
@@ -363,7 +360,7 @@ def segment_tactemes(
                     & (ratio >= config.pivot_min_ratio)
                     & (pivot_upper(ratio, error, config.pivot_end_sigmas) <= lo),
                 ),
-                (Tacteme.LCMT_ARC, ratio >= arc),
+                (Tacteme.LCMT_ARC, arc_ratio >= arc),
             ):
                 j = first(sustained(verdict, pivot_hold), 0)
                 if j is not None:
