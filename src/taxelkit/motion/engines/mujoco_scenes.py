@@ -55,7 +55,6 @@ after :data:`ATTEMPTS`.
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -65,33 +64,24 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.errors import InputError, check_in_range, check_positive
-from taxelkit.motion import _script as sc
 from taxelkit.motion.array_placement import fit_on_array
 from taxelkit.motion.engines import _mj_hand as mh
 from taxelkit.motion.engines import _mj_scripts as ms_scripts
-from taxelkit.motion.engines._mjcf import (
-    BODY_NAME,
-    M_PER_MM,
-    PHYSICS_HZ,
-    scene_xml,
-)
+from taxelkit.motion.engines._mj_simulate import import_mujoco, simulate
+from taxelkit.motion.engines._mjcf import PHYSICS_HZ
 from taxelkit.motion.engines._sampling import (
     StepRecord,
     contact_footprint_mm,
     contact_kinds,
     matrices_from_quats,
-    motion_measures,
     phase_labels,
     sample_record,
 )
-from taxelkit.motion.engines.registry import MUJOCO_INSTALL_HINT
 from taxelkit.motion.rolling import DEFAULT_DEPTH_MM, DEFAULT_RATE_HZ, E_Z, Scenario
 from taxelkit.motion.scenarios import SCENARIO_NAMES
 from taxelkit.sensors.noise import RngLike
 from taxelkit.sensors.presets import BONNEVILLE_16X16, Sensor
 from taxelkit.world.pose import matrix_from_axis_angle
-from taxelkit.world.solids import AnalyticSolid
-from taxelkit.world.solids_round import Cone, Cylinder, Sphere, TruncatedCone
 
 __all__ = ["ATTEMPTS", "MAX_LIFT_GAP_S", "MujocoScene", "mujoco_scene"]
 
@@ -104,13 +94,6 @@ MAX_LIFT_GAP_S = 2.0
 #: 1 kHz: the fastest contact point moves 0.06 mm in that time, well inside
 #: the 1 mm edge margin).
 _FIT_STRIDE = 10
-#: A body whose lowest point is less than this above the plate still touches
-#: it, mm, even in a step where MuJoCo lists no contact: a dragged face
-#: chatters by a fraction of a micrometre, far below the skin's 30 um
-#: threshold, and the press does not vanish in a millisecond.
-TOUCH_GAP_MM = 0.005
-#: Hard cap on a scene's length, s (a script lasts 5-15 s).
-_MAX_DURATION_S = 60.0
 #: Yaw tried for fitting, in pi / _YAW_TRIES steps.
 _YAW_TRIES = 8
 
@@ -158,114 +141,6 @@ class MujocoScene:
     density_kg_m3: float
     mujoco_version: str
     wall_s: float
-
-
-# --- simulation ------------------------------------------------------------------------------
-
-
-def _import_mujoco() -> Any:
-    try:
-        import mujoco
-    except ImportError:
-        raise InputError(f"the mujoco engine needs MuJoCo: {MUJOCO_INSTALL_HINT}") from None
-    return mujoco
-
-
-def _simulate(
-    mujoco: Any,
-    sensor: Sensor,
-    plan: ms_scripts.Plan,
-    segments: list[mh.Segment],
-    rotation0: NDArray[np.float64],
-) -> StepRecord:
-    xml = scene_xml(plan.solid, sensor, friction=plan.friction, density_kg_m3=plan.density_kg_m3)
-    model = mujoco.MjModel.from_xml_string(xml)
-    data = mujoco.MjData(model)
-    bid = model.body(BODY_NAME).id
-    ri = np.zeros(9)
-    mujoco.mju_quat2Mat(ri, model.body_iquat[bid])
-    ri3 = ri.reshape(3, 3)
-    hand = mh.Hand(
-        plan.solid, float(model.body_mass[bid]), ri3 @ np.diag(model.body_inertia[bid]) @ ri3.T
-    )
-    rest = sc.rest_pose(plan.solid, rotation0)
-    quat = np.zeros(4)
-    mujoco.mju_mat2Quat(quat, rotation0.ravel())
-    data.qpos[:3] = (rest.centroid_mm + mh.HOVER_CLEARANCE_MM * E_Z) * M_PER_MM
-    data.qpos[3:7] = quat
-    radius_mm = _bounding_radius_mm(plan.solid)
-    rows: list[tuple[float, ...]] = []
-    seg_i = 0
-    mujoco.mj_forward(model, data)
-    segments[0].start(hand, _state(data, bid, 0.0, False))
-    max_steps = int(_MAX_DURATION_S * PHYSICS_HZ)
-    for step in range(max_steps):
-        mujoco.mj_step1(model, data)
-        t = step / PHYSICS_HZ
-        ncon = int(data.ncon)
-        s = _state(data, bid, t, ncon > 0)
-        slip_now = 0.0
-        if ncon:  # material velocity of the body at its contact points
-            rel = data.contact.pos[:ncon] - s.pos_m
-            w = s.omega_rad_s
-            v = s.vel_m_s + np.column_stack(  # v + w x rel
-                [
-                    w[1] * rel[:, 2] - w[2] * rel[:, 1],
-                    w[2] * rel[:, 0] - w[0] * rel[:, 2],
-                    w[0] * rel[:, 1] - w[1] * rel[:, 0],
-                ]
-            )
-            slip_now = float(np.max(np.hypot(v[:, 0], v[:, 1]))) / M_PER_MM
-        wrench = segments[seg_i].wrench(hand, s)
-        while wrench is None and seg_i + 1 < len(segments):
-            seg_i += 1
-            segments[seg_i].start(hand, s)
-            wrench = segments[seg_i].wrench(hand, s)
-        ramp = {"": 0, "placing": 1, "lifting": 2}[hand.ramp]
-        rows.append((*data.qpos[:7], ncon > 0, hand.press, ramp, slip_now))
-        if wrench is None:
-            break
-        data.xfrc_applied[bid] = wrench
-        mujoco.mj_step2(model, data)
-    arr = np.array(rows, dtype=np.float64)
-    quats = arr[:, 3:7] / np.linalg.norm(arr[:, 3:7], axis=1, keepdims=True)
-    centroids = arr[:, :3] / M_PER_MM
-    gap = centroids[:, 2] + plan.solid.lowest_z_mm(matrices_from_quats(quats))
-    touching = (arr[:, 7] > 0.5) | (gap < TOUCH_GAP_MM)
-    speed, spin, slip = motion_measures(  # the script ends after at most _MAX_DURATION_S
-        quats, centroids, arr[:, 10], radius_mm=radius_mm, steps_per_s=PHYSICS_HZ
-    )
-    return StepRecord(
-        quats=quats,
-        centroids_mm=centroids,
-        touching=touching,
-        press=arr[:, 8],
-        ramp=arr[:, 9].astype(np.int8),
-        speed_mm_s=speed,
-        spin_share=spin,
-        slip_mm_s=slip,
-    )
-
-
-def _state(data: Any, bid: int, t: float, touching: bool) -> mh.BodyState:
-    """The body's state after MuJoCo's position stage (``xmat`` matches ``qpos``)."""
-    rot = np.array(data.xmat[bid]).reshape(3, 3)
-    return mh.BodyState(
-        t_s=t,
-        pos_m=np.array(data.qpos[:3]),
-        rot=rot,
-        vel_m_s=np.array(data.qvel[:3]),
-        omega_rad_s=rot @ np.array(data.qvel[3:6]),
-        touching=touching,
-    )
-
-
-def _bounding_radius_mm(solid: AnalyticSolid) -> float:
-    if isinstance(solid, Sphere):
-        return float(solid.radius_mm)
-    if isinstance(solid, Cylinder | Cone | TruncatedCone):
-        return max(math.hypot(r, z) for z, r in solid.profile.rims)
-    return float(np.max(np.linalg.norm(solid.vertices_mm, axis=1)))
 
 
 def _fit(
@@ -372,12 +247,12 @@ def mujoco_scenes(
     djit = check_in_range("depth_jitter", depth_jitter, 0.0, 0.9)
     depth0 = check_positive("depth_mm", depth_mm)
     gap = check_in_range("lift_gap_s", lift_gap_s, 0.0, MAX_LIFT_GAP_S)
-    mujoco = _import_mujoco()
+    mujoco = import_mujoco()
     t_start = time.perf_counter()
     plan = ms_scripts.draw_plan(name, np.random.default_rng(rng), jitter, depth0, djit)
     for attempt in range(ATTEMPTS):
         segments, rotation0 = ms_scripts.segments_for(plan, attempt, gap)
-        rec = _simulate(mujoco, sensor, plan, segments, rotation0)
+        rec = simulate(mujoco, sensor, plan, segments, rotation0)
         placed = _fit(plan, rec, sensor)
         if placed is not None:
             return [
