@@ -33,7 +33,7 @@ from taxelkit.smart.levels12 import (
     DEFAULT_THRESHOLD_MM,
     half_length,
 )
-from taxelkit.smart.levels34 import Levels34, Recognition, TrackSegment, finish
+from taxelkit.smart.levels34 import Levels34, Recognition, finish, track_segments
 from taxelkit.smart.moments import binary_images, image_stats
 from taxelkit.smart.streaming import SmartSensor
 from taxelkit.smart.tactemes import (
@@ -43,6 +43,8 @@ from taxelkit.smart.tactemes import (
     debounce_counts,
 )
 from taxelkit.smart.track_geometry import line_extents
+
+_NONE = int(ContactClass.NONE)
 
 __all__ = ["DEFAULT_CLEANING", "DEFAULT_LIMITS", "Recognition", "SmartSensor", "recognise"]
 
@@ -54,9 +56,16 @@ def _levels34_for_runs(
 ) -> Levels34:
     """Levels 3-4 over the accepted runs of a whole recording (batch)."""
     state = Levels34(config)
-    for cls, accept, frames in runs:
-        seg = TrackSegment(cls, track_of(frames), config) if cls != ContactClass.NONE else None
-        state.open_run(cls, accept, seg)
+    contact = [i for i, (cls, _, _) in enumerate(runs) if cls != _NONE]
+    segs = dict(
+        zip(
+            contact,
+            track_segments([(runs[i][0], track_of(runs[i][2]), None) for i in contact], config),
+            strict=True,
+        )
+    )
+    for i, (cls, accept, _) in enumerate(runs):
+        state.open_run(cls, accept, segs.get(i))
     return state
 
 

@@ -33,6 +33,9 @@ __all__ = [
 
 #: Frames per pass of :func:`line_extents` (its temporaries stay in the cache).
 _EXTENT_CHUNK = 1024
+#: Relative distance within which ``np.hypot`` and ``math.hypot`` may disagree (both are
+#: within an ulp or two of the exact value): :func:`orthogonal_turn` decides those by the latter.
+_HYPOT_MARGIN = 1e-12
 
 
 def rolling_mean(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
@@ -279,17 +282,32 @@ def orthogonal_turn(
     still shows its full angle. The legs are much longer than the taxel-sized
     jumps of a point contact's centre.
     """
-    pts = centre.tolist()
     leg = leg_mm
     lo, hi = np.cos(np.deg2rad(window_deg[1])), np.cos(np.deg2rad(window_deg[0]))
-    bx, by = pts[start]
+    xs, ys = centre[:, 0], centre[:, 1]
+    bx, by = float(xs[start]), float(ys[start])
     legs: list[tuple[float, float]] = []
-    for j in range(start + 1, len(pts)):  # a scan along the path; legs are few
-        x, y = pts[j]
-        dx, dy = x - bx, y - by
-        d = math.hypot(dx, dy)
-        if d < leg:
-            continue
+    j, ahead = start + 1, 16
+    while j < xs.size:  # from breakpoint to breakpoint; legs are few
+        # the next point a leg away, looked for in windows that double: the frames np.hypot
+        # puts nearer than the leg by more than its rounding are skipped, the others are
+        # tested as the rule writes it
+        q = None
+        while q is None and j < xs.size:
+            stop = min(xs.size, j + ahead)
+            near = np.hypot(xs[j:stop] - bx, ys[j:stop] - by) < leg * (1.0 - _HYPOT_MARGIN)
+            for i in (j + np.flatnonzero(~near)).tolist():
+                x, y = float(xs[i]), float(ys[i])
+                dx, dy = x - bx, y - by
+                d = math.hypot(dx, dy)
+                if not d < leg:  # (a NaN breaks the path too)
+                    q = i
+                    break
+            else:
+                j, ahead = stop, 2 * ahead
+        if q is None:
+            return None
+        j, ahead = q, max(16, (q - j) * 2)
         legs.append((dx / d, dy / d))
         bx, by = x, y
         for back in (2, 3):  # compare with the leg before last and the one before that
@@ -298,6 +316,7 @@ def orthogonal_turn(
                 c = ux * legs[-1][0] + uy * legs[-1][1]
                 if lo <= c <= hi:
                     return j
+        j += 1
     return None
 
 
