@@ -20,8 +20,9 @@ from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.motion.scenarios import make_scenario
 from taxelkit.sensors.faults import fault_model
 from taxelkit.sensors.presets import BONNEVILLE_16X16
-from taxelkit.smart import levels34, recogniser
+from taxelkit.smart import levels34, pivot_stream, recogniser
 from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.recogniser import SmartSensor
 from taxelkit.smart.segment_runs import Runs
 from taxelkit.smart.segment_scan import rows_from_track
 from taxelkit.smart.slip import SlipConfig
@@ -132,6 +133,10 @@ def test_track_segments_read_the_rows_of_the_track(monkeypatch: pytest.MonkeyPat
         alone = levels34.TrackSegment(cls, track, config)
         assert a.tactemes() == b.tactemes() == alone.tactemes()
         assert a.slips() == b.slips() == alone.slips()
+        for stop in (None, 0, 1, 2, 3, 7, a.size, a.size + 5):
+            expected = alone.mean_axis_deg(stop)
+            assert a.mean_axis_deg(stop) == expected or np.isnan(expected)
+            assert np.isnan(a.mean_axis_deg(stop)) == np.isnan(expected)
 
 
 def test_runs_match_numpy_on_each_segment() -> None:
@@ -195,3 +200,36 @@ def test_orthogonal_turn_is_the_rule_point_by_point(seed: int) -> None:
         assert orthogonal_turn(path, start, leg, (60.0, 120.0)) == expected
         turns += expected is not None
     assert turns > 20
+
+
+@pytest.mark.parametrize("kept", [0, 7, 100_000])
+def test_a_line_pivot_kept_back_until_the_turn_reads_the_same(
+    kept: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Cones and truncated cones rolled and streamed: pivot frames fed now or at the turn."""
+    thr = BONNEVILLE_16X16.contact_threshold_mm
+    recs = []
+    for seed in range(4):
+        for obj in ("cone", "truncated-cone"):
+            rng = np.random.default_rng(seed)
+            sc = make_scenario(obj, rng=rng, rate_hz=60.0)
+            recs.append(
+                fault_model("all").apply(
+                    frames_from_scenario(BONNEVILLE_16X16, sc, rng=rng), threshold=thr, rng=seed
+                )
+            )
+
+    def streamed() -> list:
+        out = []
+        for rec in recs:
+            sensor = SmartSensor(rec.shape[1:], pitch_mm=rec.pitch_mm, batch_frames=23)
+            for f, t in zip(rec.frames, rec.t_s.tolist(), strict=True):
+                sensor.push(f, t)
+            out.append(sensor.result().events)
+        return out
+
+    monkeypatch.setattr(pivot_stream, "KEPT_ROWS", 0)  # every frame into the sums at once
+    eager = streamed()
+    assert any(e.value in ("LCMT about one end", "LCMT in an arc") for ev in eager for e in ev)
+    monkeypatch.setattr(pivot_stream, "KEPT_ROWS", kept)
+    assert streamed() == eager

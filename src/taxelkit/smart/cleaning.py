@@ -169,16 +169,22 @@ class _Packed:
     @staticmethod
     def down(a: NDArray[Any], n: int = 1) -> NDArray[Any]:
         """Taxel (r, c) gets (r - n, c)."""
-        out = np.empty_like(a)
-        out[:, n:] = a[:, :-n]
+        # one contiguous copy of all frames shifted by n rows, then each frame's first
+        # n rows (they got the previous frame's last ones) cleared
+        out = np.empty(a.shape, a.dtype)
+        step = n * int(np.prod(a.shape[2:], dtype=np.int64))
+        if step < out.size:
+            out.reshape(-1)[step:] = np.ascontiguousarray(a).reshape(-1)[:-step]
         out[:, :n] = 0
         return out
 
     @staticmethod
     def up(a: NDArray[Any], n: int = 1) -> NDArray[Any]:
         """Taxel (r, c) gets (r + n, c)."""
-        out = np.empty_like(a)
-        out[:, :-n] = a[:, n:]
+        out = np.empty(a.shape, a.dtype)
+        step = n * int(np.prod(a.shape[2:], dtype=np.int64))
+        if step < out.size:
+            out.reshape(-1)[:-step] = np.ascontiguousarray(a).reshape(-1)[step:]
         out[:, -n:] = 0
         return out
 

@@ -9,7 +9,6 @@ a chunk at a time. The state machine below does not know which.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
 
@@ -19,14 +18,10 @@ from numpy.typing import NDArray
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Eliminator, Event, Verdict, explain
 from taxelkit.smart.object_table import ObjectTable
-from taxelkit.smart.segment_scan import mean_axis_deg, rows_from_track
 from taxelkit.smart.slip import SLIP_KINDS, Slip, slip_to_json
-from taxelkit.smart.slip_batch import batch_slip_scanners
-from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_table import Tacteme
-from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, segment_tactemes
-from taxelkit.smart.tactemes_batch import batch_tactemes
-from taxelkit.smart.track_geometry import drawn_half_mm, grid_wobble_deg
+from taxelkit.smart.tactemes import TactemeConfig
+from taxelkit.smart.track_segment import TrackSegment, track_segments
 from taxelkit.smart.transitions import transition_tactemes
 
 __all__ = ["Levels34", "Recognition", "Segment", "TrackSegment", "finish", "track_segments"]
@@ -74,108 +69,6 @@ class Segment(Protocol):
     def tactemes(self) -> list[tuple[Tacteme, int]]: ...
     def slips(self) -> list[Slip]: ...
     def close_slips(self) -> list[Slip]: ...
-
-
-class TrackSegment:
-    """A whole segment's track as a :class:`Segment` (the batch path).
-
-    Parameters
-    ----------
-    cls : int
-    track : SegmentTrack
-    config : TactemeConfig
-    found : list of (Tacteme, frame), optional
-        Its motion tactemes, when already computed (``segment_tactemes``, or
-        :func:`~taxelkit.smart.tactemes_batch.batch_tactemes` for many segments).
-    slip : SlipScanner, optional
-        Its slip scanner fed the whole track, when already computed
-        (:func:`~taxelkit.smart.slip_batch.batch_slip_scanners`); only read
-        when ``config.slip`` is set.
-    """
-
-    def __init__(
-        self,
-        cls: int,
-        track: SegmentTrack,
-        config: TactemeConfig,
-        *,
-        found: list[tuple[Tacteme, int]] | None = None,
-        slip: SlipScanner | None = None,
-    ) -> None:
-        self.track = track
-        self.size = int(track.frames.size)
-        self.first_frame = int(track.frames[0])
-        self.last_frame = int(track.frames[-1])
-        self._found = segment_tactemes(cls, track, config) if found is None else found
-        self._slip: SlipScanner | None = None
-        if config.slip is not None:
-            self._slip = slip
-            if slip is None:
-                self._slip = SlipScanner(cls, config.slip, k=int(config.debounce_frames))
-                self._slip.extend(track.frames, rows_from_track(track))
-
-    def frames_for(self, seconds: float, k: int, *, minimum: int | None = None) -> int:
-        return self.track.frames_for(seconds, k, minimum=minimum)
-
-    def frame_at(self, i: int) -> int:
-        return int(self.track.frames[i])
-
-    def mean_axis_deg(self, stop: int | None = None) -> float:
-        return mean_axis_deg(self.track.orientation_deg[:stop])
-
-    def mean_centre_mm(self, stop: int) -> tuple[float, float]:
-        c = self.track.centre_mm[:stop].mean(axis=0)
-        return float(c[0]), float(c[1])
-
-    def grid_wobble_deg(self, stop: int) -> float:
-        t = self.track
-        ext = None if t.extent_mm is None else t.extent_mm[:stop]
-        return grid_wobble_deg(2.0 * drawn_half_mm(t.half_length_mm[:stop], ext), t.pitch_mm)
-
-    def tactemes(self) -> list[tuple[Tacteme, int]]:
-        return self._found
-
-    def slips(self) -> list[Slip]:
-        return [] if self._slip is None else self._slip.all_slips()
-
-    def close_slips(self) -> list[Slip]:
-        return [] if self._slip is None else self._slip.close()
-
-
-def track_segments(
-    items: Sequence[tuple[int, SegmentTrack, NDArray[np.float64] | None]], config: TactemeConfig
-) -> list[TrackSegment]:
-    """:class:`TrackSegment` of many whole segments, their Level 3 computed together.
-
-    Parameters
-    ----------
-    items : sequence of (int, SegmentTrack, (n, 9) float or None)
-        Each segment's class, track and its per-frame rows
-        (:data:`~taxelkit.smart.segment_scan.ROW_COLUMNS`; None: from the track).
-    config : TactemeConfig
-
-    Returns
-    -------
-    list of TrackSegment
-        The same as ``TrackSegment(cls, track, config)`` of each item.
-    """
-    found = batch_tactemes([(cls, track) for cls, track, _ in items], config)
-    slips: list[SlipScanner | None] = [None] * len(items)
-    if config.slip is not None:
-        slips = list(
-            batch_slip_scanners(
-                [
-                    (cls, track.frames, rows_from_track(track) if rows is None else rows)
-                    for cls, track, rows in items
-                ],
-                config.slip,
-                k=int(config.debounce_frames),
-            )
-        )
-    return [
-        TrackSegment(cls, track, config, found=f, slip=sl)
-        for (cls, track, _), f, sl in zip(items, found, slips, strict=True)
-    ]
 
 
 @dataclass(frozen=True, eq=False)

@@ -5,25 +5,17 @@ segment's frames, the first frame at which a condition has held for ``k``
 frames. :class:`Runs` holds many segments concatenated (segment ``s`` is
 rows ``starts[s] .. starts[s] + lengths[s] - 1``) and computes the same
 quantities for all of them with a few NumPy calls. A running sum is
-computed segment by segment in the same order of additions as
-``np.cumsum`` over that segment alone (the segments side by side in a
-padded block, summed along it), so every float is the one of the
-per-segment form.
+accumulated segment by segment (one call each, the only per-segment cost),
+in the same order of additions as ``np.cumsum`` over that segment alone, so
+every float is the one of the per-segment form.
 """
 
 from __future__ import annotations
-
-from collections.abc import Callable
 
 import numpy as np
 from numpy.typing import NDArray
 
 __all__ = ["Runs"]
-
-#: A padded block of segments may hold this many times the rows it uses...
-_PAD_WASTE = 2.0
-#: ... or this many unused rows (about the cost of one more block's NumPy calls).
-_PAD_SLACK = 8192
 
 
 class Runs:
@@ -51,61 +43,32 @@ class Runs:
         np.cumsum(self.lengths[:-1], out=self.starts[1:])
         self.seg = np.repeat(np.arange(self.lengths.size), self.lengths)
         self.local = np.arange(self.size) - self.starts[self.seg]
-        self._blocks = self._padding()
+        ends = self.starts + self.lengths
+        self._bounds = list(zip(self.starts.tolist(), ends.tolist(), strict=True))
 
-    def _padding(self) -> list[tuple[NDArray[np.intp], NDArray[np.bool_], NDArray[np.intp]]]:
-        """Blocks of segments of similar lengths: rows ``(m, L)``, validity, valid rows."""
-        order = np.argsort(self.lengths, kind="stable")
-        lengths = self.lengths[order].tolist()
-        blocks = []
-        a = 0
-        while a < len(order):
-            b, used = a, 0
-            while b < len(order):
-                padded, fill = lengths[b] * (b - a + 1), used + lengths[b]
-                if padded > _PAD_WASTE * fill and padded - fill > _PAD_SLACK:
-                    break
-                used += lengths[b]
-                b += 1
-            b = max(b, a + 1)
-            segs = order[a:b]
-            span = np.arange(lengths[b - 1])[None, :]
-            valid = span < self.lengths[segs][:, None]
-            rows = np.where(valid, self.starts[segs][:, None] + span, 0)
-            blocks.append((rows, valid, rows[valid]))
-            a = b
-        return blocks
+    def cumsum(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``np.cumsum(x_s, axis=0)`` of every segment ``x_s`` of ``x`` ``(N, ...)``, end to end.
 
-    def _padded(
-        self, x: NDArray[np.float64], step: Callable[[NDArray[np.float64]], NDArray[np.float64]]
-    ) -> NDArray[np.float64]:
-        """``step`` applied along the last axis of each block ``(F, m, L)`` of ``x`` ``(N, F)``.
-
-        The rows past a segment's end hold other rows' values: a running sum
-        along a segment never reaches them.
+        One accumulation per segment, each column along memory: the segments'
+        sums never mix, so the floats are those of each segment alone.
         """
-        xt = np.ascontiguousarray(x.reshape(x.shape[0], -1).T)  # (F, N): each sum runs along memory
+        xt = np.ascontiguousarray(x.reshape(x.shape[0], -1).T)  # (F, N)
         out = np.empty_like(xt)
-        for rows, valid, inside in self._blocks:
-            out[:, inside] = step(xt[:, rows])[:, valid]
+        for a, b in self._bounds:
+            np.cumsum(xt[:, a:b], axis=1, out=out[:, a:b])
         result: NDArray[np.float64] = out.T.reshape(x.shape)
         return result
 
-    def cumsum(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
-        """``np.cumsum(x_s, axis=0)`` of every segment ``x_s`` of ``x`` ``(N, ...)``, end to end."""
-        return self._padded(x, lambda block: np.cumsum(block, axis=-1))
-
     def rolling_mean(self, x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
         """:func:`~taxelkit.smart.track_geometry.rolling_mean` of every segment of ``x``."""
-
-        def mean(block: NDArray[np.float64]) -> NDArray[np.float64]:
-            c = np.cumsum(block, axis=-1)
-            out = c.copy()
-            out[..., w:] -= c[..., :-w]
-            result: NDArray[np.float64] = out / np.minimum(np.arange(1, c.shape[-1] + 1), w)
-            return result
-
-        return self._padded(x, mean)
+        c = self.cumsum(x)
+        out = c.copy()
+        out[w:] -= c[:-w]  # rows less than w into their segment are put back below
+        head = np.flatnonzero(self.local < w)
+        out[head] = c[head]
+        n = np.minimum(self.local + 1, w).reshape((-1,) + (1,) * (x.ndim - 1))
+        result: NDArray[np.float64] = out / n
+        return result
 
     def sustained(self, mask: NDArray[np.bool_], k: int) -> NDArray[np.bool_]:
         """:func:`~taxelkit.smart.track_geometry.sustained` of every segment of ``mask``."""
