@@ -106,20 +106,24 @@ def _group(
     starts, lengths, seg, local = runs.starts, runs.lengths, runs.seg, runs.local
     frames = np.concatenate([t.frames for t in tracks])
     theta = np.concatenate([t.orientation_deg for t in tracks])
-    raw = np.empty((runs.size, 7))
+    # columns: centre x, y, axis vector, area, elongation, half-length; each class
+    # smooths those its rules read (a point: its centre; a line: not its elongation)
+    raw = np.zeros((runs.size, 7))
     raw[:, 0:2] = np.concatenate([t.centre_mm for t in tracks])
-    t2 = np.deg2rad(2.0 * theta)  # axis_vectors, column by column
-    raw[:, 2], raw[:, 3] = np.cos(t2), np.sin(t2)
-    raw[:, 4] = np.concatenate([t.area_mm2 for t in tracks])
-    raw[:, 5] = np.concatenate([t.elongation for t in tracks])
+    used = [0, 1] if cls == _POINT else [0, 1, 2, 3, 4, 6 if cls == _LINE else 5]
     ext = None
+    if cls != _POINT:
+        t2 = np.deg2rad(2.0 * theta)  # axis_vectors, column by column
+        raw[:, 2], raw[:, 3] = np.cos(t2), np.sin(t2)
+        raw[:, 4] = np.concatenate([t.area_mm2 for t in tracks])
+    if cls == _AREA:
+        raw[:, 5] = np.concatenate([t.elongation for t in tracks])
     if cls == _LINE:
         raw[:, 6] = np.concatenate([t.half_length_mm for t in tracks])
         if all(t.extent_mm is not None for t in tracks):
             ext = np.concatenate([t.extent_mm for t in tracks if t.extent_mm is not None])
-    else:
-        raw[:, 6] = 0.0
-    smooth = runs.rolling_mean(raw, w)
+    smooth = np.zeros_like(raw)
+    smooth[:, used] = runs.rolling_mean(raw[:, used], w)
     centre = smooth[:, 0:2]
     angle = axis_angle_deg(smooth[:, 2:4])
     area, elong = smooth[:, 4], smooth[:, 5]
