@@ -45,6 +45,8 @@ from taxelkit.smart.tactemes import (
 from taxelkit.smart.track_geometry import line_extents
 
 _NONE = int(ContactClass.NONE)
+#: Accepted runs whose Level 3 the batch recogniser computes together.
+_RUNS_TOGETHER = 128
 
 __all__ = ["DEFAULT_CLEANING", "DEFAULT_LIMITS", "Recognition", "SmartSensor", "recognise"]
 
@@ -54,18 +56,20 @@ def _levels34_for_runs(
     track_of: Any,
     config: TactemeConfig,
 ) -> Levels34:
-    """Levels 3-4 over the accepted runs of a whole recording (batch)."""
+    """Levels 3-4 over the accepted runs of a whole recording (batch).
+
+    The segments' Level 3 is computed :data:`_RUNS_TOGETHER` runs at a time
+    (:func:`~taxelkit.smart.levels34.track_segments`), so that their tracks
+    are not all held at once.
+    """
     state = Levels34(config)
-    contact = [i for i, (cls, _, _) in enumerate(runs) if cls != _NONE]
-    segs = dict(
-        zip(
-            contact,
-            track_segments([(runs[i][0], track_of(runs[i][2]), None) for i in contact], config),
-            strict=True,
-        )
-    )
-    for i, (cls, accept, _) in enumerate(runs):
-        state.open_run(cls, accept, segs.get(i))
+    for a in range(0, len(runs), _RUNS_TOGETHER):
+        part = runs[a : a + _RUNS_TOGETHER]
+        contact = [i for i, (cls, _, _) in enumerate(part) if cls != _NONE]
+        items = [(part[i][0], track_of(part[i][2]), None) for i in contact]
+        segs = dict(zip(contact, track_segments(items, config), strict=True))
+        for i, (cls, accept, _) in enumerate(part):
+            state.open_run(cls, accept, segs.get(i))
     return state
 
 
