@@ -98,3 +98,18 @@ def test_bank_groups_of_arrays_give_each_array_its_own_events(
         assert [e for k, e in got if k == i] == list(want.events), i
         np.testing.assert_array_equal(np.asarray(bank.classes(i)), want.classes)
     assert sum(1 for _, e in got if e.kind == "tacteme") > 8
+
+
+@pytest.mark.parametrize("cols", [5, 8, 16, 24, 64, 100])
+def test_packed_rows_per_frame_tests_and_masks(cols: int) -> None:
+    """``any_per_frame`` and ``per_frame`` of the packed backends: NumPy's per-frame answers."""
+    rng = np.random.default_rng(cols)
+    images = rng.random((300, 7, cols)) < rng.choice([0.0, 0.002, 0.3], (300, 1, 1))
+    ops = _backend(cols)
+    words = ops.pack(images)
+    expected = images.reshape(300, -1).any(axis=1)
+    np.testing.assert_array_equal(ops.any_per_frame(words), expected)
+    np.testing.assert_array_equal(ops.any_per_frame(words[::2]), expected[::2])  # a view
+    flags = rng.random(300) < 0.5
+    masked = ops.unpack(words & ops.per_frame(flags, words), cols)
+    np.testing.assert_array_equal(masked, images & flags[:, None, None])

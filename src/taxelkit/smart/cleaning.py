@@ -61,11 +61,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import InputError, check_positive
+from taxelkit.smart.packed_rows import PackedRows, WordRows, backend_for
 
 __all__ = ["CleaningConfig", "clean_images", "release_frames_for", "stuck_frames_for"]
 
-#: Widest array that is packed into one uint64 per row.
-_PACK_MAX_COLS = 64
 #: The frames a rule function works on: packed rows ``(T, R)``, bool frames
 #: ``(T, R, C)``, or one frame as a Python-integer bitboard (streaming).
 Board = Any
@@ -116,123 +115,8 @@ class CleaningConfig:
             raise InputError(f"persistence_depth must be 1 or 2, got {self.persistence_depth!r}")
 
 
-# -- two backends with the same operations: packed rows (uint64) and bool arrays -------------
-
-
-class _Packed:
-    """Frames ``(T, R)`` of unsigned words, bit ``c`` of row ``r`` = taxel ``(r, c)``.
-
-    The word is the smallest of 8, 16, 32, 64 bits that holds a row: the
-    operations stream through memory, so a 16-column array in ``uint16`` costs
-    a quarter of ``uint64``.
-    """
-
-    def __init__(self, cols: int) -> None:
-        self.bytes = next(b for b in (1, 2, 4, 8) if 8 * b >= cols)
-        self.dtype = np.dtype(f"<u{self.bytes}")
-        self.mask = self.dtype.type((1 << cols) - 1)
-
-    def pack(self, images: NDArray[np.bool_]) -> NDArray[Any]:
-        t, r, c = images.shape
-        if c % 8 == 0:  # whole bytes: pack the flat array (contiguous, fast)
-            b = np.packbits(images.reshape(-1), bitorder="little").reshape(t, r, c // 8)
-        else:
-            b = np.packbits(images, axis=2, bitorder="little")
-        if b.shape[2] != self.bytes:
-            full = np.zeros((t, r, self.bytes), np.uint8)
-            full[:, :, : b.shape[2]] = b
-            b = full
-        out: NDArray[Any] = np.ascontiguousarray(b).view(self.dtype).reshape(t, r)
-        return out
-
-    def unpack(self, rows: NDArray[Any], cols: int) -> NDArray[np.bool_]:
-        t, r = rows.shape
-        b = np.ascontiguousarray(rows).view(np.uint8)
-        if cols == 8 * self.bytes:  # whole words: unpack the flat array (3x faster)
-            flat = np.unpackbits(b.reshape(-1), bitorder="little").view(bool)
-            return flat.reshape(t, r, cols)
-        out: NDArray[np.bool_] = np.unpackbits(
-            b.reshape(t, r, self.bytes), axis=2, count=cols, bitorder="little"
-        ).view(bool)
-        return out
-
-    def left(self, a: NDArray[Any], n: int = 1) -> NDArray[Any]:
-        """Taxel (r, c) gets (r, c - n)."""
-        out: NDArray[Any] = (a << self.dtype.type(n)) & self.mask
-        return out
-
-    def right(self, a: NDArray[Any], n: int = 1) -> NDArray[Any]:
-        """Taxel (r, c) gets (r, c + n)."""
-        out: NDArray[Any] = a >> self.dtype.type(n)
-        return out
-
-    @staticmethod
-    def down(a: NDArray[Any], n: int = 1) -> NDArray[Any]:
-        """Taxel (r, c) gets (r - n, c)."""
-        out = np.empty_like(a)
-        out[:, n:] = a[:, :-n]
-        out[:, :n] = 0
-        return out
-
-    @staticmethod
-    def up(a: NDArray[Any], n: int = 1) -> NDArray[Any]:
-        """Taxel (r, c) gets (r + n, c)."""
-        out = np.empty_like(a)
-        out[:, :-n] = a[:, n:]
-        out[:, -n:] = 0
-        return out
-
-    @staticmethod
-    def any_per_frame(a: NDArray[Any]) -> NDArray[np.bool_]:
-        out: NDArray[np.bool_] = np.any(a.reshape(a.shape[0], -1) != 0, axis=1)
-        return out
-
-    @staticmethod
-    def per_frame(flags: NDArray[np.bool_], like: NDArray[Any]) -> NDArray[Any]:
-        """A per-frame flag broadcast to every taxel, as an all-ones/zeros mask."""
-        full = np.zeros_like(like)
-        full[flags] = ~full[flags]
-        return full
-
-
-class _Words(_Packed):
-    """Frames ``(T, R, W)`` of uint64 words: row ``r`` spans ``W`` words, bit ``c % 64`` of
-    word ``c // 64`` is taxel ``(r, c)`` (arrays wider than 64 columns)."""
-
-    def __init__(self, cols: int) -> None:
-        self.words = -(-cols // _PACK_MAX_COLS)
-        self.dtype = np.dtype("<u8")
-        self.cols = cols
-        self.last_mask = np.uint64((1 << (cols - _PACK_MAX_COLS * (self.words - 1))) - 1)
-
-    def pack(self, images: NDArray[np.bool_]) -> NDArray[Any]:
-        t, r, c = images.shape
-        b = np.zeros((t, r, 8 * self.words), np.uint8)
-        b[:, :, : -(-c // 8)] = np.packbits(images, axis=2, bitorder="little")
-        out: NDArray[Any] = b.view(self.dtype)
-        return out
-
-    def unpack(self, rows: NDArray[Any], cols: int) -> NDArray[np.bool_]:
-        b = np.ascontiguousarray(rows).view(np.uint8)
-        out: NDArray[np.bool_] = np.unpackbits(b, axis=2, count=cols, bitorder="little").view(bool)
-        return out
-
-    def left(self, a: NDArray[Any], n: int = 1) -> NDArray[Any]:
-        """Taxel (r, c) gets (r, c - n): each word shifts up, taking the top of the one before."""
-        out: NDArray[Any] = a << np.uint64(n)
-        out[:, :, 1:] |= a[:, :, :-1] >> np.uint64(_PACK_MAX_COLS - n)
-        out[:, :, -1] &= self.last_mask
-        return out
-
-    def right(self, a: NDArray[Any], n: int = 1) -> NDArray[Any]:
-        """Taxel (r, c) gets (r, c + n)."""
-        out: NDArray[Any] = a >> np.uint64(n)
-        out[:, :, :-1] |= a[:, :, 1:] << np.uint64(_PACK_MAX_COLS - n)
-        return out
-
-
-def _backend(cols: int) -> _Packed:
-    return _Packed(cols) if cols <= _PACK_MAX_COLS else _Words(cols)
+# the two backends of packed rows (taxelkit.smart.packed_rows), by their old names here
+_Packed, _Words, _backend = PackedRows, WordRows, backend_for
 
 
 def _neighbours8(ops: Any, a: Board) -> Board:
@@ -315,7 +199,7 @@ def release_frames_for(dt_s: float | None, config: CleaningConfig) -> int:
 
 
 def _stuck_mask(
-    ops: _Packed,
+    ops: PackedRows,
     on: NDArray[Any],
     n_stuck: int,
     n_release: int,
@@ -367,7 +251,7 @@ def _after(first: NDArray[Any], frames: NDArray[Any]) -> NDArray[Any]:
 
 
 def _clean(
-    ops: _Packed,
+    ops: PackedRows,
     a: NDArray[Any],
     prev: NDArray[Any],
     prev_passed: NDArray[Any],

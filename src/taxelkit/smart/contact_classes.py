@@ -202,7 +202,10 @@ def _forward(
     """Hidden activations ``(N, H)`` and softmax outputs ``(N, 3)`` for inputs ``x``."""
     h = np.tanh(x @ net.w_hidden + net.b_hidden)
     z = h @ net.w_output + net.b_output
-    z = z - z.max(axis=1, keepdims=True)
+    top = z[:, 0].copy()  # the largest output (exact, as z.max(axis=1), without a call per row)
+    for k in range(1, z.shape[1]):
+        np.maximum(top, z[:, k], out=top)
+    z = z - top[:, None]
     e = np.exp(z)
     p: NDArray[np.float64] = e / e.sum(axis=1, keepdims=True)
     return h, p

@@ -18,15 +18,13 @@ from numpy.typing import NDArray
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Eliminator, Event, Verdict, explain
 from taxelkit.smart.object_table import ObjectTable
-from taxelkit.smart.segment_scan import mean_axis_deg, rows_from_track
 from taxelkit.smart.slip import SLIP_KINDS, Slip, slip_to_json
-from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_table import Tacteme
-from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, segment_tactemes
-from taxelkit.smart.track_geometry import drawn_half_mm, grid_wobble_deg
+from taxelkit.smart.tactemes import TactemeConfig
+from taxelkit.smart.track_segment import TrackSegment, track_segments
 from taxelkit.smart.transitions import transition_tactemes
 
-__all__ = ["Levels34", "Recognition", "Segment", "TrackSegment", "finish"]
+__all__ = ["Levels34", "Recognition", "Segment", "TrackSegment", "finish", "track_segments"]
 
 #: Tactemes only slip produces (they eliminate every object): with slip
 #: detection on they are evidence of slip, not of shape, and never eliminate.
@@ -71,55 +69,6 @@ class Segment(Protocol):
     def tactemes(self) -> list[tuple[Tacteme, int]]: ...
     def slips(self) -> list[Slip]: ...
     def close_slips(self) -> list[Slip]: ...
-
-
-class TrackSegment:
-    """A whole segment's track as a :class:`Segment` (the batch path).
-
-    Parameters
-    ----------
-    cls : int
-    track : SegmentTrack
-    config : TactemeConfig
-    """
-
-    def __init__(self, cls: int, track: SegmentTrack, config: TactemeConfig) -> None:
-        self.track = track
-        self.size = int(track.frames.size)
-        self.first_frame = int(track.frames[0])
-        self.last_frame = int(track.frames[-1])
-        self._found = segment_tactemes(cls, track, config)
-        self._slip: SlipScanner | None = None
-        if config.slip is not None:
-            self._slip = SlipScanner(cls, config.slip, k=int(config.debounce_frames))
-            self._slip.extend(track.frames, rows_from_track(track))
-
-    def frames_for(self, seconds: float, k: int, *, minimum: int | None = None) -> int:
-        return self.track.frames_for(seconds, k, minimum=minimum)
-
-    def frame_at(self, i: int) -> int:
-        return int(self.track.frames[i])
-
-    def mean_axis_deg(self, stop: int | None = None) -> float:
-        return mean_axis_deg(self.track.orientation_deg[:stop])
-
-    def mean_centre_mm(self, stop: int) -> tuple[float, float]:
-        c = self.track.centre_mm[:stop].mean(axis=0)
-        return float(c[0]), float(c[1])
-
-    def grid_wobble_deg(self, stop: int) -> float:
-        t = self.track
-        ext = None if t.extent_mm is None else t.extent_mm[:stop]
-        return grid_wobble_deg(2.0 * drawn_half_mm(t.half_length_mm[:stop], ext), t.pitch_mm)
-
-    def tactemes(self) -> list[tuple[Tacteme, int]]:
-        return self._found
-
-    def slips(self) -> list[Slip]:
-        return [] if self._slip is None else self._slip.all_slips()
-
-    def close_slips(self) -> list[Slip]:
-        return [] if self._slip is None else self._slip.close()
 
 
 @dataclass(frozen=True, eq=False)

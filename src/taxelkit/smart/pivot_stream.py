@@ -14,9 +14,13 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.pivots import arc_ratio_limit, pivot_from_sums, pivot_upper, trailing_mean
 from taxelkit.smart.tacteme_table import Tacteme
-from taxelkit.smart.track_stream import RunningSum, Sustained, turn_from
+from taxelkit.smart.track_stream import RunningSum, Sustained, drawn_length_mm, turn_from
 
-__all__ = ["PivotRun"]
+__all__ = ["LinePivot", "PivotRun"]
+
+#: Frames of a line that has not turned (yet) kept back from its pivot's sums: they
+#: are only read once it turns, and a run that re-anchors first drops them.
+KEPT_ROWS = 512
 
 
 class PivotRun:
@@ -150,3 +154,81 @@ class PivotRun:
             if hits:
                 self.found = min(hits)
         self.pending = []
+
+
+class LinePivot:
+    """The pivot runs of one streamed line segment: a :class:`PivotRun` from each anchor.
+
+    Until the line turns (LCMT), a re-anchor starts a new run and the frames
+    wait (at most :data:`KEPT_ROWS` of them) outside the run's sums, which
+    only the turn reads; the sums continue in the same order whatever the
+    pieces, so the verdicts are those of feeding every frame at once.
+
+    Parameters
+    ----------
+    w : int
+        Smoothing window, frames (an anchor's reference is its frame ``w - 1``).
+    hold : int
+        Frames a pivot verdict must hold.
+    limits : tuple
+        The arguments of :meth:`PivotRun.decide`.
+    arc_w : int
+        Lines whose mean middle "in an arc" reads (:class:`PivotRun`).
+    """
+
+    def __init__(self, w: int, hold: int, limits: tuple[float, ...], arc_w: int = 1) -> None:
+        self.w, self.hold, self.limits, self.arc_w = w, hold, limits, arc_w
+        self.run: PivotRun | None = None
+        self._kept: list[tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]] = []
+        self._kept_n = 0
+
+    @property
+    def waiting(self) -> bool:
+        """A verdict waits for the run's reference angle (see :meth:`close`)."""
+        run = self.run
+        return run is not None and run.found is None and run.ref_angle is None and bool(run.pending)
+
+    def close(self, last_angle: float) -> None:
+        """The segment ended: the waiting frames are judged against ``last_angle``."""
+        if self.run is not None:
+            self.run.ref_angle = last_angle
+            self.run.decide(*self.limits)
+
+    def push(
+        self,
+        stretches: list[tuple[int, int, int]],
+        j: NDArray[np.intp],
+        frames: NDArray[np.intp],
+        rows: NDArray[np.float64],
+        angle: NDArray[np.float64],
+        turned: bool,
+        turn_seg: int | None,
+    ) -> None:
+        """A chunk's rows ``lo..hi - 1`` of each stretch ``(lo, hi, anchor)``.
+
+        ``j``: their segment indices; ``angle``: their smoothed axes, deg;
+        ``turned``: the line has turned, at segment index ``turn_seg``.
+        """
+        for lo, hi, a in stretches:
+            run = self.run
+            if run is None or (run.start != a and (turn_seg is None or a <= turn_seg)):
+                run = self.run = PivotRun(a, self.hold, self.arc_w)
+                self._kept, self._kept_n = [], 0
+            if run.found is not None:
+                continue
+            r = run.start + self.w - 1
+            if run.ref_angle is None and int(j[lo]) <= r < int(j[hi - 1]) + 1:
+                run.ref_angle = float(angle[lo + r - int(j[lo])])
+            self._kept.append((rows[lo:hi].copy(), angle[lo:hi].copy(), frames[lo:hi].copy()))
+            self._kept_n += hi - lo
+            if turned or self._kept_n > KEPT_ROWS:
+                self._feed(run)
+
+    def _feed(self, run: PivotRun) -> None:
+        """The kept frames through the run's sums, then its verdicts (reference known)."""
+        for rows, angle, frames in self._kept:
+            ratio, error, arc = run.ratios(rows)
+            run.pending.append((ratio, error, arc, angle, frames, drawn_length_mm(rows)))
+        self._kept, self._kept_n = [], 0
+        if run.ref_angle is not None:
+            run.decide(*self.limits)

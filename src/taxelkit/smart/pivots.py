@@ -200,7 +200,7 @@ def trailing_mean(
 
 def pivot_from_sums(
     sums: NDArray[np.float64],
-    count: int,
+    count: int | NDArray[np.intp],
     cx: NDArray[np.float64],
     cy: NDArray[np.float64],
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -212,8 +212,8 @@ def pivot_from_sums(
         Running sums over the lines so far of ``nx nx``, ``nx ny``, ``ny ny``,
         ``nx d``, ``ny d``, the half-length (mm) and ``d d``, where ``(nx, ny)``
         is a line's normal and ``d`` its distance from the origin along it (mm).
-    count : int
-        Lines summed before the first row.
+    count : int or (m,) int
+        Lines summed before the first row; or, per row, the lines summed in it.
     cx, cy : (m,) float
         Each row's line centre, mm.
 
@@ -238,7 +238,12 @@ def pivot_from_sums(
     safe = np.where(well, det, 1.0)
     px = (syy * bx - sxy * by) / safe
     py = (sxx * by - sxy * bx) / safe
-    half = sh / np.arange(count + 1, count + sums.shape[0] + 1)
+    if np.ndim(count) == 0:
+        before = int(count)
+        lines = np.arange(before + 1, before + sums.shape[0] + 1)
+    else:
+        lines = np.asarray(count)
+    half = sh / lines
     dist = np.hypot(px - cx, py - cy)
     ok = well & (half > 0)
     scale = np.where(half > 0, half, 1.0)

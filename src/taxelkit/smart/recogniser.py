@@ -33,7 +33,7 @@ from taxelkit.smart.levels12 import (
     DEFAULT_THRESHOLD_MM,
     half_length,
 )
-from taxelkit.smart.levels34 import Levels34, Recognition, TrackSegment, finish
+from taxelkit.smart.levels34 import Levels34, Recognition, finish, track_segments
 from taxelkit.smart.moments import binary_images, image_stats
 from taxelkit.smart.streaming import SmartSensor
 from taxelkit.smart.tactemes import (
@@ -44,6 +44,10 @@ from taxelkit.smart.tactemes import (
 )
 from taxelkit.smart.track_geometry import line_extents
 
+_NONE = int(ContactClass.NONE)
+#: Accepted runs whose Level 3 the batch recogniser computes together.
+_RUNS_TOGETHER = 128
+
 __all__ = ["DEFAULT_CLEANING", "DEFAULT_LIMITS", "Recognition", "SmartSensor", "recognise"]
 
 
@@ -52,11 +56,20 @@ def _levels34_for_runs(
     track_of: Any,
     config: TactemeConfig,
 ) -> Levels34:
-    """Levels 3-4 over the accepted runs of a whole recording (batch)."""
+    """Levels 3-4 over the accepted runs of a whole recording (batch).
+
+    The segments' Level 3 is computed :data:`_RUNS_TOGETHER` runs at a time
+    (:func:`~taxelkit.smart.levels34.track_segments`), so that their tracks
+    are not all held at once.
+    """
     state = Levels34(config)
-    for cls, accept, frames in runs:
-        seg = TrackSegment(cls, track_of(frames), config) if cls != ContactClass.NONE else None
-        state.open_run(cls, accept, seg)
+    for a in range(0, len(runs), _RUNS_TOGETHER):
+        part = runs[a : a + _RUNS_TOGETHER]
+        contact = [i for i, (cls, _, _) in enumerate(part) if cls != _NONE]
+        items = [(part[i][0], track_of(part[i][2]), None) for i in contact]
+        segs = dict(zip(contact, track_segments(items, config), strict=True))
+        for i, (cls, accept, _) in enumerate(part):
+            state.open_run(cls, accept, segs.get(i))
     return state
 
 

@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.face_shapes import face_masks, triangularity
-from taxelkit.smart.pivot_stream import PivotRun
+from taxelkit.smart.pivot_stream import LinePivot
 from taxelkit.smart.slip import Slip
 from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_config import TactemeConfig, face_limits
@@ -233,18 +233,15 @@ class SegmentScanner:
     @property
     def waiting(self) -> bool:
         """Whether :meth:`close` would decide something (a pivot waits for its reference)."""
-        if not self._ready or self.cls != _LINE or self._j_turn is None or self._piv is None:
+        if not self._ready or self.cls != _LINE or self._j_turn is None:
             return False
-        piv = self._piv
-        return piv.found is None and piv.ref_angle is None and bool(piv.pending)
+        return self._piv.waiting
 
     def close(self) -> list[tuple[Tacteme, int]]:
         """The segment ended: decide what waited for frames that will not come."""
         if not self.waiting:
             return []
-        assert self._piv is not None
-        self._piv.ref_angle = self._last_angle  # the batch's reference: the last frame
-        self._piv.decide(*self._pivot_limits)
+        self._piv.close(self._last_angle)  # the batch's reference: the last frame
         new = self._emit_pivot([])
         self.found += new
         return new
@@ -266,7 +263,7 @@ class SegmentScanner:
         self._ref: _Ref | None = None
         self._start_angle: float | None = None  # a line's turn counts from frame w - 1
         self._rolled = CarriedShift()  # a line's roll across itself, over re-anchors
-        self._pivot_limits = (
+        limits = (
             cfg.pivot_min_ratio,
             cfg.pivot_end_ratio / cfg.pivot_band,
             cfg.pivot_end_ratio,
@@ -293,7 +290,7 @@ class SegmentScanner:
         self._slide_decided = self._par_decided = False
         self._j_turn: int | None = None  # frame of LCMT
         self._j_turn_seg: int | None = None
-        self._piv: PivotRun | None = None
+        self._piv = LinePivot(w, self.pivot_hold, limits, self._arc_w)
 
     def _anchors(
         self,
@@ -459,27 +456,13 @@ class SegmentScanner:
         rows: NDArray[np.float64],
         angle: NDArray[np.float64],
     ) -> None:
-        w = self.w
-        for lo, hi, a, _ in pieces:
-            piv = self._piv
-            if piv is None or (
-                piv.start != a and (self._j_turn_seg is None or a <= self._j_turn_seg)
-            ):
-                piv = self._piv = PivotRun(a, self.pivot_hold, self._arc_w)
-            if piv.found is not None:
-                continue
-            ratio, error, arc = piv.ratios(rows[lo:hi])
-            piv.pending.append(
-                (ratio, error, arc, angle[lo:hi], frames[lo:hi], drawn_length_mm(rows[lo:hi]))
-            )
-            r = piv.start + w - 1
-            if piv.ref_angle is None and int(j[lo]) <= r < int(j[hi - 1]) + 1:
-                piv.ref_angle = float(angle[lo + r - int(j[lo])])
-            if piv.ref_angle is not None:
-                piv.decide(*self._pivot_limits)
+        stretches = [(lo, hi, a) for lo, hi, a, _ in pieces]
+        self._piv.push(
+            stretches, j, frames, rows, angle, self._j_turn is not None, self._j_turn_seg
+        )
 
     def _emit_pivot(self, new: list[tuple[Tacteme, int]]) -> list[tuple[Tacteme, int]]:
-        piv = self._piv
+        piv = self._piv.run
         if self._j_turn is not None and piv is not None and piv.found is not None:
             frame, tac = piv.found
             if not self._done & {Tacteme.LC_SPINS, Tacteme.LCMT_ABOUT_END, Tacteme.LCMT_ARC}:

@@ -9,6 +9,7 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.slip import SLIP_KINDS, Slip, SlipConfig
+from taxelkit.smart.slip_features import N_FEATURES, motion_mm, slip_features
 from taxelkit.smart.slip_motion import (
     ENDS,
     WindowSums,
@@ -25,12 +26,10 @@ _LINE = int(ContactClass.LINE)
 #: window sums of a piece stay small enough for the cache).
 _PIECE = 512
 
-# Feature columns averaged over the windows (from the rows of segment_scan.ROW_COLUMNS).
+# Feature columns averaged over the windows (:mod:`taxelkit.smart.slip_features`).
 _CX, _CY, _AREA_COL, _C2, _S2, _HALF, _ELONG = range(7)
-_END1, _END2 = slice(7, 9), slice(9, 11)  # a line's two ends, x y (mm), in a consistent order
-_COV = slice(11, 14)  # second central moments xx, yy, xy, mm^2
-_AREA2 = 14  # the area squared, mm^4 (a window's mean gives the spread of its areas)
-_N_FEATURES = 15
+_END1, _END2, _COV, _AREA2 = slice(7, 9), slice(9, 11), slice(11, 14), 14
+_N_FEATURES = N_FEATURES
 
 
 class SlipScanner:
@@ -113,93 +112,63 @@ class SlipScanner:
         second central moments and the area squared. The vectorised scan leaves the columns its
         class does not read at 0 (a face's ends, a line's moments).
         """
-        m = rows.shape[0]
-        out = np.empty((m, _N_FEATURES))
-        theta = np.deg2rad(rows[:, 2])
-        t2 = 2.0 * theta
-        out[:, _CX], out[:, _CY], out[:, _AREA_COL] = rows[:, 0], rows[:, 1], rows[:, 3]
-        out[:, _C2], out[:, _S2] = np.cos(t2), np.sin(t2)
-        out[:, _HALF], out[:, _ELONG] = rows[:, 5], rows[:, 4]
-        out[:, _AREA2] = rows[:, 3] * rows[:, 3]
-        line = self.cls == _LINE
-        if line or self.reference:
-            u = np.stack([np.cos(theta), np.sin(theta)], axis=-1)
-            prev = np.concatenate([u[:1] if self._u_last is None else self._u_last[None], u[:-1]])
-            flip = np.cumprod(np.where(np.einsum("ij,ij->i", u, prev) < 0.0, -1.0, 1.0))
-            u = u * flip[:, None]
-            if m:
-                self._u_last = u[-1].copy()
-            lo = np.where(flip > 0, rows[:, 6], -rows[:, 7])
-            hi = np.where(flip > 0, rows[:, 7], -rows[:, 6])
-            centre = rows[:, :2]
-            out[:, _END1] = centre + lo[:, None] * u
-            out[:, _END2] = centre + hi[:, None] * u
-        else:
-            out[:, _END1.start : _END2.stop] = 0.0
-        if not line or self.reference:
-            lam_max = rows[:, 5] ** 2 / 3.0  # half = sqrt(3 lambda_max)
-            lam_min = lam_max / np.maximum(rows[:, 4], 1.0) ** 2  # elongation = sqrt(max / min)
-            c, s_ = np.cos(theta), np.sin(theta)
-            out[:, _COV.start] = lam_max * c * c + lam_min * s_ * s_
-            out[:, _COV.start + 1] = lam_max * s_ * s_ + lam_min * c * c
-            out[:, _COV.start + 2] = (lam_max - lam_min) * c * s_
-        else:
-            out[:, _COV] = 0.0
+        out, u = self.segment_features(rows)
+        if u is not None and rows.shape[0]:
+            self._u_last = u[-1].copy()
         return out
+
+    def segment_features(
+        self, rows: NDArray[np.float64], starts: NDArray[np.intp] | None = None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
+        """:meth:`features` of rows ``(m, 9)``, and a line's oriented axes ``(m, 2)`` (else None).
+
+        ``starts``: the rows hold several segments laid end to end (see
+        :func:`~taxelkit.smart.slip_features.slip_features`); None: one
+        segment that continues this scanner's.
+        """
+        return slip_features(
+            rows,
+            line=self.cls == _LINE,
+            every=self.reference,
+            u_last=self._u_last,
+            starts=starts,
+        )
 
     # -- the motion measure --------------------------------------------------------------------
     def motion_mm(self, ref: NDArray[np.float64], cur: NDArray[np.float64]) -> float:
         """How far the footprint moved from mean features ``ref`` to ``cur`` ``(15,)``, mm.
 
-        NaN when the mean area changed by more than ``area_step`` of the
-        reference's, or (a face) when the areas of the current window spread
-        by more than that (standard deviation): no decision.
+        :func:`~taxelkit.smart.slip_features.motion_mm` of this scanner's class.
         """
-        cfg = self.config
-        a_ref, a_cur = float(ref[_AREA_COL]), float(cur[_AREA_COL])
-        if not a_ref > 0 or abs(a_cur / a_ref - 1.0) > cfg.area_step:
-            return math.nan
-        dx, dy = float(cur[_CX] - ref[_CX]), float(cur[_CY] - ref[_CY])
-        if self.cls == _LINE:  # along the bisector of the two axes: a turn about a pivot cancels
-            c2, s2 = float(ref[_C2] + cur[_C2]), float(ref[_S2] + cur[_S2])
-            th = 0.5 * math.atan2(s2, c2)
-            ax, ay = math.cos(th), math.sin(th)
-            th_ref = 0.5 * math.atan2(float(ref[_S2]), float(ref[_C2]))
-            th_cur = 0.5 * math.atan2(float(cur[_S2]), float(cur[_C2]))
-            turn = abs((th_cur - th_ref + 0.5 * math.pi) % math.pi - 0.5 * math.pi)
-            across = abs(dy * ax - dx * ay) + turn * float(ref[_HALF])
-            if across > cfg.line_across_mm:  # the line turned or moved across: it rolls
-                return 0.0
-            e1, e2 = cur[_END1] - ref[_END1], cur[_END2] - ref[_END2]
-            d1, d2 = float(e1[0] * ax + e1[1] * ay), float(e2[0] * ax + e2[1] * ay)
-            if math.isnan(d1 + d2):  # ends not measured: the centre less the change of length
-                return abs(dx * ax + dy * ay) - abs(float(cur[_HALF] - ref[_HALF]))
-            return min(abs(d1), abs(d2)) if d1 * d2 > 0.0 else 0.0  # both ends, the same way
-        spread = float(cur[_AREA2]) - a_cur * a_cur  # the current window's areas: a face tipping
-        if spread > (cfg.area_step * a_ref) ** 2:
-            return math.nan
-        # both sides of the footprint must move: one that grows or shrinks on one side
-        # moves its centre by half the change of its length along the motion
-        moved = math.hypot(dx, dy)
-        if moved > 0.0:
-            nx, ny = dx / moved, dy / moved
-            size = [
-                math.sqrt(
-                    12.0 * max(0.0, float(v[0] * nx * nx + v[1] * ny * ny + 2 * v[2] * nx * ny))
-                )
-                for v in (ref[_COV], cur[_COV])
-            ]
-            moved -= 0.5 * abs(size[1] - size[0])
-        th_ref = 0.5 * math.atan2(float(ref[_S2]), float(ref[_C2]))
-        if min(float(ref[_ELONG]), float(cur[_ELONG])) >= cfg.min_elongation:
-            th_cur = 0.5 * math.atan2(float(cur[_S2]), float(cur[_C2]))
-            turn = abs((th_cur - th_ref + 0.5 * math.pi) % math.pi - 0.5 * math.pi)
-            moved = max(moved, turn * float(ref[_HALF]))
-        return moved
+        return motion_mm(ref, cur, line=self.cls == _LINE, config=self.config)
 
     # -- feeding ---------------------------------------------------------------------------------
-    def extend(self, frames: NDArray[np.intp], rows: NDArray[np.float64]) -> list[Slip]:
+    def prime(self, t_s: NDArray[np.float64]) -> bool:
+        """Fix the frame rate from a new segment's first times ``t_s`` before it is extended.
+
+        Whether the rate is fixed (the window lengths :attr:`cur`, :attr:`ref`
+        known): the batch path (:mod:`taxelkit.smart.slip_batch`) groups
+        segments by them. :meth:`extend` then behaves as without it.
+        """
+        if self._active and not self._ready and self._n == 0 and t_s.size >= self.k:
+            self._t_head = t_s[: self.k].tolist()
+            self._start()
+        return self._ready
+
+    def extend(
+        self,
+        frames: NDArray[np.intp],
+        rows: NDArray[np.float64],
+        *,
+        features: tuple[NDArray[np.float64], NDArray[np.float64] | None] | None = None,
+        decided: tuple[NDArray[np.bool_], NDArray[np.bool_]] | None = None,
+    ) -> list[Slip]:
         """Add frames ``(m,)`` with their rows ``(m, 9)``; the slips opened or closed by them.
+
+        ``features`` (:meth:`features` of the rows, and the last line axis it
+        leaves) and ``decided`` (:meth:`_decisions` of the first scan of a
+        primed segment) may come computed, for many segments at once
+        (:mod:`taxelkit.smart.slip_batch`).
 
         Returns
         -------
@@ -213,7 +182,12 @@ class SlipScanner:
             return []
         if not self._ready:
             self._t_head += rows[: self.k - len(self._t_head), 8].tolist()
-        feats = self.features(rows)
+        if features is None:
+            feats = self.features(rows)
+        else:
+            feats, u_last = features
+            if u_last is not None:
+                self._u_last = u_last
         x = np.concatenate([self._buf, feats])
         fr = np.concatenate([self._buf_frames, np.asarray(frames, np.intp)])
         n_old = self._buf.shape[0]
@@ -225,8 +199,10 @@ class SlipScanner:
                 return []
             self._start()
             n_old = 0  # every frame so far is new to the scan
-        scan = self._scan_frames if self.reference else self._scan_chunk
-        out = scan(x, fr, base, n_old)
+        if self.reference:
+            out = self._scan_frames(x, fr, base, n_old)
+        else:
+            out = self._scan_chunk(x, fr, base, n_old, decided)
         self._buf, self._buf_frames = x[-self.keep :], fr[-self.keep :]
         return out
 
@@ -275,19 +251,27 @@ class SlipScanner:
 
     # -- the vectorised scan ------------------------------------------------------------------
     def _decisions(
-        self, x: NDArray[np.float64], a0: int, wa: int, b0: int, wb: int, count: int, limit: float
+        self,
+        x: NDArray[np.float64],
+        a0: int,
+        wa: int,
+        b0: int,
+        wb: int,
+        count: int,
+        limit: float,
+        piece: int = _PIECE,
     ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
         """Motions from the windows of ``wa`` rows at ``a0 + k`` to those of ``wb`` at ``b0 + k``.
 
         Returns, for ``k < count``, whether the area changed (the rule's NaN)
         and whether the motion exceeds ``limit``: those of :meth:`motion_mm`
         (frames the vectorised measure cannot vouch for are recomputed by it).
-        Computed ``_PIECE`` frames at a time.
+        Computed ``piece`` frames at a time.
         """
         changed, above = np.empty(count, bool), np.empty(count, bool)
         cfg = self.config
-        for k0 in range(0, count, _PIECE):
-            m = min(_PIECE, count - k0)
+        for k0 in range(0, count, piece):
+            m = min(piece, count - k0)
             lo = min(a0, b0) + k0
             sums = WindowSums(x[lo : max(a0 + wa, b0 + wb) + k0 + m - 1], ENDS)
             ma, bad_a = sums.means(a0 + k0 - lo, wa, m)
@@ -329,14 +313,24 @@ class SlipScanner:
         return None
 
     def _scan_chunk(
-        self, x: NDArray[np.float64], fr: NDArray[np.intp], base: int, first: int
+        self,
+        x: NDArray[np.float64],
+        fr: NDArray[np.intp],
+        base: int,
+        first: int,
+        decided: tuple[NDArray[np.bool_], NDArray[np.bool_]] | None = None,
     ) -> list[Slip]:
-        """:meth:`_scan_frames`, jumping from decision to decision over vectorised motions."""
+        """:meth:`_scan_frames`, jumping from decision to decision over vectorised motions.
+
+        ``decided``: the first :meth:`_decisions` below, computed already.
+        """
         c, r, e = self.cur, self.ref, self.end
         n = x.shape[0]
         p0 = max(first, c + r - 1)  # the first frame with a full reference in the buffer
         changed = above = np.zeros(0, bool)
-        if p0 < n:
+        if decided is not None:
+            changed, above = decided
+        elif p0 < n:
             changed, above = self._decisions(
                 x, p0 - c - r + 1, r, p0 - c + 1, c, n - p0, self._limit_mm
             )

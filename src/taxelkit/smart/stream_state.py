@@ -14,139 +14,24 @@ scanner's bounded state.
 
 from __future__ import annotations
 
-import bisect
 import copy
 import itertools
-from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import Any, overload
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
-from taxelkit.errors import InputError
+from taxelkit.smart.class_history import ClassHistory, check_chunk
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Event
-from taxelkit.smart.levels34 import Levels34, Recognition, TrackSegment, finish
+from taxelkit.smart.levels34 import Levels34, Recognition, Segment, finish, track_segments
 from taxelkit.smart.segment_scan import SegmentScanner
 from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, debounce_counts
 
 __all__ = ["ArrayStream", "ClassHistory", "check_chunk"]
 
 _NONE = int(ContactClass.NONE)
-
-
-def check_chunk(
-    frames: ArrayLike, t_s: ArrayLike, shape: tuple[int, int], t_last_s: float
-) -> tuple[NDArray[Any], NDArray[np.float64]]:
-    """A chunk of frames fed to a chunked recogniser, checked.
-
-    Parameters
-    ----------
-    frames : (n, rows, cols) bool or float
-    t_s : (n,) float, s
-    shape : (rows, cols)
-        The recogniser's frame shape.
-    t_last_s : float, s
-        Timestamp of the previous chunk's last frame (``-inf`` before the first).
-
-    Returns
-    -------
-    frames : (n, rows, cols) ndarray
-    t_s : (n,) float64, s
-
-    Raises
-    ------
-    InputError
-        If the shapes do not match or the timestamps do not increase across chunks.
-    """
-    f = np.asarray(frames)
-    t = np.asarray(t_s, dtype=np.float64)
-    if f.ndim != 3 or f.shape[1:] != tuple(shape):
-        raise InputError(f"frames must have shape (n, {shape[0]}, {shape[1]}), got {f.shape}")
-    if t.shape != (f.shape[0],):
-        raise InputError(f"t_s must have shape ({f.shape[0]},), got {t.shape}")
-    if f.shape[0] and not t[0] > t_last_s:
-        raise InputError(f"t_s must increase across chunks, got {float(t[0])!r} after {t_last_s!r}")
-    return f, t
-
-
 _INDET = int(ContactClass.INDETERMINATE)
-
-
-class ClassHistory(Sequence[int]):
-    """Level 2 class of every frame so far, stored as runs (memory grows with changes only).
-
-    A read-only sequence of ints: ``len``, indexing (``history[-1]`` is the
-    latest frame's class), iteration; :meth:`to_array` materialises it.
-    """
-
-    def __init__(self) -> None:
-        self._starts: list[int] = []
-        self._codes: list[int] = []
-        self._n = 0
-
-    def append(self, code: int) -> None:
-        """One more frame."""
-        if not self._codes or self._codes[-1] != code:
-            self._starts.append(self._n)
-            self._codes.append(code)
-        self._n += 1
-
-    def extend_array(self, codes: NDArray[np.integer]) -> None:
-        """More frames ``(m,)``, vectorised."""
-        if codes.size == 0:
-            return
-        cut = np.flatnonzero(np.diff(codes)) + 1
-        firsts = np.concatenate([[0], cut])
-        values = codes[firsts].tolist()
-        starts = (firsts + self._n).tolist()
-        if self._codes and self._codes[-1] == values[0]:
-            values, starts = values[1:], starts[1:]
-        self._codes += values
-        self._starts += starts
-        self._n += int(codes.size)
-
-    def extend_constant(self, code: int, m: int) -> None:
-        """``m`` more frames of class ``code``."""
-        if m <= 0:
-            return
-        if not self._codes or self._codes[-1] != code:
-            self._starts.append(self._n)
-            self._codes.append(code)
-        self._n += m
-
-    def __len__(self) -> int:
-        return self._n
-
-    @overload
-    def __getitem__(self, i: int) -> int: ...
-    @overload
-    def __getitem__(self, i: slice) -> list[int]: ...
-    def __getitem__(self, i: int | slice) -> int | list[int]:
-        if isinstance(i, slice):
-            return self.to_array()[i].tolist()  # type: ignore[no-any-return]
-        j = i + self._n if i < 0 else i
-        if not 0 <= j < self._n:
-            raise IndexError(f"frame {i} out of range for {self._n} frames")
-        return self._codes[bisect.bisect_right(self._starts, j) - 1]
-
-    def __iter__(self) -> Iterator[int]:
-        return iter(self.to_array().tolist())
-
-    def runs(self) -> list[tuple[int, int, int]]:
-        """``(class, first_frame, last_frame)`` of every run, in order."""
-        ends = [*self._starts[1:], self._n]
-        return [(c, s, e - 1) for c, s, e in zip(self._codes, self._starts, ends, strict=True)]
-
-    def to_array(self) -> NDArray[np.int8]:
-        """The classes ``(T,)`` int8."""
-        lengths = np.diff(np.asarray([*self._starts, self._n], dtype=np.int64)).tolist()
-        return np.repeat(np.asarray(self._codes, dtype=np.int8), lengths)
-
-    def __array__(self, dtype: Any = None, copy: bool | None = None) -> NDArray[Any]:
-        a = self.to_array()
-        return a if dtype is None else a.astype(dtype)
 
 
 @dataclass
@@ -158,6 +43,18 @@ class _Deferred:
     first_j: list[NDArray[np.intp]]  # the candidate's frames (a scanner's first feed)
     first_rows: list[NDArray[np.float64]]
     later: list[tuple[NDArray[np.intp], NDArray[np.float64]]] = field(default_factory=list)
+
+
+@dataclass
+class _Call:
+    """A call to Levels 3-4: a run opened (a whole segment's track, or a segment), or updated."""
+
+    cls: int
+    accept: int
+    seg: Segment | None
+    track: SegmentTrack | None = None
+    rows: NDArray[np.float64] | None = None  # the track's, as fed (ROW_COLUMNS)
+    update: bool = False
 
 
 class ArrayStream:
@@ -204,6 +101,9 @@ class ArrayStream:
         # within push_chunk: a segment accepted in this chunk, not yet shown to Levels 3-4
         self._defer = False
         self._deferred: _Deferred | None = None
+        # within push_chunk: the calls to Levels 3-4, replayed in order at the chunk's end
+        # (the segments that ended within it computed together, by batch_tactemes)
+        self._queue: list[_Call] | None = None
 
     @property
     def idle(self) -> bool:
@@ -272,10 +172,12 @@ class ArrayStream:
         bounds = np.concatenate([[0], cut, [c.size]]).tolist()
         k_contact, k_none = debounce_counts(self.config, self._dt)
         self._defer = True
+        self._queue = []
         try:
             self._runs(c, idx, bounds, rows, j0, k_contact, k_none)
         finally:
             self._defer = False
+            self._replay()
             self._undefer()
         if sum(j.size for j, _ in self._pend_chunks) >= self.chunk_every:
             self._feed(final=False)
@@ -360,7 +262,7 @@ class ArrayStream:
             seg.extend(np.concatenate(self._cand_j), np.concatenate(self._cand_rows))
         self._seg = seg
         self._drop_candidate()
-        self.state.open_run(cls, j, seg)
+        self._call(_Call(cls, j, seg))
 
     def _close_deferred(self) -> None:
         """A segment accepted and ended within one chunk: Levels 3-4 on it whole (batch).
@@ -386,7 +288,30 @@ class ArrayStream:
             rows[:, 6:8],
             self.pitch_mm,
         )
-        self.state.open_run(d.cls, d.accept, TrackSegment(d.cls, track, self.config))
+        self._call(_Call(d.cls, d.accept, None, track, rows))
+
+    def _call(self, call: _Call) -> None:
+        """A call to Levels 3-4: now, or queued while a chunk is debounced."""
+        if self._queue is None:
+            self._replay([call])
+        else:
+            self._queue.append(call)
+
+    def _replay(self, calls: list[_Call] | None = None) -> None:
+        """Make the queued calls to Levels 3-4 in order (the whole segments' tactemes at once)."""
+        if calls is None:
+            calls, self._queue = self._queue or [], None
+        whole = [c for c in calls if c.track is not None]
+        if whole:
+            segs = track_segments([(c.cls, c.track, c.rows) for c in whole], self.config)  # type: ignore[misc]
+            for c, seg in zip(whole, segs, strict=True):
+                c.seg = seg
+        for c in calls:
+            if c.update:
+                assert c.seg is not None
+                self.state.update(c.seg)
+            else:
+                self.state.open_run(c.cls, c.accept, c.seg)
 
     def _undefer(self) -> None:
         """The chunk ended with a deferred segment open: it goes to a scanner after all."""
@@ -426,7 +351,7 @@ class ArrayStream:
         if final:
             grew |= bool(seg.close())
         if grew or final:
-            self.state.update(seg)
+            self._call(_Call(0, 0, seg, update=True))
 
     def result(self) -> Recognition:
         """Everything so far (detections waiting for later frames decided as if none came)."""

@@ -239,6 +239,92 @@ def _corner_turn(centre: NDArray[np.float64], start: int, config: TactemeConfig)
     return corner_turn(centre, start, config.turn_leg_mm, window)
 
 
+def _point_turn(centre: NDArray[np.float64], start: int, config: TactemeConfig) -> int | None:
+    """First index at which a moving point's path turns (legs or a corner), from ``start``."""
+    found = [
+        j
+        for j in (_orthogonal_turn(centre, start, config), _corner_turn(centre, start, config))
+        if j is not None
+    ]
+    return min(found) if found else None
+
+
+def _pivot_tacteme(
+    track: SegmentTrack,
+    config: TactemeConfig,
+    angle: NDArray[np.float64],
+    anchor: NDArray[np.intp],
+    ref: NDArray[np.intp],
+    j_turn: int,
+    hold: int,
+) -> tuple[int, Tacteme] | None:
+    """The pivot of a line that turned at ``j_turn``: ``(index, tacteme)`` or None.
+
+    ``angle``, ``anchor`` and ``ref`` are the segment's smoothed axis (deg),
+    anchors and references (:func:`segment_tactemes`).
+    """
+    k = int(config.debounce_frames)
+    n = track.frames.size
+    pivots: list[tuple[int, Tacteme]] = []
+    # the lines from the turn's anchor on, across later re-anchors: a rolling
+    # cone's line keeps turning about the same point while its width varies
+    start, stop = int(anchor[j_turn]), n
+    arc_w = track.frames_for(config.smooth_s, k) if config.pivot_arc_smooth else 1
+    ratio, error, arc_ratio = _pivot_ratios(track, start, stop, arc_w)
+    line_mm = 2.0 * _drawn_half(track, start, stop)
+    short = line_mm < config.pivot_min_line_taxels * track.pitch_mm
+    ratio = np.where(short, np.nan, ratio)
+    arc_ratio = np.where(short, np.nan, arc_ratio)
+    pivot_hold = track.frames_for(config.pivot_hold_s, k, minimum=hold)
+    turned_now = turn(angle, ref[start] + np.zeros(n, np.intp))[start:]
+    ready = turned_now > config.pivot_turn_deg
+    lo = config.pivot_end_ratio / config.pivot_band
+    arc = arc_ratio_limit(
+        turned_now,
+        config.pivot_end_ratio,
+        config.pivot_band,
+        config.pivot_turn_deg,
+        config.pivot_arc_turn_deg,
+        line_mm,
+        track.pitch_mm,
+    )
+    for tac, verdict in (
+        (Tacteme.LC_SPINS, ready & (ratio < config.pivot_min_ratio)),
+        (
+            Tacteme.LCMT_ABOUT_END,
+            ready
+            & (ratio >= config.pivot_min_ratio)
+            & (pivot_upper(ratio, error, config.pivot_end_sigmas) <= lo),
+        ),
+        (Tacteme.LCMT_ARC, arc_ratio >= arc),
+    ):
+        j = first(sustained(verdict, pivot_hold), 0)
+        if j is not None:
+            pivots.append((start + j, tac))
+    return min(pivots) if pivots else None
+
+
+def _face_tactemes(
+    track: SegmentTrack,
+    config: TactemeConfig,
+    area: NDArray[np.float64],
+    elong: NDArray[np.float64],
+    steady: NDArray[np.bool_],
+    w: int,
+    hold: int,
+) -> list[tuple[Tacteme, int | None]]:
+    """The face-shape tactemes of an area segment and the index each is seen at (or None)."""
+    k = int(config.debounce_frames)
+    raw = triangularity(track.area_mm2, track.elongation, track.half_length_mm)
+    face_hold = track.frames_for(config.face_hold_s, k, minimum=hold)
+    return [
+        (tac, first(sustained(mask, face_hold), 0))
+        for tac, mask in face_masks(
+            area, elong, rolling_mean(raw, w), steady, **face_limits(config)
+        )
+    ]
+
+
 def segment_tactemes(
     cls: int, track: SegmentTrack, config: TactemeConfig
 ) -> list[tuple[Tacteme, int]]:
@@ -289,15 +375,7 @@ def segment_tactemes(
         j_move = first(sustained(moved > config.move_mm, hold), 0)
         emit(Tacteme.PC_MOVES, j_move)
         if j_move is not None:
-            found = [
-                j
-                for j in (
-                    _orthogonal_turn(centre, int(ref[j_move]), config),
-                    _corner_turn(centre, int(ref[j_move]), config),
-                )
-                if j is not None
-            ]
-            emit(Tacteme.PC_ORTHOGONAL_TURN, min(found) if found else None)
+            emit(Tacteme.PC_ORTHOGONAL_TURN, _point_turn(centre, int(ref[j_move]), config))
     elif cls == ContactClass.LINE:
         t_ref = np.deg2rad(angle[ref])
         along = np.abs(shift[:, 0] * np.cos(t_ref) + shift[:, 1] * np.sin(t_ref))
@@ -329,45 +407,9 @@ def segment_tactemes(
             emit(Tacteme.LCMP, j_par)
         if j_turn is not None:
             emit(Tacteme.LCMT, j_turn)
-            pivots: list[tuple[int, Tacteme]] = []
-            # the lines from the turn's anchor on, across later re-anchors: a rolling
-            # cone's line keeps turning about the same point while its width varies
-            start, stop = int(anchor[j_turn]), n
-            arc_w = w if config.pivot_arc_smooth else 1
-            ratio, error, arc_ratio = _pivot_ratios(track, start, stop, arc_w)
-            line_mm = 2.0 * _drawn_half(track, start, stop)
-            short = line_mm < config.pivot_min_line_taxels * track.pitch_mm
-            ratio = np.where(short, np.nan, ratio)
-            arc_ratio = np.where(short, np.nan, arc_ratio)
-            pivot_hold = track.frames_for(config.pivot_hold_s, k, minimum=hold)
-            turned_now = turn(angle, ref[start] + np.zeros(n, np.intp))[start:]
-            ready = turned_now > config.pivot_turn_deg
-            lo = config.pivot_end_ratio / config.pivot_band
-            arc = arc_ratio_limit(
-                turned_now,
-                config.pivot_end_ratio,
-                config.pivot_band,
-                config.pivot_turn_deg,
-                config.pivot_arc_turn_deg,
-                line_mm,
-                track.pitch_mm,
-            )
-            for tac, verdict in (
-                (Tacteme.LC_SPINS, ready & (ratio < config.pivot_min_ratio)),
-                (
-                    Tacteme.LCMT_ABOUT_END,
-                    ready
-                    & (ratio >= config.pivot_min_ratio)
-                    & (pivot_upper(ratio, error, config.pivot_end_sigmas) <= lo),
-                ),
-                (Tacteme.LCMT_ARC, arc_ratio >= arc),
-            ):
-                j = first(sustained(verdict, pivot_hold), 0)
-                if j is not None:
-                    pivots.append((start + j, tac))
-            if pivots:
-                j_piv, tac = min(pivots)
-                emit(tac, j_piv)
+            pivot = _pivot_tacteme(track, config, angle, anchor, ref, j_turn, hold)
+            if pivot is not None:
+                emit(pivot[1], pivot[0])
     else:
         same = np.abs(area / area[ref] - 1.0) <= config.area_tolerance
         emit(Tacteme.AC_MOVES, first(sustained((moved > config.move_mm) & same, hold), 0))
@@ -377,11 +419,7 @@ def segment_tactemes(
         rotated = (turned > config.area_rotate_deg) & same & oriented
         emit(Tacteme.AC_ROTATES, first(sustained(rotated, hold), 0))
         if config.face_shapes:
-            raw = triangularity(track.area_mm2, track.elongation, track.half_length_mm)
-            face_hold = track.frames_for(config.face_hold_s, k, minimum=hold)
-            for tac, mask in face_masks(
-                area, elong, rolling_mean(raw, w), valid & same, **face_limits(config)
-            ):
-                emit(tac, first(sustained(mask, face_hold), 0))
+            for tac, j in _face_tactemes(track, config, area, elong, valid & same, w, hold):
+                emit(tac, j)
     out.sort(key=lambda item: item[1])
     return out

@@ -31,8 +31,13 @@ __all__ = [
 ]
 
 
-#: Frames per pass of :func:`line_extents` (its temporaries stay in the cache).
+#: Frames per pass of :func:`line_extents` (its temporaries stay in the cache)...
 _EXTENT_CHUNK = 1024
+#: ... and of its path for rows of 8 or 16 taxels (only the rows with contact are kept).
+_WORD_EXTENT_CHUNK = 8192
+#: Relative distance within which ``np.hypot`` and ``math.hypot`` may disagree (both are
+#: within an ulp or two of the exact value): :func:`orthogonal_turn` decides those by the latter.
+_HYPOT_MARGIN = 1e-12
 
 
 def rolling_mean(x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
@@ -158,19 +163,22 @@ _LOW_BIT, _HIGH_BIT = _bit_ends()
 _GATHER = np.uint64(0x0102040810204080)
 
 
+def _row_words(on: NDArray[np.bool_]) -> NDArray[np.uint64]:
+    """Each row of frames ``(m, rows, 8 or 16)`` as a word ``(m, rows)``, bit ``c`` column ``c``."""
+    m, rows, cols = on.shape
+    # eight 0/1 bytes to eight bits: the multiply puts byte k's bit at bit 56 + k
+    eights = np.ascontiguousarray(on).view("<u8").reshape(m, rows, cols // 8)
+    word: NDArray[np.uint64] = (eights[..., 0] * _GATHER) >> np.uint64(56)
+    if cols == 16:
+        word |= ((eights[..., 1] * _GATHER) >> np.uint64(56)) << np.uint64(8)
+    return word
+
+
 def _row_ends(
     on: NDArray[np.bool_],
 ) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.bool_]]:
     """First and last contact column of each row, and whether it has one, ``(rows, m)`` each."""
-    m, rows, cols = on.shape
-    if cols in (8, 16):  # a row is a word: its columns from a table
-        # eight 0/1 bytes to eight bits: the multiply puts byte k's bit at bit 56 + k
-        eights = np.ascontiguousarray(on).view("<u8").reshape(m, rows, cols // 8)
-        word = (eights[..., 0] * _GATHER) >> np.uint64(56)
-        if cols == 16:
-            word |= ((eights[..., 1] * _GATHER) >> np.uint64(56)) << np.uint64(8)
-        w = word.T.astype(np.intp)
-        return _LOW_BIT[w], _HIGH_BIT[w], w != 0
+    cols = on.shape[2]
     rows_first = on.transpose(1, 0, 2)
     first = np.argmax(rows_first, axis=2)
     last = cols - 1 - np.argmax(rows_first[:, :, ::-1], axis=2)
@@ -210,6 +218,13 @@ def line_extents(
     t = np.deg2rad(orientation_deg)
     cos, sin = np.cos(t), np.sin(t)
     out = np.empty((n, 2))
+    if cols in (8, 16):  # a line crosses few rows: only those with contact are projected
+        for a in range(0, n, _WORD_EXTENT_CHUNK):
+            b = min(n, a + _WORD_EXTENT_CHUNK)
+            out[a:b] = _row_extents(images[a:b], centre_mm[a:b], cos[a:b], sin[a:b], u, v)
+        out[:, 0] -= 0.5 * pitch_mm
+        out[:, 1] += 0.5 * pitch_mm
+        return out
     # A taxel's projection, (u - cx) cos + (v - cy) sin rounded step by step, is
     # monotonic in u along a row (rounding is monotonic): a row's extremes lie at
     # its first and last contact taxels, and are the same floats.
@@ -223,6 +238,38 @@ def line_extents(
         high = (u[np.where(up, last_col, first_col)] - cx) * c + along_v
         out[a:b, 0] = np.where(row_on, low, np.inf).min(axis=0) - 0.5 * pitch_mm
         out[a:b, 1] = np.where(row_on, high, -np.inf).max(axis=0) + 0.5 * pitch_mm
+    return out
+
+
+def _row_extents(
+    images: NDArray[np.bool_],
+    centre_mm: NDArray[np.float64],
+    cos: NDArray[np.float64],
+    sin: NDArray[np.float64],
+    u: NDArray[np.float64],
+    v: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """The lowest and highest projection of :func:`line_extents` ``(m, 2)``, rows with contact.
+
+    The same expression on each row with contact as over all rows, the
+    extremes taken per frame (exact): frames without contact get +-inf.
+    """
+    m = images.shape[0]
+    word = _row_words(images)
+    f, r = np.nonzero(word)  # frame by frame
+    w = word[f, r].astype(np.intp)
+    first_col, last_col = _LOW_BIT[w], _HIGH_BIT[w]
+    cx, cy, c, s = centre_mm[f, 0], centre_mm[f, 1], cos[f], sin[f]
+    up = c >= 0.0  # the projection grows with u
+    along_v = (v[r] - cy) * s
+    low = (u[np.where(up, first_col, last_col)] - cx) * c + along_v
+    high = (u[np.where(up, last_col, first_col)] - cx) * c + along_v
+    out = np.empty((m, 2))
+    out[:, 0], out[:, 1] = np.inf, -np.inf
+    if f.size:
+        lead = np.flatnonzero(np.concatenate([[True], f[1:] != f[:-1]]))
+        out[f[lead], 0] = np.minimum.reduceat(low, lead)
+        out[f[lead], 1] = np.maximum.reduceat(high, lead)
     return out
 
 
@@ -279,17 +326,32 @@ def orthogonal_turn(
     still shows its full angle. The legs are much longer than the taxel-sized
     jumps of a point contact's centre.
     """
-    pts = centre.tolist()
     leg = leg_mm
     lo, hi = np.cos(np.deg2rad(window_deg[1])), np.cos(np.deg2rad(window_deg[0]))
-    bx, by = pts[start]
+    xs, ys = centre[:, 0], centre[:, 1]
+    bx, by = float(xs[start]), float(ys[start])
     legs: list[tuple[float, float]] = []
-    for j in range(start + 1, len(pts)):  # a scan along the path; legs are few
-        x, y = pts[j]
-        dx, dy = x - bx, y - by
-        d = math.hypot(dx, dy)
-        if d < leg:
-            continue
+    j, ahead = start + 1, 16
+    while j < xs.size:  # from breakpoint to breakpoint; legs are few
+        # the next point a leg away, looked for in windows that double: the frames np.hypot
+        # puts nearer than the leg by more than its rounding are skipped, the others are
+        # tested as the rule writes it
+        q = None
+        while q is None and j < xs.size:
+            stop = min(xs.size, j + ahead)
+            near = np.hypot(xs[j:stop] - bx, ys[j:stop] - by) < leg * (1.0 - _HYPOT_MARGIN)
+            for i in (j + np.flatnonzero(~near)).tolist():
+                x, y = float(xs[i]), float(ys[i])
+                dx, dy = x - bx, y - by
+                d = math.hypot(dx, dy)
+                if not d < leg:  # (a NaN breaks the path too)
+                    q = i
+                    break
+            else:
+                j, ahead = stop, 2 * ahead
+        if q is None:
+            return None
+        j, ahead = q, max(16, (q - j) * 2)
         legs.append((dx / d, dy / d))
         bx, by = x, y
         for back in (2, 3):  # compare with the leg before last and the one before that
@@ -298,6 +360,7 @@ def orthogonal_turn(
                 c = ux * legs[-1][0] + uy * legs[-1][1]
                 if lo <= c <= hi:
                     return j
+        j += 1
     return None
 
 

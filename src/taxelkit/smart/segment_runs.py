@@ -1,0 +1,96 @@
+"""Per-segment scans of many segments laid end to end: exact running sums, first hits.
+
+Level 3 looks at every contact segment on its own: running means over a
+segment's frames, the first frame at which a condition has held for ``k``
+frames. :class:`Runs` holds many segments concatenated (segment ``s`` is
+rows ``starts[s] .. starts[s] + lengths[s] - 1``) and computes the same
+quantities for all of them with a few NumPy calls. A running sum is
+accumulated segment by segment (one call each, the only per-segment cost),
+in the same order of additions as ``np.cumsum`` over that segment alone, so
+every float is the one of the per-segment form.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["Runs"]
+
+
+class Runs:
+    """Segments of given lengths, concatenated.
+
+    Parameters
+    ----------
+    lengths : (S,) int
+        Rows of each segment (at least 1).
+
+    Attributes
+    ----------
+    starts : (S,) int
+        First row of each segment.
+    seg : (N,) int
+        Segment of each row.
+    local : (N,) int
+        Index of each row within its segment.
+    """
+
+    def __init__(self, lengths: NDArray[np.intp]) -> None:
+        self.lengths = np.asarray(lengths, dtype=np.intp)
+        self.size = int(self.lengths.sum())
+        self.starts = np.zeros(self.lengths.size, np.intp)
+        np.cumsum(self.lengths[:-1], out=self.starts[1:])
+        self.seg = np.repeat(np.arange(self.lengths.size), self.lengths)
+        self.local = np.arange(self.size) - self.starts[self.seg]
+        ends = self.starts + self.lengths
+        self._bounds = list(zip(self.starts.tolist(), ends.tolist(), strict=True))
+
+    def cumsum(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``np.cumsum(x_s, axis=0)`` of every segment ``x_s`` of ``x`` ``(N, ...)``, end to end.
+
+        One accumulation per segment, each column along memory: the segments'
+        sums never mix, so the floats are those of each segment alone.
+        """
+        xt = np.ascontiguousarray(x.reshape(x.shape[0], -1).T)  # (F, N)
+        out = np.empty_like(xt)
+        for a, b in self._bounds:
+            np.cumsum(xt[:, a:b], axis=1, out=out[:, a:b])
+        result: NDArray[np.float64] = out.T.reshape(x.shape)
+        return result
+
+    def rolling_mean(self, x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
+        """:func:`~taxelkit.smart.track_geometry.rolling_mean` of every segment of ``x``."""
+        c = self.cumsum(x)
+        out = c.copy()
+        out[w:] -= c[:-w]  # rows less than w into their segment are put back below
+        head = np.flatnonzero(self.local < w)
+        out[head] = c[head]
+        n = np.minimum(self.local + 1, w).reshape((-1,) + (1,) * (x.ndim - 1))
+        result: NDArray[np.float64] = out / n
+        return result
+
+    def sustained(self, mask: NDArray[np.bool_], k: int) -> NDArray[np.bool_]:
+        """:func:`~taxelkit.smart.track_geometry.sustained` of every segment of ``mask``."""
+        c = np.cumsum(mask.astype(np.int64))  # integers: exact whatever came before
+        base = np.zeros(self.lengths.size, np.int64)
+        base[1:] = c[self.starts[1:] - 1]
+        back = np.maximum(np.arange(self.size) - k, 0)
+        before = np.where(self.local >= k, c[back], base[self.seg])
+        out: NDArray[np.bool_] = (c - before) >= k
+        return out
+
+    def first(self, mask: NDArray[np.bool_]) -> NDArray[np.intp]:
+        """Index within its segment of each segment's first True row of ``mask``; -1 if none."""
+        hits = np.flatnonzero(mask)
+        out = np.full(self.lengths.size, -1, np.intp)
+        if hits.size:
+            segs = self.seg[hits]
+            lead = np.ones(hits.size, bool)
+            lead[1:] = segs[1:] != segs[:-1]
+            out[segs[lead]] = self.local[hits[lead]]
+        return out
+
+    def first_sustained(self, mask: NDArray[np.bool_], k: int) -> NDArray[np.intp]:
+        """``first(sustained(mask, k), 0)`` of every segment (-1 for None)."""
+        return self.first(self.sustained(mask, k))

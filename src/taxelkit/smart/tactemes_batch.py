@@ -1,0 +1,406 @@
+"""Motion tactemes of many whole segments at once: the batch twin of ``segment_tactemes``.
+
+:func:`~taxelkit.smart.tactemes.segment_tactemes` looks at one segment with
+a few dozen NumPy calls on its frames; a recording (or a chunk of one) holds
+hundreds of segments, most a few hundred frames long, so that the calls'
+fixed cost dominates. :func:`batch_tactemes` lays the segments of one class
+and one frame rate end to end (:class:`~taxelkit.smart.segment_runs.Runs`)
+and applies the same rules to all of them at once: every value is computed
+by the same floating-point operations as in the per-segment form (running
+sums segment by segment, element-wise operations on the same operands), so
+the tactemes and their frames are those of ``segment_tactemes`` (tested).
+The rare, longer searches (a moving point's corners, a turning line's pivot,
+a face's shape) run per segment on the segment's slice of the batch.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.pivots import arc_ratio_limit, pivot_from_sums, pivot_upper
+from taxelkit.smart.segment_runs import Runs
+from taxelkit.smart.tacteme_table import Tacteme
+from taxelkit.smart.tactemes import (
+    MOTION_MIN_FRAMES,
+    SegmentTrack,
+    TactemeConfig,
+    _face_tactemes,
+    _pivot_tacteme,
+    _point_turn,
+)
+from taxelkit.smart.track_geometry import anchors, axis_angle_deg, drawn_half_mm
+
+__all__ = ["batch_tactemes"]
+
+_POINT, _LINE, _AREA = int(ContactClass.POINT), int(ContactClass.LINE), int(ContactClass.AREA)
+
+Found = list[tuple[Tacteme, int]]
+#: Rows (frames of all segments) computed together: the temporaries stay in the cache.
+PIECE_ROWS = 16384
+#: What a turning line's pivot may read (at most one of them per segment).
+_PIVOT_TACTEMES = (Tacteme.LC_SPINS, Tacteme.LCMT_ABOUT_END, Tacteme.LCMT_ARC)
+
+
+def _frames_for(dt: float, seconds: float, floor: int) -> int:
+    """:meth:`~taxelkit.smart.tactemes.SegmentTrack.frames_for` from the frame interval."""
+    return max(floor, math.ceil(seconds / dt - 1e-9)) if dt > 0 else floor
+
+
+def batch_tactemes(items: Sequence[tuple[int, SegmentTrack]], config: TactemeConfig) -> list[Found]:
+    """:func:`~taxelkit.smart.tactemes.segment_tactemes` of every ``(class, track)``.
+
+    Parameters
+    ----------
+    items : sequence of (int, SegmentTrack)
+        Each segment's contact class and track.
+    config : TactemeConfig
+
+    Returns
+    -------
+    list of list of (Tacteme, frame)
+        For each item, what ``segment_tactemes(cls, track, config)`` returns.
+    """
+    k = int(config.debounce_frames)
+    out: list[Found] = [[] for _ in items]
+    groups: dict[tuple[int, int, int], list[int]] = {}
+    for i, (cls, track) in enumerate(items):
+        n = track.frames.size
+        if n < k or cls not in (_POINT, _LINE, _AREA):
+            continue
+        dt = track.frame_interval_s(k)
+        hold = _frames_for(dt, config.motion_hold_s, MOTION_MIN_FRAMES)
+        w = _frames_for(dt, config.smooth_s, k)
+        groups.setdefault((int(cls), w, hold), []).append(i)
+    for (cls, w, hold), members in groups.items():
+        for part in _pieces(members, [items[i][1].frames.size for i in members]):
+            tracks = [items[i][1] for i in part]
+            for i, found in zip(part, _group(cls, tracks, w, hold, config), strict=True):
+                out[i] = found
+    return out
+
+
+def _pieces(members: list[int], sizes: list[int]) -> list[list[int]]:
+    """``members`` cut into consecutive pieces of about :data:`PIECE_ROWS` rows."""
+    out: list[list[int]] = [[]]
+    rows = 0
+    for i, size in zip(members, sizes, strict=True):
+        if rows and rows + size > PIECE_ROWS:
+            out.append([])
+            rows = 0
+        out[-1].append(i)
+        rows += size
+    return out
+
+
+def _group(
+    cls: int, tracks: list[SegmentTrack], w: int, hold: int, config: TactemeConfig
+) -> list[Found]:
+    """The tactemes of segments of one class, smoothing window ``w`` and hold ``hold``."""
+    runs = Runs(np.array([t.frames.size for t in tracks], dtype=np.intp))
+    s_n = len(tracks)
+    starts, lengths, seg, local = runs.starts, runs.lengths, runs.seg, runs.local
+    frames = np.concatenate([t.frames for t in tracks])
+    theta = np.concatenate([t.orientation_deg for t in tracks])
+    # columns: centre x, y, axis vector, area, elongation, half-length; each class
+    # smooths those its rules read (a point: its centre; a line: not its elongation)
+    raw = np.zeros((runs.size, 7))
+    raw[:, 0:2] = np.concatenate([t.centre_mm for t in tracks])
+    used = [0, 1] if cls == _POINT else [0, 1, 2, 3, 4, 6 if cls == _LINE else 5]
+    ext = None
+    if cls != _POINT:
+        t2 = np.deg2rad(2.0 * theta)  # axis_vectors, column by column
+        raw[:, 2], raw[:, 3] = np.cos(t2), np.sin(t2)
+        raw[:, 4] = np.concatenate([t.area_mm2 for t in tracks])
+    if cls == _AREA:
+        raw[:, 5] = np.concatenate([t.elongation for t in tracks])
+    if cls == _LINE:
+        raw[:, 6] = np.concatenate([t.half_length_mm for t in tracks])
+        if all(t.extent_mm is not None for t in tracks):
+            ext = np.concatenate([t.extent_mm for t in tracks if t.extent_mm is not None])
+    smooth = np.zeros_like(raw)
+    smooth[:, used] = runs.rolling_mean(raw[:, used], w)
+    centre = smooth[:, 0:2]
+    angle = axis_angle_deg(smooth[:, 2:4])
+    area, elong = smooth[:, 4], smooth[:, 5]
+    if cls == _POINT:
+        anchor = np.zeros(runs.size, np.intp)
+    else:
+        shape = elong if cls == _AREA else np.ones_like(elong)
+        anchor = np.empty(runs.size, np.intp)
+        for a, b in zip(starts.tolist(), (starts + lengths).tolist(), strict=True):
+            anchor[a:b] = anchors(area[a:b], shape[a:b], w, config.area_step)
+    n_row = lengths[seg]
+    ref = np.minimum(anchor + w - 1, n_row - 1)  # within the segment
+    ref_g = starts[seg] + ref
+    valid = local >= anchor + w - 1
+    shift = centre - centre[ref_g]
+    moved = np.where(valid, np.hypot(*shift.T), 0.0)
+    out: list[Found] = [[] for _ in range(s_n)]
+    hits: list[tuple[Tacteme, NDArray[np.intp]]] = []
+    if cls == _POINT:
+        j_move = runs.first_sustained(moved > config.move_mm, hold)
+        hits.append((Tacteme.PC_MOVES, j_move))
+        corner = np.full(s_n, -1, np.intp)
+        for s in np.flatnonzero(j_move >= 0).tolist():
+            a, b = int(starts[s]), int(starts[s] + lengths[s])
+            j = _point_turn(centre[a:b], int(ref[a + int(j_move[s])]), config)
+            if j is not None:
+                corner[s] = j
+        hits.append((Tacteme.PC_ORTHOGONAL_TURN, corner))
+    elif cls == _LINE:
+        hits += _line_hits(
+            runs, tracks, config, smooth, angle, anchor, ref, ref_g, valid, w, hold, raw, theta, ext
+        )
+    else:
+        turned = np.where(valid, _turn(angle, ref_g), 0.0)
+        same = np.abs(area / area[ref_g] - 1.0) <= config.area_tolerance
+        moves = runs.first_sustained((moved > config.move_mm) & same, hold)
+        hits.append((Tacteme.AC_MOVES, moves))
+        oriented = (elong >= config.area_min_elongation) & (
+            elong[ref_g] >= config.area_min_elongation
+        )
+        rotated = (turned > config.area_rotate_deg) & same & oriented
+        hits.append((Tacteme.AC_ROTATES, runs.first_sustained(rotated, hold)))
+        if config.face_shapes:
+            steady = valid & same
+            for s, track in enumerate(tracks):
+                a, b = int(starts[s]), int(starts[s] + lengths[s])
+                faces = _face_tactemes(track, config, area[a:b], elong[a:b], steady[a:b], w, hold)
+                out[s] += [(tac, int(track.frames[j])) for tac, j in faces if j is not None]
+    firsts = starts.tolist()
+    columns = [(tac, j.tolist()) for tac, j in hits]
+    frame_list = frames.tolist()
+    for s in range(s_n):
+        found = [(tac, frame_list[firsts[s] + js[s]]) for tac, js in columns if js[s] >= 0]
+        found += out[s]
+        found.sort(key=lambda item: item[1])
+        out[s] = found
+    return out
+
+
+def _turn(angle: NDArray[np.float64], ref: NDArray[np.intp]) -> NDArray[np.float64]:
+    """:func:`~taxelkit.smart.track_geometry.turn` (``ref`` global rows)."""
+    d: NDArray[np.float64] = np.abs((angle - angle[ref] + 90.0) % 180.0 - 90.0)
+    return d
+
+
+def _line_hits(
+    runs: Runs,
+    tracks: list[SegmentTrack],
+    config: TactemeConfig,
+    smooth: NDArray[np.float64],
+    angle: NDArray[np.float64],
+    anchor: NDArray[np.intp],
+    ref: NDArray[np.intp],
+    ref_g: NDArray[np.intp],
+    valid: NDArray[np.bool_],
+    w: int,
+    hold: int,
+    raw: NDArray[np.float64],
+    theta: NDArray[np.float64],
+    ext: NDArray[np.float64] | None,
+) -> list[tuple[Tacteme, NDArray[np.intp]]]:
+    """The line rules of ``segment_tactemes``: each tacteme's index per segment (-1: none).
+
+    In the order the per-segment form emits them (ties in frame keep it).
+    """
+    starts, lengths, seg, local = runs.starts, runs.lengths, runs.seg, runs.local
+    move = config.move_mm
+    centre = smooth[:, 0:2]
+    shift = centre - centre[ref_g]
+    t_ref = np.deg2rad(angle[ref_g])
+    along = np.abs(shift[:, 0] * np.cos(t_ref) + shift[:, 1] * np.sin(t_ref))
+    half = smooth[:, 6]
+    ends = along - np.abs(half - half[ref_g])
+    across = np.where(
+        valid, np.abs(-shift[:, 0] * np.sin(t_ref) + shift[:, 1] * np.cos(t_ref)), 0.0
+    )
+    j_lcm = runs.first_sustained(across > move, hold)
+    slid = valid & (ends > move) & (across < 0.5 * move)
+    j_slide = runs.first_sustained(slid, hold)
+    slide = np.where((j_slide >= 0) & ((j_lcm < 0) | (j_slide < j_lcm)), j_slide, -1)
+    first_ref = np.minimum(w - 1, lengths - 1)  # a line's turn counts from its first reference
+    first_g = starts + first_ref
+    turned_all = np.where(local >= first_ref[seg], _turn(angle, first_g[seg]), 0.0)
+    t0 = np.deg2rad(angle[first_g])[seg]
+    rolled = _carried_shift(runs, centre, anchor, ref_g)
+    across_all = np.abs(-rolled[:, 0] * np.sin(t0) + rolled[:, 1] * np.cos(t0))
+    parallel = (across_all >= config.parallel_move_mm) & (turned_all <= config.parallel_tol_deg)
+    j_par = runs.first_sustained(parallel, hold)
+    j_turn = runs.first_sustained(turned_all > config.turn_deg, hold)
+    par = np.where((j_par >= 0) & ((j_turn < 0) | (j_par < j_turn)), j_par, -1)
+    pivots = {tac: np.full(starts.size, -1, np.intp) for tac in _PIVOT_TACTEMES}
+    turning = np.flatnonzero(j_turn >= 0)
+    for s, (j, tac) in _pivots(
+        runs, tracks, config, angle, anchor, ref, j_turn, turning, w, hold, raw, theta, ext
+    ):
+        pivots[tac][s] = j
+    out = [
+        (Tacteme.LC_SLIDES, slide),
+        (Tacteme.LCM, j_lcm),
+        (Tacteme.LCMP, par),
+        (Tacteme.LCMT, j_turn),
+    ]
+    return out + list(pivots.items())  # at most one of them per segment
+
+
+def _pivots(
+    runs: Runs,
+    tracks: list[SegmentTrack],
+    config: TactemeConfig,
+    angle: NDArray[np.float64],
+    anchor: NDArray[np.intp],
+    ref: NDArray[np.intp],
+    j_turn: NDArray[np.intp],
+    turning: NDArray[np.intp],
+    w: int,
+    hold: int,
+    raw: NDArray[np.float64],
+    raw_theta: NDArray[np.float64],
+    raw_ext: NDArray[np.float64] | None,
+) -> list[tuple[int, tuple[int, Tacteme]]]:
+    """:func:`~taxelkit.smart.tactemes._pivot_tacteme` of the segments ``turning``, together.
+
+    ``raw``, ``raw_theta``, ``raw_ext``: the group's unsmoothed centres (columns
+    0-1) and half-lengths (column 6), axes and line extents (None: not all
+    measured, each segment alone); ``w``: the group's smoothing window, frames.
+    Returns ``(segment, (index, tacteme))`` for those with a pivot verdict.
+    """
+    starts, lengths = runs.starts, runs.lengths
+    k = int(config.debounce_frames)
+    pitch = tracks[0].pitch_mm
+    if raw_ext is None or any(t.pitch_mm != pitch for t in tracks):
+        alone, together = turning.tolist(), turning[:0]
+    else:
+        alone, together = [], turning
+    out: list[tuple[int, tuple[int, Tacteme]]] = []
+    for s in alone:
+        a, b = int(starts[s]), int(starts[s] + lengths[s])
+        found = _pivot_tacteme(
+            tracks[s], config, angle[a:b], anchor[a:b], ref[a:b], int(j_turn[s]), hold
+        )
+        if found is not None:
+            out.append((s, found))
+    if together.size == 0 or raw_ext is None:
+        return out
+    # the lines from each turn's anchor to the segment's end, laid end to end
+    first = anchor[starts[together] + j_turn[together]]  # within the segment
+    part = Runs(lengths[together] - first)
+    rows = (starts[together] + first)[part.seg] + part.local  # rows of the group
+    theta, centre, half, ext = raw_theta[rows], raw[rows, 0:2], raw[rows, 6], raw_ext[rows]
+    ratio, error, arc_ratio = _pivot_fit(
+        part, theta, centre, half, ext, w if config.pivot_arc_smooth else 1
+    )
+    line_mm = 2.0 * drawn_half_mm(half, ext)
+    pitch = tracks[int(together[0])].pitch_mm
+    short = line_mm < config.pivot_min_line_taxels * pitch
+    ratio = np.where(short, np.nan, ratio)
+    arc_ratio = np.where(short, np.nan, arc_ratio)
+    ref_start = starts[together] + ref[starts[together] + first]  # each turn's reference row
+    turned_now = np.abs((angle[rows] - angle[ref_start][part.seg] + 90.0) % 180.0 - 90.0)
+    ready = turned_now > config.pivot_turn_deg
+    lo = config.pivot_end_ratio / config.pivot_band
+    arc = arc_ratio_limit(
+        turned_now,
+        config.pivot_end_ratio,
+        config.pivot_band,
+        config.pivot_turn_deg,
+        config.pivot_arc_turn_deg,
+        line_mm,
+        pitch,
+    )
+    verdicts = (
+        (Tacteme.LC_SPINS, ready & (ratio < config.pivot_min_ratio)),
+        (
+            Tacteme.LCMT_ABOUT_END,
+            ready
+            & (ratio >= config.pivot_min_ratio)
+            & (pivot_upper(ratio, error, config.pivot_end_sigmas) <= lo),
+        ),
+        (Tacteme.LCMT_ARC, arc_ratio >= arc),
+    )
+    holds = np.array(
+        [
+            _frames_for(tracks[s].frame_interval_s(k), config.pivot_hold_s, hold)
+            for s in together.tolist()
+        ]
+    )
+    verdicts_of: list[list[tuple[int, Tacteme]]] = [[] for _ in range(together.size)]
+    for tac, verdict in verdicts:
+        js = np.full(together.size, -1, np.intp)
+        for h in np.unique(holds).tolist():
+            sel = holds == h
+            js = np.where(sel, part.first_sustained(verdict, h), js)
+        for i, j in enumerate(js.tolist()):
+            if j >= 0:
+                verdicts_of[i].append((int(first[i]) + j, tac))
+    out += [(s, min(v)) for s, v in zip(together.tolist(), verdicts_of, strict=True) if v]
+    return out
+
+
+def _pivot_fit(
+    part: Runs,
+    theta: NDArray[np.float64],
+    centre: NDArray[np.float64],
+    half: NDArray[np.float64],
+    ext: NDArray[np.float64],
+    arc_w: int,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """:func:`~taxelkit.smart.tactemes._pivot_ratios` of every run of ``part`` (extents known)."""
+    measured: NDArray[np.bool_] = np.isfinite(ext[:, 0]) & np.isfinite(ext[:, 1])
+    t = np.deg2rad(theta)
+    offset = 0.5 * (ext[:, 0] + ext[:, 1])
+    middle = centre + offset[:, None] * np.stack([np.cos(t), np.sin(t)], axis=-1)
+    centre = np.where(measured[:, None], middle, centre)
+    half = drawn_half_mm(half, ext)
+    t = np.deg2rad(theta)  # pivot_fit
+    nx, ny = -np.sin(t), np.cos(t)
+    d = nx * centre[:, 0] + ny * centre[:, 1]
+    terms = np.stack([nx * nx, nx * ny, ny * ny, nx * d, ny * d, half, d * d], axis=-1)
+    sums = part.cumsum(terms)
+    ratio, error = pivot_from_sums(sums, part.local + 1, centre[:, 0], centre[:, 1])
+    if arc_w <= 1:
+        return ratio, error, ratio
+    # pivots.trailing_mean of each run: the same window, summed newest first
+    mean = np.zeros_like(centre)
+    count = np.zeros(part.size)
+    rows = np.arange(part.size)
+    for lag in range(arc_w):
+        ok = part.local >= lag
+        if not ok.any():
+            break
+        mean[ok] += centre[rows[ok] - lag]
+        count += ok
+    mean /= count[:, None]
+    arc = pivot_from_sums(sums, part.local + 1, mean[:, 0], mean[:, 1])[0]
+    return ratio, error, arc
+
+
+def _carried_shift(
+    runs: Runs, centre: NDArray[np.float64], anchor: NDArray[np.intp], ref_g: NDArray[np.intp]
+) -> NDArray[np.float64]:
+    """:func:`~taxelkit.smart.track_geometry.carried_shift` of every segment (global rows)."""
+    n = runs.size
+    anchor_g = runs.starts[runs.seg] + anchor
+    new = np.ones(n, bool)
+    new[1:] = anchor_g[1:] != anchor_g[:-1]  # a segment's first row always differs
+    first = np.flatnonzero(new)  # first row of each stretch
+    last = np.append(first[1:] - 1, n - 1)
+    refs = ref_g[first]
+    done = np.where((last >= refs)[:, None], centre[last] - centre[refs], 0.0)
+    per_seg = np.bincount(runs.seg[first], minlength=runs.lengths.size)
+    summed = Runs(per_seg).cumsum(done)  # what each segment's stretches rolled, in order
+    before = np.zeros_like(done)
+    lead = np.zeros(first.size, bool)  # each segment's first stretch: nothing before
+    lead[np.cumsum(per_seg) - per_seg] = True
+    later = np.flatnonzero(~lead)
+    before[later] = summed[later - 1]
+    stretch = np.cumsum(new) - 1
+    current = np.where((np.arange(n) >= ref_g)[:, None], centre - centre[ref_g], 0.0)
+    out: NDArray[np.float64] = before[stretch] + current
+    return out
