@@ -64,7 +64,7 @@ class PivotRun:
     def ratios(
         self, rows: NDArray[np.float64]
     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """:func:`~taxelkit.smart.tactemes._pivot_ratios` continued over ``rows``.
+        """:func:`~taxelkit.smart.pivot_rules._pivot_ratios` continued over ``rows``.
 
         Returns the ratio, its error and the arc's ratio (from the mean middle
         of the last ``arc_w`` lines).

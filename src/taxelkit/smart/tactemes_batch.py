@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.pivot_rules import pivot_tacteme
 from taxelkit.smart.pivots import arc_ratio_limit, pivot_from_sums, pivot_upper
 from taxelkit.smart.segment_runs import Runs
 from taxelkit.smart.tacteme_table import Tacteme
@@ -30,7 +31,6 @@ from taxelkit.smart.tactemes import (
     SegmentTrack,
     TactemeConfig,
     _face_tactemes,
-    _pivot_tacteme,
     _point_turn,
 )
 from taxelkit.smart.track_geometry import anchors, axis_angle_deg, drawn_half_mm
@@ -264,7 +264,7 @@ def _pivots(
     raw_theta: NDArray[np.float64],
     raw_ext: NDArray[np.float64] | None,
 ) -> list[tuple[int, tuple[int, Tacteme]]]:
-    """:func:`~taxelkit.smart.tactemes._pivot_tacteme` of the segments ``turning``, together.
+    """:func:`~taxelkit.smart.pivot_rules.pivot_tacteme` of the segments ``turning``, together.
 
     ``raw``, ``raw_theta``, ``raw_ext``: the group's unsmoothed centres (columns
     0-1) and half-lengths (column 6), axes and line extents (None: not all
@@ -281,7 +281,7 @@ def _pivots(
     out: list[tuple[int, tuple[int, Tacteme]]] = []
     for s in alone:
         a, b = int(starts[s]), int(starts[s] + lengths[s])
-        found = _pivot_tacteme(
+        found = pivot_tacteme(
             tracks[s], config, angle[a:b], anchor[a:b], ref[a:b], int(j_turn[s]), hold
         )
         if found is not None:
@@ -351,7 +351,7 @@ def _pivot_fit(
     ext: NDArray[np.float64],
     arc_w: int,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """:func:`~taxelkit.smart.tactemes._pivot_ratios` of every run of ``part`` (extents known)."""
+    """:func:`~taxelkit.smart.pivot_rules._pivot_ratios` of every run of ``part``."""
     measured: NDArray[np.bool_] = np.isfinite(ext[:, 0]) & np.isfinite(ext[:, 1])
     t = np.deg2rad(theta)
     offset = 0.5 * (ext[:, 0] + ext[:, 1])

@@ -1,0 +1,101 @@
+"""Level 3's pivot verdict of a turning line, on a whole segment (batch).
+
+What :func:`~taxelkit.smart.tactemes.segment_tactemes` calls once a line
+has turned (LCMT): the least-squares pivot of its lines from the turn's anchor
+on (:func:`~taxelkit.smart.pivots.drawn_pivot_fit`) and the three verdicts
+"spins about its middle", "about one end" and "in an arc"; the batched form
+is :mod:`taxelkit.smart.tactemes_batch`, the streamed one
+:mod:`taxelkit.smart.pivot_stream`.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+from taxelkit.smart.pivots import arc_ratio_limit, drawn_pivot_fit, pivot_upper
+from taxelkit.smart.tacteme_config import TactemeConfig
+from taxelkit.smart.tacteme_table import Tacteme
+from taxelkit.smart.track_geometry import drawn_half_mm, first, sustained, turn
+
+if TYPE_CHECKING:
+    from taxelkit.smart.tactemes import SegmentTrack
+
+__all__ = ["pivot_tacteme"]
+
+
+def _drawn_half(track: SegmentTrack, start: int, stop: int) -> NDArray[np.float64]:
+    """:func:`~taxelkit.smart.track_geometry.drawn_half_mm` of the lines ``start..stop - 1``."""
+    ext = None if track.extent_mm is None else track.extent_mm[start:stop]
+    return drawn_half_mm(track.half_length_mm[start:stop], ext)
+
+
+def _pivot_ratios(
+    track: SegmentTrack, start: int, stop: int, arc_w: int = 1
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """:func:`~taxelkit.smart.pivots.drawn_pivot_fit` of the lines ``start..stop - 1``."""
+    ext = None if track.extent_mm is None else track.extent_mm[start:stop]
+    return drawn_pivot_fit(
+        track.orientation_deg[start:stop],
+        track.centre_mm[start:stop],
+        track.half_length_mm[start:stop],
+        ext,
+        arc_w,
+    )
+
+
+def pivot_tacteme(
+    track: SegmentTrack,
+    config: TactemeConfig,
+    angle: NDArray[np.float64],
+    anchor: NDArray[np.intp],
+    ref: NDArray[np.intp],
+    j_turn: int,
+    hold: int,
+) -> tuple[int, Tacteme] | None:
+    """The pivot of a line that turned at ``j_turn``: ``(index, tacteme)`` or None.
+
+    ``angle``, ``anchor`` and ``ref`` are the segment's smoothed axis (deg),
+    anchors and references (:func:`segment_tactemes`).
+    """
+    k = int(config.debounce_frames)
+    n = track.frames.size
+    pivots: list[tuple[int, Tacteme]] = []
+    # the lines from the turn's anchor on, across later re-anchors: a rolling
+    # cone's line keeps turning about the same point while its width varies
+    start, stop = int(anchor[j_turn]), n
+    arc_w = track.frames_for(config.smooth_s, k) if config.pivot_arc_smooth else 1
+    ratio, error, arc_ratio = _pivot_ratios(track, start, stop, arc_w)
+    line_mm = 2.0 * _drawn_half(track, start, stop)
+    short = line_mm < config.pivot_min_line_taxels * track.pitch_mm
+    ratio = np.where(short, np.nan, ratio)
+    arc_ratio = np.where(short, np.nan, arc_ratio)
+    pivot_hold = track.frames_for(config.pivot_hold_s, k, minimum=hold)
+    turned_now = turn(angle, ref[start] + np.zeros(n, np.intp))[start:]
+    ready = turned_now > config.pivot_turn_deg
+    lo = config.pivot_end_ratio / config.pivot_band
+    arc = arc_ratio_limit(
+        turned_now,
+        config.pivot_end_ratio,
+        config.pivot_band,
+        config.pivot_turn_deg,
+        config.pivot_arc_turn_deg,
+        line_mm,
+        track.pitch_mm,
+    )
+    for tac, verdict in (
+        (Tacteme.LC_SPINS, ready & (ratio < config.pivot_min_ratio)),
+        (
+            Tacteme.LCMT_ABOUT_END,
+            ready
+            & (ratio >= config.pivot_min_ratio)
+            & (pivot_upper(ratio, error, config.pivot_end_sigmas) <= lo),
+        ),
+        (Tacteme.LCMT_ARC, arc_ratio >= arc),
+    ):
+        j = first(sustained(verdict, pivot_hold), 0)
+        if j is not None:
+            pivots.append((start + j, tac))
+    return min(pivots) if pivots else None
