@@ -158,43 +158,50 @@ def pivot_sums(
 
 
 def trailing_mean(
-    values: NDArray[np.float64], w: int, before: NDArray[np.float64] | None = None
+    values: NDArray[np.float64],
+    w: int,
+    before: NDArray[np.float64] | None = None,
+    *,
+    local: NDArray[np.intp] | None = None,
 ) -> NDArray[np.float64]:
     """Mean of each row and the ``w - 1`` rows before it (fewer at the start), along axis 0.
 
-    The sum is taken row by row, newest first, so that the same window gives
-    the same floats whether the rows arrive at once (batch) or in chunks
-    (streaming, with the rows before the chunk in ``before``).
+    The sum is taken row by row, newest first (a row outside the window adds
+    an exact zero), so that the same window gives the same floats whether the
+    rows arrive at once (batch), in chunks (streaming, with the rows before
+    the chunk in ``before``) or as several runs laid end to end (``local``).
 
     Parameters
     ----------
-    values : (n, ...) float
+    values : (n, d) float
         The rows.
     w : int
         Window, rows (>= 1).
-    before : (b, ...) float, optional
+    before : (b, d) float, optional
         The rows just before ``values``, oldest first: at least ``w - 1`` of
         them, or all there were. None: none.
+    local : (n,) int, optional
+        Each row's index within its run, for runs laid end to end (windows
+        stop at a run's first row); not with ``before``.
 
     Returns
     -------
-    (n, ...) float
+    (n, d) float
     """
     head = values[:0] if before is None else before[max(0, before.shape[0] - (w - 1)) :]
-    rows = np.concatenate([head, values]) if head.shape[0] else values
     b, n = head.shape[0], values.shape[0]
+    pos = np.arange(b, b + n) if local is None else np.asarray(local)
+    # the rows, led by w - 1 zero rows so that every lag is a plain slice
+    rows = np.concatenate([np.zeros((w - 1, *values.shape[1:])), head, values])
     acc = np.zeros_like(values)
     count = np.zeros(n)
-    at = np.arange(b, b + n)
-    for lag in range(w):
-        idx = at - lag
-        ok = idx >= 0
-        if not ok.any():
-            break
-        acc[ok] += rows[idx[ok]]
+    top = int(pos.max()) if n else -1
+    for lag in range(min(w, top + 1)):
+        ok = pos >= lag
+        start = w - 1 + b - lag
+        acc += rows[start : start + n] * ok[:, None]
         count += ok
-    shape = (-1,) + (1,) * (values.ndim - 1)
-    out: NDArray[np.float64] = acc / count.reshape(shape)
+    out: NDArray[np.float64] = acc / count[:, None]
     return out
 
 

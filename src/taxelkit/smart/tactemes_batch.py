@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.pivot_rules import pivot_tacteme
-from taxelkit.smart.pivots import arc_ratio_limit, pivot_from_sums, pivot_upper
+from taxelkit.smart.pivots import arc_ratio_limit, pivot_from_sums, pivot_upper, trailing_mean
 from taxelkit.smart.segment_runs import Runs
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import (
@@ -366,17 +366,7 @@ def _pivot_fit(
     ratio, error = pivot_from_sums(sums, part.local + 1, centre[:, 0], centre[:, 1])
     if arc_w <= 1:
         return ratio, error, ratio
-    # pivots.trailing_mean of each run: the same window, summed newest first
-    mean = np.zeros_like(centre)
-    count = np.zeros(part.size)
-    rows = np.arange(part.size)
-    for lag in range(arc_w):
-        ok = part.local >= lag
-        if not ok.any():
-            break
-        mean[ok] += centre[rows[ok] - lag]
-        count += ok
-    mean /= count[:, None]
+    mean = trailing_mean(centre, arc_w, local=part.local)  # each run's own window
     arc = pivot_from_sums(sums, part.local + 1, mean[:, 0], mean[:, 1])[0]
     return ratio, error, arc
 
