@@ -9,6 +9,12 @@ frames. :class:`taxelkit.smart.streaming.SmartSensor` takes it frame by frame
 * the rate over the contact's first 10,000 frames: the baseline;
 * the rate over its last 10,000 frames and over all of it;
 * the ratio last / first (the target: within 20 %, 0.8-1.25);
+
+each the median of ``--repeats`` streams of the same contact, each on a
+fresh sensor (a window of 10,000 frames is 20-40 ms of CPU time, and one
+stream's first and last windows alone read anywhere between 0.74 and 1.65
+apart on this machine in one session, the first window also carrying the
+sensor's warm-up);
 * the sensor's memory for the open segment (the scanner's arrays), which
   must not grow with the contact.
 
@@ -19,9 +25,9 @@ Times are CPU seconds of this process (``time.process_time``), so that other
 work on a shared machine does not count.
 
 Usage: ``python benchmarks/bench_streaming_flat.py [--frames N] [--kind area|line|point|all]
-[--batch-frames B] [--record]`` (``--batch-frames 1``: one frame at a time, slow over 10^6
-frames; ``--record`` writes the README row, ``docs/results/bench/bench_streaming_flat.json``,
-and needs ``--kind all``, the default).
+[--batch-frames B] [--repeats R] [--record]`` (``--batch-frames 1``: one frame at a time, slow
+over 10^6 frames; ``--record`` writes the README row,
+``docs/results/bench/bench_streaming_flat.json``, and needs ``--kind all``, the default).
 """
 
 from __future__ import annotations
@@ -75,8 +81,8 @@ def scanner_bytes(sensor: SmartSensor) -> int:
     return total
 
 
-def run_kind(kind: str, n: int, batch_frames: int) -> dict[str, float]:
-    """Stream one held contact of ``kind``; print and return its figures."""
+def stream_kind(kind: str, n: int, batch_frames: int) -> tuple[list[float], list[int], float]:
+    """One stream of a held contact of ``kind``: each window's rate, memory, and CPU seconds."""
     rng = np.random.default_rng(0)
     sensor = SmartSensor((16, 16), pitch_mm=PITCH_MM, batch_frames=batch_frames)
     for j in range(10):
@@ -98,21 +104,29 @@ def run_kind(kind: str, n: int, batch_frames: int) -> dict[str, float]:
         rates.append(m / dt)
         memory.append(scanner_bytes(sensor))
     sensor.flush()
-    classes = sensor.classes.runs()
-    first, last = rates[0], rates[-1]
     print(
         f"held {kind} contact: {n:,} frames of 16 x 16 at 240 frames/s "
-        f"({n / RATE_HZ / 3600:.2f} h), batch_frames={batch_frames}"
+        f"({n / RATE_HZ / 3600:.2f} h), batch_frames={batch_frames}: class runs "
+        f"{len(sensor.classes.runs())}, events {len(sensor.result().events)}"
     )
-    print(f"class runs: {len(classes)}; events: {len(sensor.result().events)}")
+    return rates, memory, t_all
+
+
+def run_kind(kind: str, n: int, batch_frames: int, repeats: int) -> dict[str, float]:
+    """Stream one held contact of ``kind`` ``repeats`` times; print and return its figures."""
+    streams = [stream_kind(kind, n, batch_frames) for _ in range(max(1, repeats))]
+    first = float(np.median([r[0] for r, _, _ in streams]))
+    last = float(np.median([r[-1] for r, _, _ in streams]))
+    t_all = float(np.median([t for _, _, t in streams]))
+    rates = [float(np.median(w)) for w in zip(*(r for r, _, _ in streams), strict=True)]
+    memory = [m for _, mem, _ in streams for m in mem]
+    print(f"median of {len(streams)} streams:")
     print(f"first {WINDOW:,} frames: {first:12,.0f} frames/s (baseline)")
     print(f"last  {WINDOW:,} frames: {last:12,.0f} frames/s")
     print(f"all {n:,} frames:    {n / t_all:12,.0f} frames/s")
     print(f"ratio last / first: {last / first:.2f} (target 0.8-1.25)")
     print(f"slowest / fastest window: {min(rates) / max(rates):.2f}")
-    print(
-        f"open segment's scanner: {memory[0]:,} bytes after {WINDOW:,}, {memory[-1]:,} at the end"
-    )
+    print(f"open segment's scanner: {min(memory):,}-{max(memory):,} bytes over the streams")
     return {
         "first_frames_s": first,
         "last_frames_s": last,
@@ -121,6 +135,7 @@ def run_kind(kind: str, n: int, batch_frames: int) -> dict[str, float]:
         "slowest_over_fastest": min(rates) / max(rates),
         "scanner_bytes_min": float(min(memory)),
         "scanner_bytes_max": float(max(memory)),
+        "repeats": float(len(streams)),
     }
 
 
@@ -136,7 +151,8 @@ def record_row(runs: dict[str, dict[str, float]], n: int, batch_frames: int) -> 
         figure=f"a contact held {n:,} frames ({n / RATE_HZ / 3600:.2f} h at 240 Hz), "
         f"`SmartSensor` with `batch_frames={batch_frames}`, CPU time: {rates} frames/s over the "
         f"whole contact; the open segment's state stays at {lo:.0f}-{hi:.0f} kB",
-        ratio=f"last / first {WINDOW:,} frames of the same run: {ratios} (target 0.8-1.25 "
+        ratio=f"last / first {WINDOW:,} frames of the same stream (median of "
+        f"{int(next(iter(runs.values()))['repeats'])} streams): {ratios} (target 0.8-1.25 "
         f"{'met' if ok else 'missed'})",
         measured={"frames": n, "batch_frames": batch_frames, "kinds": runs},
     )
@@ -147,12 +163,13 @@ def main() -> None:
     ap.add_argument("--frames", type=int, default=1_000_000)
     ap.add_argument("--kind", choices=(*KINDS, "all"), default="all")
     ap.add_argument("--batch-frames", type=int, default=2000)  # 5 per window
+    ap.add_argument("--repeats", type=int, default=3, help="streams per kind (medians quoted)")
     add_record_option(ap)
     args = ap.parse_args()
     kinds = KINDS if args.kind == "all" else (args.kind,)
     if args.record and len(kinds) < len(KINDS):
         ap.error("--record needs --kind all (the README row covers every kind)")
-    runs = {kind: run_kind(kind, args.frames, args.batch_frames) for kind in kinds}
+    runs = {kind: run_kind(kind, args.frames, args.batch_frames, args.repeats) for kind in kinds}
     if args.record:
         record_row(runs, args.frames, args.batch_frames)
 

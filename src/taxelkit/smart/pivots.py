@@ -196,11 +196,16 @@ def trailing_mean(
     acc = np.zeros_like(values)
     count = np.zeros(n)
     top = int(pos.max()) if n else -1
+    low = int(pos.min()) if n else 0
     for lag in range(min(w, top + 1)):
-        ok = pos >= lag
         start = w - 1 + b - lag
+        if lag <= low:  # every row reaches back this far: the plain rows (x * 1 is x)
+            acc += rows[start : start + n]
+            continue
+        ok = pos >= lag
         acc += rows[start : start + n] * ok[:, None]
         count += ok
+    count += min(low + 1, w, top + 1)  # the lags every row had
     out: NDArray[np.float64] = acc / count[:, None]
     return out
 
