@@ -23,7 +23,7 @@ from taxelkit.smart.track_geometry import drawn_half_mm, first, sustained, turn
 if TYPE_CHECKING:
     from taxelkit.smart.tactemes import SegmentTrack
 
-__all__ = ["pivot_tacteme"]
+__all__ = ["pivot_tacteme", "pivot_verdicts"]
 
 
 def _drawn_half(track: SegmentTrack, start: int, stop: int) -> NDArray[np.float64]:
@@ -69,23 +69,59 @@ def pivot_tacteme(
     arc_w = track.frames_for(config.smooth_s, k) if config.pivot_arc_smooth else 1
     ratio, error, arc_ratio = _pivot_ratios(track, start, stop, arc_w)
     line_mm = 2.0 * _drawn_half(track, start, stop)
-    short = line_mm < config.pivot_min_line_taxels * track.pitch_mm
-    ratio = np.where(short, np.nan, ratio)
-    arc_ratio = np.where(short, np.nan, arc_ratio)
     pivot_hold = track.frames_for(config.pivot_hold_s, k, minimum=hold)
     turned_now = turn(angle, ref[start] + np.zeros(n, np.intp))[start:]
-    ready = turned_now > config.pivot_turn_deg
+    for tac, verdict in pivot_verdicts(
+        config, ratio, error, arc_ratio, turned_now, line_mm, track.pitch_mm
+    ):
+        j = first(sustained(verdict, pivot_hold), 0)
+        if j is not None:
+            pivots.append((start + j, tac))
+    return min(pivots) if pivots else None
+
+
+def pivot_verdicts(
+    config: TactemeConfig,
+    ratio: NDArray[np.float64],
+    error: NDArray[np.float64],
+    arc_ratio: NDArray[np.float64],
+    turned_deg: NDArray[np.float64],
+    line_mm: NDArray[np.float64],
+    pitch_mm: float,
+) -> list[tuple[Tacteme, NDArray[np.bool_]]]:
+    """The three pivot verdicts at each frame: spins, about one end, in an arc.
+
+    Parameters
+    ----------
+    config : TactemeConfig
+    ratio, error, arc_ratio : (n,) float
+        :func:`~taxelkit.smart.pivots.drawn_pivot_fit` of the lines, half-lengths.
+    turned_deg : (n,) float
+        Each frame's turn from the reference, deg.
+    line_mm : (n,) float
+        Each frame's drawn line length, mm (shorter than
+        ``pivot_min_line_taxels`` pitches: no verdict).
+    pitch_mm : float
+
+    Returns
+    -------
+    list of (Tacteme, (n,) bool)
+    """
+    short = line_mm < config.pivot_min_line_taxels * pitch_mm
+    ratio = np.where(short, np.nan, ratio)
+    arc_ratio = np.where(short, np.nan, arc_ratio)
+    ready = turned_deg > config.pivot_turn_deg
     lo = config.pivot_end_ratio / config.pivot_band
     arc = arc_ratio_limit(
-        turned_now,
+        turned_deg,
         config.pivot_end_ratio,
         config.pivot_band,
         config.pivot_turn_deg,
         config.pivot_arc_turn_deg,
         line_mm,
-        track.pitch_mm,
+        pitch_mm,
     )
-    for tac, verdict in (
+    return [
         (Tacteme.LC_SPINS, ready & (ratio < config.pivot_min_ratio)),
         (
             Tacteme.LCMT_ABOUT_END,
@@ -94,8 +130,4 @@ def pivot_tacteme(
             & (pivot_upper(ratio, error, config.pivot_end_sigmas) <= lo),
         ),
         (Tacteme.LCMT_ARC, arc_ratio >= arc),
-    ):
-        j = first(sustained(verdict, pivot_hold), 0)
-        if j is not None:
-            pivots.append((start + j, tac))
-    return min(pivots) if pivots else None
+    ]

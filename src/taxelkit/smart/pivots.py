@@ -14,15 +14,18 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit.smart.segment_runs import Runs
 from taxelkit.smart.track_geometry import drawn_half_mm
 
 __all__ = [
     "arc_ratio_limit",
+    "drawn_lines",
     "drawn_pivot_fit",
     "pivot_fit",
     "pivot_from_sums",
     "pivot_ratios",
     "pivot_sums",
+    "pivot_terms",
     "pivot_upper",
     "trailing_mean",
 ]
@@ -77,6 +80,8 @@ def drawn_pivot_fit(
     half_length_mm: NDArray[np.float64],
     extent_mm: NDArray[np.float64] | None = None,
     arc_w: int = 1,
+    *,
+    runs: Runs | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """:func:`pivot_fit` of drawn lines, and the ratio that "in an arc" reads.
 
@@ -97,26 +102,60 @@ def drawn_pivot_fit(
     arc_w : int
         Lines whose mean middle (:func:`trailing_mean`) the third ratio is
         measured from; 1: the current line's, the first ratio itself.
+    runs : Runs, optional
+        The lines are several runs laid end to end (each its own fit, as if
+        alone); None: one run.
 
     Returns
     -------
     ratio, error, arc_ratio : (n,) float
     """
-    theta, centre, half = orientation_deg, centre_mm, half_length_mm
-    if extent_mm is not None:
-        ext = extent_mm
-        measured: NDArray[np.bool_] = np.isfinite(ext[:, 0]) & np.isfinite(ext[:, 1])
-        t = np.deg2rad(theta)
-        offset = 0.5 * (ext[:, 0] + ext[:, 1])
-        middle = centre + offset[:, None] * np.stack([np.cos(t), np.sin(t)], axis=-1)
-        centre = np.where(measured[:, None], middle, centre)
-        half = drawn_half_mm(half, ext)
-    sums = pivot_sums(theta, centre, half)
-    ratio, error = pivot_from_sums(sums, 0, centre[:, 0], centre[:, 1])
+    centre, half = drawn_lines(orientation_deg, centre_mm, half_length_mm, extent_mm)
+    terms = pivot_terms(orientation_deg, centre, half)
+    count: int | NDArray[np.intp] = 0
+    if runs is None:
+        sums = np.cumsum(terms, axis=0)
+    else:
+        sums, count = runs.cumsum(terms), runs.local + 1
+    ratio, error = pivot_from_sums(sums, count, centre[:, 0], centre[:, 1])
     if arc_w <= 1:
         return ratio, error, ratio
-    mean = trailing_mean(centre, arc_w)
-    return ratio, error, pivot_from_sums(sums, 0, mean[:, 0], mean[:, 1])[0]
+    local = None if runs is None else runs.local
+    mean = trailing_mean(centre, arc_w, local=local)  # each run's own window
+    return ratio, error, pivot_from_sums(sums, count, mean[:, 0], mean[:, 1])[0]
+
+
+def drawn_lines(
+    orientation_deg: NDArray[np.float64],
+    centre_mm: NDArray[np.float64],
+    half_length_mm: NDArray[np.float64],
+    extent_mm: NDArray[np.float64] | None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Each line as its drawn segment: its middle (n, 2) and half its length (n,), mm.
+
+    Where the extent is not measured (NaN), or without extents, the moment
+    centre and half-length stand.
+    """
+    if extent_mm is None:
+        return centre_mm, half_length_mm
+    ext = extent_mm
+    measured: NDArray[np.bool_] = np.isfinite(ext[:, 0]) & np.isfinite(ext[:, 1])
+    t = np.deg2rad(orientation_deg)
+    offset = 0.5 * (ext[:, 0] + ext[:, 1])
+    middle = centre_mm + offset[:, None] * np.stack([np.cos(t), np.sin(t)], axis=-1)
+    return np.where(measured[:, None], middle, centre_mm), drawn_half_mm(half_length_mm, ext)
+
+
+def pivot_terms(
+    orientation_deg: NDArray[np.float64],
+    centre_mm: NDArray[np.float64],
+    half_length_mm: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """Each line's terms of :func:`pivot_sums` (before summing), (n, 7)."""
+    t = np.deg2rad(orientation_deg)
+    nx, ny = -np.sin(t), np.cos(t)  # line normals
+    d = nx * centre_mm[:, 0] + ny * centre_mm[:, 1]
+    return np.stack([nx * nx, nx * ny, ny * ny, nx * d, ny * d, half_length_mm, d * d], axis=-1)
 
 
 def pivot_sums(
@@ -139,22 +178,10 @@ def pivot_sums(
     -------
     (n, 7) float
     """
-    t = np.deg2rad(orientation_deg)
-    nx, ny = -np.sin(t), np.cos(t)  # line normals
-    c = centre_mm
-    d = nx * c[:, 0] + ny * c[:, 1]
-    return np.stack(
-        [
-            np.cumsum(nx * nx),
-            np.cumsum(nx * ny),
-            np.cumsum(ny * ny),
-            np.cumsum(nx * d),
-            np.cumsum(ny * d),
-            np.cumsum(half_length_mm),
-            np.cumsum(d * d),
-        ],
-        axis=-1,
+    out: NDArray[np.float64] = np.cumsum(
+        pivot_terms(orientation_deg, centre_mm, half_length_mm), axis=0
     )
+    return out
 
 
 def trailing_mean(

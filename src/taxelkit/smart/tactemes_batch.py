@@ -22,8 +22,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
-from taxelkit.smart.pivot_rules import pivot_tacteme
-from taxelkit.smart.pivots import arc_ratio_limit, pivot_from_sums, pivot_upper, trailing_mean
+from taxelkit.smart.pivot_rules import pivot_tacteme, pivot_verdicts
+from taxelkit.smart.pivots import drawn_pivot_fit
 from taxelkit.smart.segment_runs import Runs
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import (
@@ -293,37 +293,14 @@ def _pivots(
     part = Runs(lengths[together] - first)
     rows = (starts[together] + first)[part.seg] + part.local  # rows of the group
     theta, centre, half, ext = raw_theta[rows], raw[rows, 0:2], raw[rows, 6], raw_ext[rows]
-    ratio, error, arc_ratio = _pivot_fit(
-        part, theta, centre, half, ext, w if config.pivot_arc_smooth else 1
+    ratio, error, arc_ratio = drawn_pivot_fit(
+        theta, centre, half, ext, w if config.pivot_arc_smooth else 1, runs=part
     )
     line_mm = 2.0 * drawn_half_mm(half, ext)
     pitch = tracks[int(together[0])].pitch_mm
-    short = line_mm < config.pivot_min_line_taxels * pitch
-    ratio = np.where(short, np.nan, ratio)
-    arc_ratio = np.where(short, np.nan, arc_ratio)
     ref_start = starts[together] + ref[starts[together] + first]  # each turn's reference row
     turned_now = np.abs((angle[rows] - angle[ref_start][part.seg] + 90.0) % 180.0 - 90.0)
-    ready = turned_now > config.pivot_turn_deg
-    lo = config.pivot_end_ratio / config.pivot_band
-    arc = arc_ratio_limit(
-        turned_now,
-        config.pivot_end_ratio,
-        config.pivot_band,
-        config.pivot_turn_deg,
-        config.pivot_arc_turn_deg,
-        line_mm,
-        pitch,
-    )
-    verdicts = (
-        (Tacteme.LC_SPINS, ready & (ratio < config.pivot_min_ratio)),
-        (
-            Tacteme.LCMT_ABOUT_END,
-            ready
-            & (ratio >= config.pivot_min_ratio)
-            & (pivot_upper(ratio, error, config.pivot_end_sigmas) <= lo),
-        ),
-        (Tacteme.LCMT_ARC, arc_ratio >= arc),
-    )
+    verdicts = pivot_verdicts(config, ratio, error, arc_ratio, turned_now, line_mm, pitch)
     holds = np.array(
         [
             _frames_for(tracks[s].frame_interval_s(k), config.pivot_hold_s, hold)
@@ -341,34 +318,6 @@ def _pivots(
                 verdicts_of[i].append((int(first[i]) + j, tac))
     out += [(s, min(v)) for s, v in zip(together.tolist(), verdicts_of, strict=True) if v]
     return out
-
-
-def _pivot_fit(
-    part: Runs,
-    theta: NDArray[np.float64],
-    centre: NDArray[np.float64],
-    half: NDArray[np.float64],
-    ext: NDArray[np.float64],
-    arc_w: int,
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """:func:`~taxelkit.smart.pivot_rules._pivot_ratios` of every run of ``part``."""
-    measured: NDArray[np.bool_] = np.isfinite(ext[:, 0]) & np.isfinite(ext[:, 1])
-    t = np.deg2rad(theta)
-    offset = 0.5 * (ext[:, 0] + ext[:, 1])
-    middle = centre + offset[:, None] * np.stack([np.cos(t), np.sin(t)], axis=-1)
-    centre = np.where(measured[:, None], middle, centre)
-    half = drawn_half_mm(half, ext)
-    t = np.deg2rad(theta)  # pivot_fit
-    nx, ny = -np.sin(t), np.cos(t)
-    d = nx * centre[:, 0] + ny * centre[:, 1]
-    terms = np.stack([nx * nx, nx * ny, ny * ny, nx * d, ny * d, half, d * d], axis=-1)
-    sums = part.cumsum(terms)
-    ratio, error = pivot_from_sums(sums, part.local + 1, centre[:, 0], centre[:, 1])
-    if arc_w <= 1:
-        return ratio, error, ratio
-    mean = trailing_mean(centre, arc_w, local=part.local)  # each run's own window
-    arc = pivot_from_sums(sums, part.local + 1, mean[:, 0], mean[:, 1])[0]
-    return ratio, error, arc
 
 
 def _carried_shift(
