@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
@@ -9,6 +10,7 @@ from taxelkit.errors import InputError
 from taxelkit.experiments.capacity import run_capacity
 from taxelkit.experiments.capacity_rules import CAPACITY_RULES, partition_memories
 from taxelkit.experiments.report import render_block
+from taxelkit.plotting.experiments import plot_experiment
 
 TINY = {
     "seed": 5,
@@ -49,6 +51,15 @@ def test_the_json_holds_every_rule_size_and_s_and_renders(tiny: object) -> None:
     assert set(doc["twins"]["named"]) == {"square / l-shape", "square / cross", "star / pentagon"}
     assert "(`signature`)" in render_block("capacity", {"capacity": doc})
     assert "square / l-shape" in render_block("capacity-twins", {"capacity": doc})
+    # the figure: every rule's accuracy against stored shapes at s = 0.6 and at s = 1
+    fig = plot_experiment("capacity", tiny)
+    for ax, col in zip(fig.axes[:2], (0, 1), strict=True):
+        curves = {c.get_label(): c for c in ax.get_lines()}
+        for name, rule in doc["rules"].items():
+            c = curves[f"{rule['label']} ({name})"]
+            assert list(c.get_xdata()) == [2, 4]
+            assert list(c.get_ydata()) == [row[col] for row in rule["accuracy"]]
+    plt.close(fig)
 
 
 def test_memories_partition_the_shapes() -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
@@ -12,6 +13,7 @@ from taxelkit.cli import run
 from taxelkit.errors import InputError
 from taxelkit.experiments.multi_object import run_multi_object, score_scene
 from taxelkit.experiments.report import render_block
+from taxelkit.plotting.experiments import plot_experiment
 from taxelkit.smart.elimination import explain
 from taxelkit.smart.objects import ObjectRecognition, ObjectVerdict
 
@@ -49,6 +51,15 @@ def test_a_tiny_run_is_reproducible_and_the_same_on_dask() -> None:
     doc = here.to_json()
     assert doc["summaries"][0]["objects"] == 4 and doc["summaries"][1]["objects"] == 6
     assert "| kinematic | 2 |" in render_block("multi-object", {"multi-object": doc})
+    # the figure: per engine and count, the outcome shares stack to the whole
+    fig = plot_experiment("multi-object", here)
+    left = fig.axes[0]
+    n_bars = len(doc["summaries"])
+    heights = np.array([bar.get_height() for bar in left.patches]).reshape(-1, n_bars)
+    assert heights.sum(axis=0) == pytest.approx(np.ones(n_bars))
+    ident = [s["identified"] / s["objects"] for s in doc["summaries"]]
+    assert list(heights[0]) == pytest.approx(ident)
+    plt.close(fig)
     distributed = pytest.importorskip("distributed", reason="needs the dask extra")
     with distributed.LocalCluster(
         n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import matplotlib.pyplot as plt
 import numpy as np
+import pytest
 
 from taxelkit.experiments.registry import get_experiment
 from taxelkit.experiments.report import render_block
@@ -10,6 +12,7 @@ from taxelkit.experiments.slip import pitch_reached_s, run_slip, score_trial, sl
 from taxelkit.experiments.slip_result import SlipResult, SlipTrial
 from taxelkit.motion.scenarios import make_scenario
 from taxelkit.motion.slip_scenarios import make_partial_slip_scenario
+from taxelkit.plotting.experiments import plot_experiment
 
 
 def test_ground_truth_phases() -> None:
@@ -54,6 +57,19 @@ def test_smoke_run_and_readme_block() -> None:
         p = o["detectable_from_pitch"]
         assert p["phases"] + p["unresolvable"] == o["detectable"]["phases"]
     assert "in time from one pitch" in block
+    # the figure draws these numbers: one latency curve per rate, the partial rolls' bars
+    fig = plot_experiment("slip", res)
+    left, right = fig.axes
+    assert [t.get_text() for t in left.get_legend().get_texts()] == ["20 frames/s", "100 frames/s"]
+    for curve in left.get_lines()[:2]:
+        y = np.asarray(curve.get_ydata())
+        assert np.all(np.diff(y) >= 0) and 0.0 <= y[0] <= y[-1] <= 1.0  # a share found by then
+    parts = [o["partial"] for o in doc["overall"].values()]
+    bare = [o["partial_without_slip"] for o in doc["overall"].values()]
+    want = [p["identified"] / sum(p.values()) for p in parts]
+    want += [b["identified"] / sum(p.values()) for b, p in zip(bare, parts, strict=True)]
+    assert [bar.get_height() for bar in right.patches] == pytest.approx(want)
+    plt.close(fig)
 
 
 def test_pitch_reached_by_a_dragged_face() -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import matplotlib.pyplot as plt
 import pytest
 
 from taxelkit.errors import InputError
@@ -11,6 +12,7 @@ from taxelkit.experiments.trace_robustness import (
     Condition,
     run_trace_robustness,
 )
+from taxelkit.plotting.experiments import plot_experiment
 
 ROUGH = next(c for c in CONDITIONS if c.name == "200 um, noise 20 um")
 
@@ -30,6 +32,15 @@ def test_a_rough_triangle_is_traced_and_named_by_the_robust_tracer_only() -> Non
     assert holds["robust"][ROUGH.name] is True and holds["faithful"][ROUGH.name] is False
     assert holds["robust"]["tilt 0.5 deg"] is None  # not run here
     assert {t["tracer"] for t in doc["traces"]} == {"faithful", "robust"}
+    # the figure: one bar per tracer in each panel; loops closed 0 (faithful) and 1 (robust)
+    fig = plot_experiment("trace-robustness", result)
+    error, closed, named = fig.axes[:3]
+    labels = [t.get_text() for t in error.get_legend().get_texts()]
+    widths = dict(zip(labels, [bar.get_width() for bar in closed.patches], strict=True))
+    assert widths == {"faithful": 0.0, "robust": 1.0}
+    assert [bar.get_width() for bar in named.patches][labels.index("robust")] == 1.0
+    assert error.patches[labels.index("robust")].get_width() == robust["error_mean_mm"]
+    plt.close(fig)
 
 
 def test_same_seed_same_result() -> None:
