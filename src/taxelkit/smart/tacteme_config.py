@@ -39,9 +39,8 @@ class TactemeConfig:
         lift_grace_s)``, s: the evidence of a contact survives a shorter loss
         of contact (a bounce, a dropped read-out). 0.2 s is 4 frames at 20 Hz.
     move_mm : float
-        Centre displacement that counts as motion, mm (a little more than one
-        Bonneville pitch, 1.76 mm, so a contact flickering between two taxels
-        does not move).
+        Centre displacement that counts as motion, mm (over one 1.76 mm pitch:
+        a contact flickering between two taxels does not move).
     parallel_move_mm : float
         Displacement before a line may be called parallel, mm: long enough for
         a truncated cone's turn to show (its line turns by at least 5.3 deg over
@@ -244,7 +243,7 @@ class TactemeConfig:
         Smallest face whose shape is classed, mm^2 (about 19 Bonneville
         taxels: a smaller footprint's moments are mostly grid).
     face_compact_max, face_elongated_min : float
-        Elongation limits of a compact and an elongated face.
+        Elongation limits of a compact and an elongated face (see face_shapes).
     face_symmetric_max, face_triangular_min : float
         Triangularity limits of a symmetric and a triangular face.
     face_hold_s : float
@@ -295,7 +294,7 @@ class TactemeConfig:
     face_shapes: bool = False
     face_min_area_mm2: float = 60.0
     face_compact_max: float = 1.35
-    face_elongated_min: float = 1.6
+    face_elongated_min: float = 1.5
     face_symmetric_max: float = 1.025
     face_triangular_min: float = 1.06
     face_hold_s: float = 0.5
