@@ -178,10 +178,10 @@ def _on_since_start(on: NDArray[Any]) -> NDArray[Any]:
 
 
 def _held(a: NDArray[Any], n: int) -> NDArray[Any]:
-    """Taxels on in each of the frames ``t - n + 1 .. t`` (bitwise, by doubling)."""
+    """Taxels on in each of the frames ``t - n + 1 .. t`` (bitwise, by doubling, until clear)."""
     out = a.copy()
     span = 1
-    while span < n:
+    while span < n and np.any(out):
         step = min(span, n - span)
         out = out & _time_shift(out, step)
         span += step

@@ -207,7 +207,10 @@ def _forward(
         np.maximum(top, z[:, k], out=top)
     z = z - top[:, None]
     e = np.exp(z)
-    p: NDArray[np.float64] = e / e.sum(axis=1, keepdims=True)
+    total = e[:, 0].copy()  # e.sum(axis=1): the same additions in the same order, column-wise
+    for k in range(1, e.shape[1]):
+        total += e[:, k]
+    p: NDArray[np.float64] = e / total[:, None]
     return h, p
 
 
@@ -263,9 +266,14 @@ def classify_features(
     touched = f[:, 0] > 0
     if np.any(touched):
         p = contact_probabilities(f[touched], network)
-        best = p.argmax(axis=1)
+        best = np.zeros(p.shape[0], np.intp)  # p.argmax(axis=1), a column at a time
+        top = p[:, 0].copy()
+        for k in range(1, p.shape[1]):
+            more = p[:, k] > top  # the first of equal outputs wins, as argmax
+            best[more] = k
+            np.maximum(top, p[:, k], out=top)
         codes = np.asarray([int(c) for c in OUTPUT_CLASSES], dtype=np.int8)[best]
-        sure = p[np.arange(best.size), best] > conf
+        sure = top > conf
         out[touched] = np.where(sure, codes, np.int8(ContactClass.INDETERMINATE))
     return out
 

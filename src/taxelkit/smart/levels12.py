@@ -12,6 +12,8 @@ depend on the chunk it came in.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -136,9 +138,16 @@ class ChunkLevels12:
         self._t_prev = np.full(self.n, np.nan)  # each array's last frame time, s
 
     def _levels(
-        self, images: NDArray[np.bool_], t_s: NDArray[np.float64], sel: NDArray[np.intp]
+        self,
+        images: NDArray[np.bool_],
+        t_s: NDArray[np.float64],
+        sel: NDArray[np.intp],
+        words: NDArray[Any] | None = None,
     ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
-        """Classes ``(m, T)`` and rows ``(m, T, 9)`` of the cleaned frames of arrays ``sel``."""
+        """Classes ``(m, T)`` and rows ``(m, T, 9)`` of the cleaned frames of arrays ``sel``.
+
+        ``words``: the same frames packed one word per row ``(m, T, rows)``, if at hand.
+        """
         m, t = images.shape[:2]
         flat = images.reshape(m * t, *self.shape)
         stats = image_stats(flat, pitch_mm=self.pitch_mm)
@@ -158,8 +167,13 @@ class ChunkLevels12:
         out[:, 8] = np.asarray(t_s, dtype=np.float64)[sel].reshape(-1)
         lines = np.flatnonzero(cls == ContactClass.LINE)
         if lines.size:
+            packed = None if words is None else words.reshape(m * t, -1)[lines]
             out[lines, 6:8] = line_extents(
-                flat[lines], stats.centre_mm[lines], stats.orientation_deg[lines], self.pitch_mm
+                flat[lines],
+                stats.centre_mm[lines],
+                stats.orientation_deg[lines],
+                self.pitch_mm,
+                row_words=packed,
             )
         return cls.reshape(m, t), out.reshape(m, t, 9)
 
@@ -281,12 +295,22 @@ class ChunkLevels12:
                 img = np.ascontiguousarray(images[:, span].transpose(1, 0, 2, 3))
             else:
                 img = images if g.size == n else images[span]
+            words = None
             if self._cleaner is not None:
-                img = self._cleaner.clean(img, g, longest)
+                packed = self._cleaner.clean_packed(img, g, longest)
+                img = self._cleaner.ops.unpack(packed, self.shape[1]).reshape(img.shape)
+                if packed.ndim == 2:  # one word per row
+                    words = packed.reshape(g.size, t, self.shape[0])
             on = img.reshape(g.size, t * taxels).any(axis=1)
             gt = g[on]
             if gt.size:
-                classes[gt], rows[gt] = self._levels(img if gt.size == g.size else img[on], t_s, gt)
+                every = gt.size == g.size
+                classes[gt], rows[gt] = self._levels(
+                    img if every else img[on],
+                    t_s,
+                    gt,
+                    words if every or words is None else words[on],
+                )
                 touched.append(gt)
         quiet = np.ones(n, bool)
         for gt in touched:
