@@ -121,8 +121,9 @@ _Packed, _Words, _backend = PackedRows, WordRows, backend_for
 
 def _neighbours8(ops: Any, a: Board) -> Board:
     """Taxels with at least one of their eight neighbours on."""
-    row = a | ops.left(a) | ops.right(a)
-    out: NDArray[Any] = ops.left(a) | ops.right(a) | ops.up(row) | ops.down(row)
+    beside = ops.left(a) | ops.right(a)
+    row = a | beside
+    out: NDArray[Any] = beside | ops.up(row) | ops.down(row)
     return out
 
 

@@ -48,6 +48,9 @@ DEFAULT_CLEANING = CleaningConfig()
 DEFAULT_LIMITS = ContactLimits()
 #: Shortest slice along time of a long chunk (a slice costs a few NumPy calls per group).
 _MIN_SLICE_FRAMES = 4096
+#: Levels 1-2 are computed once per run of equal frames when at most this share is new
+#: (gathering them costs about a quarter of computing them).
+_REPEATS_WORTH = 0.75
 
 
 def _schmitt_rows(
@@ -77,6 +80,28 @@ def _touched(images: NDArray[np.bool_], time_major: bool) -> NDArray[np.bool_]:
         return out
     out = np.any(np.any(images.reshape(a, b, taxels), axis=2), axis=0)
     return out
+
+
+def _new_frames(flat: NDArray[np.bool_], packed: NDArray[Any] | None) -> NDArray[np.bool_] | None:
+    """``(n,)``: frames unlike the frame before them (the first is new).
+
+    Frames of several arrays laid end to end may match across arrays: equal
+    images have equal statistics. Compared 64 bits at a time, on the packed
+    rows if given; None when frames do not fill whole 64-bit words, or when
+    too few repeat (:data:`_REPEATS_WORTH`) to be worth gathering.
+    """
+    n = flat.shape[0]
+    per = (flat if packed is None else packed).reshape(n, -1)
+    if n < 2 or (per.shape[1] * per.itemsize) % 8 or not per.flags.c_contiguous:
+        return None
+    w = per.view(np.uint64)
+    new = np.empty(n, bool)
+    new[0] = True
+    diff = new[1:]
+    np.not_equal(w[1:, 0], w[:-1, 0], out=diff)
+    for j in range(1, w.shape[1]):
+        diff |= w[1:, j] != w[:-1, j]
+    return None if np.count_nonzero(new) > _REPEATS_WORTH * n else new
 
 
 def half_length(stats: ImageStats) -> NDArray[np.float64]:
@@ -147,54 +172,87 @@ class ChunkLevels12:
         """Classes ``(m, T)`` and rows ``(m, T, 9)`` of the cleaned frames of arrays ``sel``.
 
         ``words``: the same frames packed one word per row ``(m, T, rows)``, if at hand.
+        A frame's statistics, class before the limits and line extent depend on
+        its image alone: a frame equal to the one before it (a contact held
+        still) takes that frame's, computed once.
         """
         m, t = images.shape[:2]
-        flat = images.reshape(m * t, *self.shape)
-        stats = image_stats(flat, pitch_mm=self.pitch_mm)
-        cls = classify_contacts(stats, self.network, confidence=self.confidence)
-        half = half_length(stats)
+        n = m * t
+        flat = images.reshape(n, *self.shape)
+        packed = None if words is None else words.reshape(n, -1)
+        new = _new_frames(flat, packed)
+        idx = inv = None
+        if new is not None:
+            idx = np.flatnonzero(new)
+            inv = np.cumsum(new) - 1  # each frame's computed frame
+        u_flat = flat if idx is None else flat[idx]
+        u_packed = None if packed is None or idx is None else packed[idx]
+
+        def full(x: NDArray[Any]) -> NDArray[Any]:
+            return x if inv is None else x[inv]
+
+        stats = image_stats(u_flat, pitch_mm=self.pitch_mm)
+        cls = full(classify_contacts(stats, self.network, confidence=self.confidence))
+        half = full(half_length(stats))
+        area, elong = full(stats.area_mm2), full(stats.elongation)
         if self.limits is not None:
             times = np.asarray(t_s, dtype=np.float64)[sel]
-            cls = self._limited(cls.reshape(m, t), stats, half.reshape(m, t), sel, times)
-            cls = cls.reshape(-1)
-        out = np.empty((m * t, 9))
-        out[:, 0:2] = stats.centre_mm
-        out[:, 2] = stats.orientation_deg
-        out[:, 3] = stats.area_mm2
-        out[:, 4] = stats.elongation
+            taxels = full(stats.n_taxels)
+            cls = self._limited(
+                cls.reshape(m, t),
+                taxels.reshape(m, t),
+                area.reshape(m, t),
+                elong.reshape(m, t),
+                half.reshape(m, t),
+                sel,
+                times,
+            ).reshape(-1)
+        out = np.empty((n, 9))
+        out[:, 0:2] = full(stats.centre_mm)
+        out[:, 2] = full(stats.orientation_deg)
+        out[:, 3] = area
+        out[:, 4] = elong
         out[:, 5] = half
         out[:, 6:8] = np.nan
         out[:, 8] = np.asarray(t_s, dtype=np.float64)[sel].reshape(-1)
         lines = np.flatnonzero(cls == ContactClass.LINE)
         if lines.size:
-            packed = None if words is None else words.reshape(m * t, -1)[lines]
-            out[lines, 6:8] = line_extents(
-                flat[lines],
-                stats.centre_mm[lines],
-                stats.orientation_deg[lines],
+            at = lines  # the computed frames whose extents are read
+            if inv is not None:
+                need = np.zeros(u_flat.shape[0], bool)
+                need[inv[lines]] = True
+                at = np.flatnonzero(need)
+            ext = line_extents(
+                u_flat[at],
+                stats.centre_mm[at],
+                stats.orientation_deg[at],
                 self.pitch_mm,
-                row_words=packed,
+                row_words=None if u_packed is None else u_packed[at],
             )
+            if inv is not None:
+                table = np.empty((u_flat.shape[0], 2))
+                table[at] = ext
+                ext = table[inv[lines]]
+            out[lines, 6:8] = ext
         return cls.reshape(m, t), out.reshape(m, t, 9)
 
     def _limited(
         self,
         classes: NDArray[np.int8],
-        stats: ImageStats,
+        taxels: NDArray[np.int64],
+        area: NDArray[np.float64],
+        elong: NDArray[np.float64],
         half: NDArray[np.float64],
         sel: NDArray[np.intp],
         t_s: NDArray[np.float64],
     ) -> NDArray[np.int8]:
-        """:func:`~taxelkit.smart.contact_limits.apply_limits` on the arrays ``sel``, ``(m, T)``,
-        taken at ``t_s`` ``(m, T)``."""
+        """:func:`~taxelkit.smart.contact_limits.apply_limits` on the arrays ``sel``, ``(m, T)``:
+        their classes, taxels, areas, elongations and half-lengths, taken at ``t_s``."""
         assert self.limits is not None
-        n, t = classes.shape
-        taxels = stats.n_taxels.reshape(n, t)
         length = np.where(taxels > 0, 2.0 * half, 0.0)
         high, low = _length_thresholds(self.limits)
         long = _schmitt_rows(length >= high, length < low, self._long[sel])
         enter = AREA_MIN_AREA_MM2 * (1.0 + self.limits.area_hysteresis)
-        area = stats.area_mm2.reshape(n, t)
         held, self._run[sel], self._t_prev[sel] = held_high_rows(
             area, enter, t_s, self.limits.area_enter_s, self._run[sel], self._t_prev[sel]
         )
@@ -203,10 +261,9 @@ class ChunkLevels12:
         out = classes.copy()
         out[(out == _LINE) & ~long] = _INDET
         out[(out == _AREA) & ~big] = _INDET
-        elong = stats.elongation.reshape(n, t)
         cap = self.limits.point_max_area_mm2
         if cap is not None:
-            compact = (taxels > 0) & (elong <= 2.0) & (stats.area_mm2.reshape(n, t) <= cap)
+            compact = (taxels > 0) & (elong <= 2.0) & (area <= cap)
             out[compact & (out == _INDET)] = _POINT
         few = (taxels > 0) & (taxels <= self.limits.point_max_taxels) & (elong <= 2.0)
         out[few & (out != _LINE)] = _POINT
