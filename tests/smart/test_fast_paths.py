@@ -145,3 +145,26 @@ def test_levels12_of_equal_frames_computed_once_are_those_of_every_frame(
         np.testing.assert_array_equal(rows_a, rows_b)
     classes = np.concatenate([c for c, _ in got[0]], axis=1)
     assert np.count_nonzero(classes == ContactClass.LINE) > 100  # lines (their extents) among them
+
+
+@pytest.mark.parametrize("cleaning", [True, False])
+def test_bank_buffers_bool_frames_packed_with_the_same_events(cleaning: bool) -> None:
+    """Bool frames (buffered packed) and the same frames as 0/1 floats: the same events."""
+    sensor, thr = BONNEVILLE_16X16, BONNEVILLE_16X16.contact_threshold_mm
+    frames = np.zeros((4, 700, 16, 16), bool)
+    for k, name in enumerate(["cube", "cylinder", "cone"]):
+        rec = frames_from_scenario(sensor, make_scenario(name, rng=k, rate_hz=100.0), rng=k)
+        if k == 1:
+            rec = fault_model("all").apply(rec, threshold=thr, rng=k)
+        take = min(rec.n_frames, 700 - 40 * k)
+        frames[k + (k > 0), 40 * k : 40 * k + take] = rec.frames[:take] > thr
+    options = {"cleaning": levels12.DEFAULT_CLEANING if cleaning else None}
+    got = []
+    for kind in (bool, float):
+        bank = SensorBank(4, (16, 16), pitch_mm=PITCH, threshold=0.5, batch_frames=64, **options)
+        events = [x for j in range(700) for x in bank.push(frames[:, j].astype(kind), j / 100.0)]
+        got.append((events + bank.flush(), [np.asarray(bank.classes(i)) for i in range(4)]))
+    assert got[0][0] == got[1][0]
+    assert sum(1 for _, e in got[0][0] if e.kind == "tacteme") > 4
+    for a, b in zip(got[0][1], got[1][1], strict=True):
+        np.testing.assert_array_equal(a, b)

@@ -177,10 +177,13 @@ class ChunkCleaner:
         return cleaned.reshape(img.shape)
 
     def clean_packed(
-        self, img: NDArray[np.bool_], sel: NDArray[np.intp], longest: int
+        self, img: NDArray[Any], sel: NDArray[np.intp], longest: int, *, packed: bool = False
     ) -> NDArray[Any]:
-        """As :meth:`clean`, the frames packed ``(m * T, rows, ...)`` (:attr:`ops`' words)."""
-        return self._clean(img, sel, longest)
+        """As :meth:`clean`, the frames packed ``(m * T, rows, ...)`` (:attr:`ops`' words).
+
+        ``packed``: ``img`` comes packed already, ``(m, T, rows, ...)``.
+        """
+        return self._clean(img, sel, longest, packed)
 
     @property
     def ops(self) -> PackedRows:
@@ -205,11 +208,16 @@ class ChunkCleaner:
                 full[:, keep - m :] = h[:, h.shape[1] - m :]
             self._iso_hist = full
 
-    def _clean(self, img: NDArray[np.bool_], sel: NDArray[np.intp], longest: int) -> NDArray[Any]:
-        """The cleaned frames of arrays ``sel``, packed ``(m * T, ...)``."""
+    def _clean(
+        self, img: NDArray[Any], sel: NDArray[np.intp], longest: int, packed: bool = False
+    ) -> NDArray[Any]:
+        """The cleaned frames of arrays ``sel`` (bool, or ``packed``), packed ``(m * T, ...)``."""
         ops, cfg = self._ops, self.config
         n, t = img.shape[:2]
-        on = ops.pack(img.reshape(n * t, *self.shape))
+        if packed:
+            on = np.ascontiguousarray(img).reshape(n * t, *img.shape[2:])
+        else:
+            on = ops.pack(img.reshape(n * t, *self.shape))
         word = on.shape[1:]
         on3 = on.reshape(n, t, *word)
         stuck = self._stuck(on3, on, sel, longest) if cfg.stuck else np.zeros_like(on)

@@ -27,6 +27,7 @@ from taxelkit.smart.contact_classes import (
 )
 from taxelkit.smart.contact_limits import ContactLimits, _length_thresholds, held_high_rows
 from taxelkit.smart.moments import ImageStats, image_stats
+from taxelkit.smart.packed_rows import PACK_MAX_COLS, backend_for
 from taxelkit.smart.track_geometry import line_extents
 
 __all__ = [
@@ -148,6 +149,9 @@ class ChunkLevels12:
         self.confidence = float(confidence)
         self.cleaning = cleaning
         self.limits = limits
+        self.ops = backend_for(self.shape[1])
+        #: Whether bool frames may be given packed (:meth:`process_packed_time_major`).
+        self.packs = self.shape[1] % 8 == 0 and self.shape[1] <= PACK_MAX_COLS
         self.reset()
 
     def reset(self) -> None:
@@ -305,8 +309,23 @@ class ChunkLevels12:
         )
         return self._process(images, t_s, time_major=True)
 
+    def process_packed_time_major(
+        self, words: NDArray[Any], t_s: NDArray[np.float64]
+    ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
+        """As :meth:`process_time_major`, bool frames packed ``(T, N, rows)`` by :attr:`ops`.
+
+        Only when :attr:`packs` (a row of whole bytes in one word): a bank
+        buffers an eighth of the bytes, and the cleaning starts from them.
+        """
+        return self._process(words, t_s, time_major=True, packed=True)
+
     def _process(
-        self, images: NDArray[np.bool_], t_s: NDArray[np.float64], *, time_major: bool
+        self,
+        images: NDArray[Any],
+        t_s: NDArray[np.float64],
+        *,
+        time_major: bool,
+        packed: bool = False,
     ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
         """Levels 1-2 of images ``(N, T, rows, cols)`` (or ``(T, N, ...)``), a slice at a time.
 
@@ -317,27 +336,35 @@ class ChunkLevels12:
         t = images.shape[0] if time_major else images.shape[1]
         step = max(_MIN_SLICE_FRAMES, GROUP_FRAMES // max(self.n, 1))
         if t <= 2 * step:
-            return self._process_slice(images, t_s, time_major=time_major)
+            return self._process_slice(images, t_s, time_major=time_major, packed=packed)
         classes = np.empty((self.n, t), dtype=np.int8)
         rows = np.empty((self.n, t, 9))
         for a in range(0, t, step):
             b = min(t, a + step)
             part = images[a:b] if time_major else images[:, a:b]
             classes[:, a:b], rows[:, a:b] = self._process_slice(
-                part, t_s[:, a:b], time_major=time_major
+                part, t_s[:, a:b], time_major=time_major, packed=packed
             )
         return classes, rows
 
     def _process_slice(
-        self, images: NDArray[np.bool_], t_s: NDArray[np.float64], *, time_major: bool
+        self,
+        images: NDArray[Any],
+        t_s: NDArray[np.float64],
+        *,
+        time_major: bool,
+        packed: bool = False,
     ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
-        """Levels 1-2 of one slice of frames, a group of arrays at a time."""
+        """Levels 1-2 of one slice of frames (or packed rows), a group of arrays at a time."""
         n = self.n
         t = images.shape[0] if time_major else images.shape[1]
         classes = np.zeros((n, t), dtype=np.int8)  # NONE
         rows = np.empty((n, t, 9))  # read only where there is contact
         taxels = self.shape[0] * self.shape[1]
-        hit = _touched(images, time_major)
+        if packed:  # (T, N, rows) words: any word on, over time, then over rows
+            hit = np.any(np.bitwise_or.reduce(images, axis=0), axis=1)
+        else:
+            hit = _touched(images, time_major)
         longest = 0
         if self._cleaner is not None and t:  # the arrays that may have contact
             sel, longest = self._cleaner.select(t_s, hit)
@@ -349,15 +376,18 @@ class ChunkLevels12:
             g = sel[a : a + group]
             span = slice(int(g[0]), int(g[-1]) + 1) if g[-1] - g[0] == g.size - 1 else g
             if time_major:
-                img = np.ascontiguousarray(images[:, span].transpose(1, 0, 2, 3))
+                order = (1, 0, 2) if packed else (1, 0, 2, 3)
+                img = np.ascontiguousarray(images[:, span].transpose(*order))
             else:
                 img = images if g.size == n else images[span]
             words = None
             if self._cleaner is not None:
-                packed = self._cleaner.clean_packed(img, g, longest)
-                img = self._cleaner.ops.unpack(packed, self.shape[1]).reshape(img.shape)
-                if packed.ndim == 2:  # one word per row
-                    words = packed.reshape(g.size, t, self.shape[0])
+                cleaned = self._cleaner.clean_packed(img, g, longest, packed=packed)
+                words = cleaned.reshape(g.size, t, -1) if cleaned.ndim == 2 else None
+                img = self.ops.unpack(cleaned, self.shape[1]).reshape(g.size, t, *self.shape)
+            elif packed:
+                words, flat = img, img.reshape(g.size * t, -1)
+                img = self.ops.unpack(flat, self.shape[1]).reshape(g.size, t, *self.shape)
             on = img.reshape(g.size, t * taxels).any(axis=1)
             gt = g[on]
             if gt.size:
