@@ -18,6 +18,7 @@ from taxelkit.sensors.faults import fault_model
 from taxelkit.smart import levels12
 from taxelkit.smart.bank import SensorBank
 from taxelkit.smart.cleaning import _backend, _crowded
+from taxelkit.smart.contact_classes import DEFAULT_CONFIDENCE, HAND_SET, ContactClass
 from taxelkit.smart.recogniser import recognise
 from taxelkit.smart.track_geometry import line_extents
 
@@ -113,3 +114,57 @@ def test_packed_rows_per_frame_tests_and_masks(cols: int) -> None:
     flags = rng.random(300) < 0.5
     masked = ops.unpack(words & ops.per_frame(flags, words), cols)
     np.testing.assert_array_equal(masked, images & flags[:, None, None])
+
+
+@pytest.mark.parametrize("cleaning", [True, False])
+def test_levels12_of_equal_frames_computed_once_are_those_of_every_frame(
+    monkeypatch: pytest.MonkeyPatch, cleaning: bool
+) -> None:
+    """Runs of equal frames (a contact held still) measured once: the same classes and rows."""
+    sensor, thr = BONNEVILLE_16X16, BONNEVILLE_16X16.contact_threshold_mm
+    frames = []
+    for k, name in enumerate(["cube", "cylinder", "cone"]):
+        rec = frames_from_scenario(sensor, make_scenario(name, rng=k, rate_hz=240.0), rng=k)
+        f = rec.frames[:600] > thr
+        if k == 2:
+            f = fault_model("all").apply(rec, threshold=thr, rng=k).frames[:600] > thr
+        frames.append(np.pad(f, ((0, 600 - f.shape[0]), (0, 0), (0, 0))))
+    images = np.stack(frames)  # (3, 600, 16, 16)
+    t_s = np.broadcast_to(np.arange(600) / 240.0, (3, 600))
+    options = {"cleaning": levels12.DEFAULT_CLEANING if cleaning else None}
+    got, steps = [], range(0, 600, 150)
+    for worth in (1.0, 0.0):  # every run of equal frames measured once; every frame measured
+        monkeypatch.setattr(levels12, "_REPEATS_WORTH", worth)
+        lv = levels12.ChunkLevels12(
+            3, (16, 16), pitch_mm=PITCH, threshold=thr, network=HAND_SET,
+            confidence=DEFAULT_CONFIDENCE, limits=levels12.DEFAULT_LIMITS, **options,
+        )  # fmt: skip
+        got.append([lv.process(images[:, a : a + 150], t_s[:, a : a + 150]) for a in steps])
+    for (cls_a, rows_a), (cls_b, rows_b) in zip(*got, strict=True):
+        np.testing.assert_array_equal(cls_a, cls_b)
+        np.testing.assert_array_equal(rows_a, rows_b)
+    classes = np.concatenate([c for c, _ in got[0]], axis=1)
+    assert np.count_nonzero(classes == ContactClass.LINE) > 100  # lines (their extents) among them
+
+
+@pytest.mark.parametrize("cleaning", [True, False])
+def test_bank_buffers_bool_frames_packed_with_the_same_events(cleaning: bool) -> None:
+    """Bool frames (buffered packed) and the same frames as 0/1 floats: the same events."""
+    sensor, thr = BONNEVILLE_16X16, BONNEVILLE_16X16.contact_threshold_mm
+    frames = np.zeros((4, 700, 16, 16), bool)
+    for k, name in enumerate(["cube", "cylinder", "cone"]):
+        rec = frames_from_scenario(sensor, make_scenario(name, rng=k, rate_hz=100.0), rng=k)
+        if k == 1:
+            rec = fault_model("all").apply(rec, threshold=thr, rng=k)
+        take = min(rec.n_frames, 700 - 40 * k)
+        frames[k + (k > 0), 40 * k : 40 * k + take] = rec.frames[:take] > thr
+    options = {"cleaning": levels12.DEFAULT_CLEANING if cleaning else None}
+    got = []
+    for kind in (bool, float):
+        bank = SensorBank(4, (16, 16), pitch_mm=PITCH, threshold=0.5, batch_frames=64, **options)
+        events = [x for j in range(700) for x in bank.push(frames[:, j].astype(kind), j / 100.0)]
+        got.append((events + bank.flush(), [np.asarray(bank.classes(i)) for i in range(4)]))
+    assert got[0][0] == got[1][0]
+    assert sum(1 for _, e in got[0][0] if e.kind == "tacteme") > 4
+    for a, b in zip(got[0][1], got[1][1], strict=True):
+        np.testing.assert_array_equal(a, b)

@@ -120,6 +120,33 @@ def test_chunk_cleaner_equals_the_batch_cleaning_in_any_chunks(seed: int, cuts: 
     np.testing.assert_array_equal(np.concatenate(got, axis=1), want)
 
 
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 2**31), cuts=st.lists(st.integers(1, 60), min_size=1, max_size=6))
+def test_chunk_cleaner_settles_clear_arrays_as_the_batch_cleaning(
+    seed: int, cuts: list[int]
+) -> None:
+    # arrays clear for a while (a fresh array's clear chunks are not cleaned), then touched
+    rng = np.random.default_rng(seed)
+    n = 240
+    images = np.zeros((4, n, 8, 8), bool)
+    start = rng.integers(1, 120, 3)
+    images[0, start[0] :, 3, 3] = True  # an isolated taxel on from then on: held, masked
+    images[1, start[1] :, 1:4, 2:6] = True  # a contact held still
+    images[2, start[2] :] = rng.random((n - start[2], 8, 8)) < 0.1  # flicker
+    images[2, start[2] + 30 : start[2] + 50] = False  # a clear stretch after contact
+    t = np.arange(n) / 20.0
+    cfg = CleaningConfig(stuck_s=2.0)
+    want = np.stack([clean_images(images[i], t, config=cfg) for i in range(4)])
+    cleaner = ChunkCleaner(4, (8, 8), config=cfg)
+    got, a, k = [], 0, 0
+    while a < n:
+        b = min(n, a + cuts[k % len(cuts)])
+        got.append(cleaner.push(images[:, a:b], np.broadcast_to(t[a:b], (4, b - a))))
+        a, k = b, k + 1
+    np.testing.assert_array_equal(np.concatenate(got, axis=1), want)
+    assert not cleaner.busy[3]  # never touched: at rest after its first chunk
+
+
 def test_scanner_equals_segment_tactemes_in_chunks_of_any_size() -> None:
     cfg = TactemeConfig()
     for seed in range(6):

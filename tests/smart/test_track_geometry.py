@@ -126,3 +126,17 @@ def test_trailing_mean_is_the_same_in_chunks_and_at_once() -> None:
                 before = np.concatenate([before, piece])
             assert np.array_equal(np.concatenate(parts), whole)
     assert np.array_equal(trailing_mean(values, 1), values)
+
+
+def test_trailing_mean_of_runs_end_to_end_is_each_runs_own() -> None:
+    """Runs laid end to end (``local``): each run's own means, bit for bit."""
+    rng = np.random.default_rng(5)
+    lengths = [1, 4, 9, 30, 2, 60]
+    runs = [rng.normal(size=(n, 2)) * 5.0 for n in lengths]
+    runs[3][7, 1] = -0.0
+    values = np.concatenate(runs)
+    local = np.concatenate([np.arange(n) for n in lengths])
+    for w in (1, 3, 8, 36):
+        got = trailing_mean(values, w, local=local)
+        want = np.concatenate([trailing_mean(r, w) for r in runs])
+        assert np.array_equal(got.view(np.int64), want.view(np.int64))

@@ -137,6 +137,8 @@ class SensorBank:
             for _ in range(self.n_arrays)
         ]
         self._buf: NDArray[Any] | None = None
+        self._buf_kind: np.dtype[Any] | None = None  # the dtype of the frames buffered
+        self._buf_packed = False  # bool frames, buffered packed
         self._buf_t = np.empty((self.batch_frames, self.n_arrays))
         self._buf_n = 0
 
@@ -184,12 +186,17 @@ class SensorBank:
         t = self._times(t_s, 1)
         events: list[tuple[int, Event]] = []
         buf = self._buf
-        if buf is None or buf.dtype != f.dtype:
+        packed = f.dtype == bool and self._levels12.packs
+        if buf is None or self._buf_kind != f.dtype:
             events = self._run()
-            # time first: a push copies one contiguous block
-            buf = self._buf = np.empty((self.batch_frames, self.n_arrays, *self.shape), f.dtype)
+            # time first: a push copies one contiguous block (bool frames packed, an
+            # eighth of the bytes: the cleaning starts from packed rows anyway)
+            ops = self._levels12.ops
+            size = (self.batch_frames, self.n_arrays, *self.shape)
+            buf = self._buf = np.empty(size[:3], ops.dtype) if packed else np.empty(size, f.dtype)
+            self._buf_kind, self._buf_packed = f.dtype, packed
         k = self._buf_n
-        buf[k] = f
+        buf[k] = self._levels12.ops.pack(f) if packed else f
         self._buf_t[k] = t[:, 0]
         self._buf_n = k + 1
         self.frame_index += 1
@@ -226,7 +233,11 @@ class SensorBank:
             return []
         n, self._buf_n = self._buf_n, 0
         t = np.ascontiguousarray(self._buf_t[:n].T)
-        return self._levels34(*self._levels12.process_time_major(self._buf[:n], t), t)
+        if self._buf_packed:
+            levels = self._levels12.process_packed_time_major(self._buf[:n], t)
+        else:
+            levels = self._levels12.process_time_major(self._buf[:n], t)
+        return self._levels34(*levels, t)
 
     def _process(self, frames: NDArray[Any], t: NDArray[np.float64]) -> list[tuple[int, Event]]:
         if frames.shape[1] == 0:

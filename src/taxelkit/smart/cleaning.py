@@ -121,8 +121,9 @@ _Packed, _Words, _backend = PackedRows, WordRows, backend_for
 
 def _neighbours8(ops: Any, a: Board) -> Board:
     """Taxels with at least one of their eight neighbours on."""
-    row = a | ops.left(a) | ops.right(a)
-    out: NDArray[Any] = ops.left(a) | ops.right(a) | ops.up(row) | ops.down(row)
+    beside = ops.left(a) | ops.right(a)
+    row = a | beside
+    out: NDArray[Any] = beside | ops.up(row) | ops.down(row)
     return out
 
 
@@ -178,10 +179,10 @@ def _on_since_start(on: NDArray[Any]) -> NDArray[Any]:
 
 
 def _held(a: NDArray[Any], n: int) -> NDArray[Any]:
-    """Taxels on in each of the frames ``t - n + 1 .. t`` (bitwise, by doubling)."""
+    """Taxels on in each of the frames ``t - n + 1 .. t`` (bitwise, by doubling, until clear)."""
     out = a.copy()
     span = 1
-    while span < n:
+    while span < n and np.any(out):
         step = min(span, n - span)
         out = out & _time_shift(out, step)
         span += step

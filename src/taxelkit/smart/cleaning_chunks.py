@@ -34,6 +34,7 @@ from taxelkit.smart.cleaning import (
     release_frames_for,
     stuck_frames_for,
 )
+from taxelkit.smart.packed_rows import PackedRows
 
 __all__ = ["GROUP_FRAMES", "ChunkCleaner"]
 
@@ -43,10 +44,13 @@ GROUP_FRAMES = 16_384
 
 
 def _held_along_time(a: NDArray[Any], n: int) -> NDArray[Any]:
-    """Taxels on in each of the frames ``t - n + 1 .. t`` of ``a`` ``(N, T, ...)`` (axis 1)."""
+    """Taxels on in each of the frames ``t - n + 1 .. t`` of ``a`` ``(N, T, ...)`` (axis 1).
+
+    The doubling stops once no taxel is left on (the further ANDs keep it clear).
+    """
     out = a.copy()
     span = 1
-    while span < n:
+    while span < n and np.any(out):
         step = min(span, n - span)
         shifted = np.zeros_like(out)
         if step < out.shape[1]:
@@ -142,13 +146,52 @@ class ChunkCleaner:
         self._timing(t)
         self._seen += t.shape[1]
         longest = int(self._n_stuck.max())
+        self._settle(np.flatnonzero(self._busy & ~touched))
         sel = np.flatnonzero(self._busy | touched)
         self._resize_hist(longest)
         return sel, longest
 
+    def _settle(self, idle: NDArray[np.intp]) -> None:
+        """Arrays ``idle`` get a clear chunk: those busy only with rule 1's running AND settle.
+
+        With no last frame, no isolated taxel in the window and no masked
+        taxel, a clear chunk only clears the taxels on since the stream began
+        (a fresh array's state): that is done here, without cleaning it.
+        """
+        if idle.size == 0:
+            return
+        m = idle.size
+        rest = ~(
+            np.any(self._prev[idle].reshape(m, -1), axis=1)
+            | np.any(self._prev_passed[idle].reshape(m, -1), axis=1)
+            | np.any(self._iso_hist[idle].reshape(m, -1), axis=1)
+            | np.isin(idle, self._armed[0])
+        )
+        done = idle[rest]
+        self._since[done] = 0
+        self._busy[done] = False
+
     def clean(self, img: NDArray[np.bool_], sel: NDArray[np.intp], longest: int) -> NDArray[Any]:
         """Cleaned frames ``(m, T, rows, cols)`` of arrays ``sel`` (from :meth:`select`)."""
-        return self._clean(img, sel, longest)
+        cleaned: NDArray[np.bool_] = self._ops.unpack(self._clean(img, sel, longest), self.shape[1])
+        return cleaned.reshape(img.shape)
+
+    def clean_packed(
+        self, img: NDArray[Any], sel: NDArray[np.intp], longest: int, *, packed: bool = False
+    ) -> NDArray[Any]:
+        """As :meth:`clean`, the frames packed ``(m * T, rows, ...)`` (:attr:`ops`' words).
+
+        ``packed``: ``img`` comes packed already, ``(m, T, rows, ...)``.
+        """
+        return self._clean(img, sel, longest, packed)
+
+    @property
+    def ops(self) -> PackedRows:
+        """The packed rows the cleaning works on.
+
+        :func:`~taxelkit.smart.packed_rows.backend_for` the array's width.
+        """
+        return self._ops
 
     @property
     def busy(self) -> NDArray[np.bool_]:
@@ -165,10 +208,16 @@ class ChunkCleaner:
                 full[:, keep - m :] = h[:, h.shape[1] - m :]
             self._iso_hist = full
 
-    def _clean(self, img: NDArray[np.bool_], sel: NDArray[np.intp], longest: int) -> NDArray[Any]:
+    def _clean(
+        self, img: NDArray[Any], sel: NDArray[np.intp], longest: int, packed: bool = False
+    ) -> NDArray[Any]:
+        """The cleaned frames of arrays ``sel`` (bool, or ``packed``), packed ``(m * T, ...)``."""
         ops, cfg = self._ops, self.config
         n, t = img.shape[:2]
-        on = ops.pack(img.reshape(n * t, *self.shape))
+        if packed:
+            on = np.ascontiguousarray(img).reshape(n * t, *img.shape[2:])
+        else:
+            on = ops.pack(img.reshape(n * t, *self.shape))
         word = on.shape[1:]
         on3 = on.reshape(n, t, *word)
         stuck = self._stuck(on3, on, sel, longest) if cfg.stuck else np.zeros_like(on)
@@ -193,8 +242,7 @@ class ChunkCleaner:
             | np.any(flat, axis=1)
             | armed[sel]
         )
-        cleaned: NDArray[np.bool_] = ops.unpack(out, self.shape[1])
-        return cleaned.reshape(n, t, *self.shape)
+        return out
 
     def _timing(self, t: NDArray[np.float64]) -> None:
         new = self._seen == 0

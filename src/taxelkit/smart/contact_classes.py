@@ -192,6 +192,11 @@ def network_inputs(features: ArrayLike) -> NDArray[np.float64]:
     f = _check_features(features)
     if np.any(f[:, 0] <= 0):
         raise InputError("features[:, 0] (area_mm2) must be > 0 for network inputs")
+    return _inputs(f)
+
+
+def _inputs(f: NDArray[np.float64]) -> NDArray[np.float64]:
+    """:func:`network_inputs` of checked features (area > 0)."""
     x: NDArray[np.float64] = np.log(f / np.array([REFERENCE_AREA_MM2, 1.0]))
     return x
 
@@ -207,7 +212,10 @@ def _forward(
         np.maximum(top, z[:, k], out=top)
     z = z - top[:, None]
     e = np.exp(z)
-    p: NDArray[np.float64] = e / e.sum(axis=1, keepdims=True)
+    total = e[:, 0].copy()  # e.sum(axis=1): the same additions in the same order, column-wise
+    for k in range(1, e.shape[1]):
+        total += e[:, k]
+    p: NDArray[np.float64] = e / total[:, None]
     return h, p
 
 
@@ -262,10 +270,15 @@ def classify_features(
     out = np.full(f.shape[0], int(ContactClass.NONE), dtype=np.int8)
     touched = f[:, 0] > 0
     if np.any(touched):
-        p = contact_probabilities(f[touched], network)
-        best = p.argmax(axis=1)
+        p = _forward(network, _inputs(f[touched]))[1]  # checked above: no second check
+        best = np.zeros(p.shape[0], np.intp)  # p.argmax(axis=1), a column at a time
+        top = p[:, 0].copy()
+        for k in range(1, p.shape[1]):
+            more = p[:, k] > top  # the first of equal outputs wins, as argmax
+            best[more] = k
+            np.maximum(top, p[:, k], out=top)
         codes = np.asarray([int(c) for c in OUTPUT_CLASSES], dtype=np.int8)[best]
-        sure = p[np.arange(best.size), best] > conf
+        sure = top > conf
         out[touched] = np.where(sure, codes, np.int8(ContactClass.INDETERMINATE))
     return out
 

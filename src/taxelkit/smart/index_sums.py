@@ -11,6 +11,7 @@ separably by rows beyond), so they do not depend on how frames are batched:
 
 from __future__ import annotations
 
+import functools
 from typing import Any
 
 import numpy as np
@@ -59,6 +60,16 @@ def index_basis(rows: int, cols: int) -> NDArray[np.float64]:
     )
 
 
+@functools.lru_cache(maxsize=16)
+def _basis(rows: int, cols: int, exact32: bool) -> NDArray[np.floating[Any]]:
+    """:func:`index_basis` in float32 (``exact32``) or float64, kept (read-only)."""
+    out: NDArray[np.floating[Any]] = index_basis(rows, cols).astype(
+        np.float32 if exact32 else np.float64
+    )
+    out.flags.writeable = False
+    return out
+
+
 def index_sums(images: NDArray[np.bool_]) -> NDArray[np.float64]:
     """``(6, T)``: ``n, sum u, sum v, sum u^2, sum v^2, sum u v`` over the taxels in contact.
 
@@ -75,10 +86,9 @@ def index_sums(images: NDArray[np.bool_]) -> NDArray[np.float64]:
     v = centred_index(rows)
     if rows * cols * max(rows, cols) ** 2 >= 2**22 and cols < SEPARABLE_MAX_COLS:
         return index_sums_by_rows(images, u, v)
-    basis = index_basis(rows, cols)
     exact32 = rows * cols * max(rows, cols) ** 2 < 2**22  # every partial sum exact in float32
     dtype: type[np.floating[Any]] = np.float32 if exact32 else np.float64
-    basis_t: NDArray[np.floating[Any]] = basis.astype(dtype)
+    basis_t = _basis(rows, cols, exact32)
     out = np.empty((6, n_t), dtype=np.float64)
     flat = images.reshape(n_t, rows * cols)
     for a in range(0, n_t, CHUNK_FRAMES):

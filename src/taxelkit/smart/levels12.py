@@ -12,6 +12,8 @@ depend on the chunk it came in.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -25,6 +27,7 @@ from taxelkit.smart.contact_classes import (
 )
 from taxelkit.smart.contact_limits import ContactLimits, _length_thresholds, held_high_rows
 from taxelkit.smart.moments import ImageStats, image_stats
+from taxelkit.smart.packed_rows import PACK_MAX_COLS, backend_for
 from taxelkit.smart.track_geometry import line_extents
 
 __all__ = [
@@ -46,6 +49,9 @@ DEFAULT_CLEANING = CleaningConfig()
 DEFAULT_LIMITS = ContactLimits()
 #: Shortest slice along time of a long chunk (a slice costs a few NumPy calls per group).
 _MIN_SLICE_FRAMES = 4096
+#: Levels 1-2 are computed once per run of equal frames when at most this share is new
+#: (gathering them costs about a quarter of computing them).
+_REPEATS_WORTH = 0.75
 
 
 def _schmitt_rows(
@@ -75,6 +81,28 @@ def _touched(images: NDArray[np.bool_], time_major: bool) -> NDArray[np.bool_]:
         return out
     out = np.any(np.any(images.reshape(a, b, taxels), axis=2), axis=0)
     return out
+
+
+def _new_frames(flat: NDArray[np.bool_], packed: NDArray[Any] | None) -> NDArray[np.bool_] | None:
+    """``(n,)``: frames unlike the frame before them (the first is new).
+
+    Frames of several arrays laid end to end may match across arrays: equal
+    images have equal statistics. Compared 64 bits at a time, on the packed
+    rows if given; None when frames do not fill whole 64-bit words, or when
+    too few repeat (:data:`_REPEATS_WORTH`) to be worth gathering.
+    """
+    n = flat.shape[0]
+    per = (flat if packed is None else packed).reshape(n, -1)
+    if n < 2 or (per.shape[1] * per.itemsize) % 8 or not per.flags.c_contiguous:
+        return None
+    w = per.view(np.uint64)
+    new = np.empty(n, bool)
+    new[0] = True
+    diff = new[1:]
+    np.not_equal(w[1:, 0], w[:-1, 0], out=diff)
+    for j in range(1, w.shape[1]):
+        diff |= w[1:, j] != w[:-1, j]
+    return None if np.count_nonzero(new) > _REPEATS_WORTH * n else new
 
 
 def half_length(stats: ImageStats) -> NDArray[np.float64]:
@@ -121,6 +149,9 @@ class ChunkLevels12:
         self.confidence = float(confidence)
         self.cleaning = cleaning
         self.limits = limits
+        self.ops = backend_for(self.shape[1])
+        #: Whether bool frames may be given packed (:meth:`process_packed_time_major`).
+        self.packs = self.shape[1] % 8 == 0 and self.shape[1] <= PACK_MAX_COLS
         self.reset()
 
     def reset(self) -> None:
@@ -136,51 +167,96 @@ class ChunkLevels12:
         self._t_prev = np.full(self.n, np.nan)  # each array's last frame time, s
 
     def _levels(
-        self, images: NDArray[np.bool_], t_s: NDArray[np.float64], sel: NDArray[np.intp]
+        self,
+        images: NDArray[np.bool_],
+        t_s: NDArray[np.float64],
+        sel: NDArray[np.intp],
+        words: NDArray[Any] | None = None,
     ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
-        """Classes ``(m, T)`` and rows ``(m, T, 9)`` of the cleaned frames of arrays ``sel``."""
+        """Classes ``(m, T)`` and rows ``(m, T, 9)`` of the cleaned frames of arrays ``sel``.
+
+        ``words``: the same frames packed one word per row ``(m, T, rows)``, if at hand.
+        A frame's statistics, class before the limits and line extent depend on
+        its image alone: a frame equal to the one before it (a contact held
+        still) takes that frame's, computed once.
+        """
         m, t = images.shape[:2]
-        flat = images.reshape(m * t, *self.shape)
-        stats = image_stats(flat, pitch_mm=self.pitch_mm)
-        cls = classify_contacts(stats, self.network, confidence=self.confidence)
-        half = half_length(stats)
+        n = m * t
+        flat = images.reshape(n, *self.shape)
+        packed = None if words is None else words.reshape(n, -1)
+        new = _new_frames(flat, packed)
+        idx = inv = None
+        if new is not None:
+            idx = np.flatnonzero(new)
+            inv = np.cumsum(new) - 1  # each frame's computed frame
+        u_flat = flat if idx is None else flat[idx]
+        u_packed = None if packed is None or idx is None else packed[idx]
+
+        def full(x: NDArray[Any]) -> NDArray[Any]:
+            return x if inv is None else x[inv]
+
+        stats = image_stats(u_flat, pitch_mm=self.pitch_mm)
+        cls = full(classify_contacts(stats, self.network, confidence=self.confidence))
+        half = full(half_length(stats))
+        area, elong = full(stats.area_mm2), full(stats.elongation)
         if self.limits is not None:
             times = np.asarray(t_s, dtype=np.float64)[sel]
-            cls = self._limited(cls.reshape(m, t), stats, half.reshape(m, t), sel, times)
-            cls = cls.reshape(-1)
-        out = np.empty((m * t, 9))
-        out[:, 0:2] = stats.centre_mm
-        out[:, 2] = stats.orientation_deg
-        out[:, 3] = stats.area_mm2
-        out[:, 4] = stats.elongation
+            taxels = full(stats.n_taxels)
+            cls = self._limited(
+                cls.reshape(m, t),
+                taxels.reshape(m, t),
+                area.reshape(m, t),
+                elong.reshape(m, t),
+                half.reshape(m, t),
+                sel,
+                times,
+            ).reshape(-1)
+        out = np.empty((n, 9))
+        out[:, 0:2] = full(stats.centre_mm)
+        out[:, 2] = full(stats.orientation_deg)
+        out[:, 3] = area
+        out[:, 4] = elong
         out[:, 5] = half
         out[:, 6:8] = np.nan
         out[:, 8] = np.asarray(t_s, dtype=np.float64)[sel].reshape(-1)
         lines = np.flatnonzero(cls == ContactClass.LINE)
         if lines.size:
-            out[lines, 6:8] = line_extents(
-                flat[lines], stats.centre_mm[lines], stats.orientation_deg[lines], self.pitch_mm
+            at = lines  # the computed frames whose extents are read
+            if inv is not None:
+                need = np.zeros(u_flat.shape[0], bool)
+                need[inv[lines]] = True
+                at = np.flatnonzero(need)
+            ext = line_extents(
+                u_flat[at],
+                stats.centre_mm[at],
+                stats.orientation_deg[at],
+                self.pitch_mm,
+                row_words=None if u_packed is None else u_packed[at],
             )
+            if inv is not None:
+                table = np.empty((u_flat.shape[0], 2))
+                table[at] = ext
+                ext = table[inv[lines]]
+            out[lines, 6:8] = ext
         return cls.reshape(m, t), out.reshape(m, t, 9)
 
     def _limited(
         self,
         classes: NDArray[np.int8],
-        stats: ImageStats,
+        taxels: NDArray[np.int64],
+        area: NDArray[np.float64],
+        elong: NDArray[np.float64],
         half: NDArray[np.float64],
         sel: NDArray[np.intp],
         t_s: NDArray[np.float64],
     ) -> NDArray[np.int8]:
-        """:func:`~taxelkit.smart.contact_limits.apply_limits` on the arrays ``sel``, ``(m, T)``,
-        taken at ``t_s`` ``(m, T)``."""
+        """:func:`~taxelkit.smart.contact_limits.apply_limits` on the arrays ``sel``, ``(m, T)``:
+        their classes, taxels, areas, elongations and half-lengths, taken at ``t_s``."""
         assert self.limits is not None
-        n, t = classes.shape
-        taxels = stats.n_taxels.reshape(n, t)
         length = np.where(taxels > 0, 2.0 * half, 0.0)
         high, low = _length_thresholds(self.limits)
         long = _schmitt_rows(length >= high, length < low, self._long[sel])
         enter = AREA_MIN_AREA_MM2 * (1.0 + self.limits.area_hysteresis)
-        area = stats.area_mm2.reshape(n, t)
         held, self._run[sel], self._t_prev[sel] = held_high_rows(
             area, enter, t_s, self.limits.area_enter_s, self._run[sel], self._t_prev[sel]
         )
@@ -189,10 +265,9 @@ class ChunkLevels12:
         out = classes.copy()
         out[(out == _LINE) & ~long] = _INDET
         out[(out == _AREA) & ~big] = _INDET
-        elong = stats.elongation.reshape(n, t)
         cap = self.limits.point_max_area_mm2
         if cap is not None:
-            compact = (taxels > 0) & (elong <= 2.0) & (stats.area_mm2.reshape(n, t) <= cap)
+            compact = (taxels > 0) & (elong <= 2.0) & (area <= cap)
             out[compact & (out == _INDET)] = _POINT
         few = (taxels > 0) & (taxels <= self.limits.point_max_taxels) & (elong <= 2.0)
         out[few & (out != _LINE)] = _POINT
@@ -234,8 +309,23 @@ class ChunkLevels12:
         )
         return self._process(images, t_s, time_major=True)
 
+    def process_packed_time_major(
+        self, words: NDArray[Any], t_s: NDArray[np.float64]
+    ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
+        """As :meth:`process_time_major`, bool frames packed ``(T, N, rows)`` by :attr:`ops`.
+
+        Only when :attr:`packs` (a row of whole bytes in one word): a bank
+        buffers an eighth of the bytes, and the cleaning starts from them.
+        """
+        return self._process(words, t_s, time_major=True, packed=True)
+
     def _process(
-        self, images: NDArray[np.bool_], t_s: NDArray[np.float64], *, time_major: bool
+        self,
+        images: NDArray[Any],
+        t_s: NDArray[np.float64],
+        *,
+        time_major: bool,
+        packed: bool = False,
     ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
         """Levels 1-2 of images ``(N, T, rows, cols)`` (or ``(T, N, ...)``), a slice at a time.
 
@@ -246,27 +336,35 @@ class ChunkLevels12:
         t = images.shape[0] if time_major else images.shape[1]
         step = max(_MIN_SLICE_FRAMES, GROUP_FRAMES // max(self.n, 1))
         if t <= 2 * step:
-            return self._process_slice(images, t_s, time_major=time_major)
+            return self._process_slice(images, t_s, time_major=time_major, packed=packed)
         classes = np.empty((self.n, t), dtype=np.int8)
         rows = np.empty((self.n, t, 9))
         for a in range(0, t, step):
             b = min(t, a + step)
             part = images[a:b] if time_major else images[:, a:b]
             classes[:, a:b], rows[:, a:b] = self._process_slice(
-                part, t_s[:, a:b], time_major=time_major
+                part, t_s[:, a:b], time_major=time_major, packed=packed
             )
         return classes, rows
 
     def _process_slice(
-        self, images: NDArray[np.bool_], t_s: NDArray[np.float64], *, time_major: bool
+        self,
+        images: NDArray[Any],
+        t_s: NDArray[np.float64],
+        *,
+        time_major: bool,
+        packed: bool = False,
     ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
-        """Levels 1-2 of one slice of frames, a group of arrays at a time."""
+        """Levels 1-2 of one slice of frames (or packed rows), a group of arrays at a time."""
         n = self.n
         t = images.shape[0] if time_major else images.shape[1]
         classes = np.zeros((n, t), dtype=np.int8)  # NONE
         rows = np.empty((n, t, 9))  # read only where there is contact
         taxels = self.shape[0] * self.shape[1]
-        hit = _touched(images, time_major)
+        if packed:  # (T, N, rows) words: any word on, over time, then over rows
+            hit = np.any(np.bitwise_or.reduce(images, axis=0), axis=1)
+        else:
+            hit = _touched(images, time_major)
         longest = 0
         if self._cleaner is not None and t:  # the arrays that may have contact
             sel, longest = self._cleaner.select(t_s, hit)
@@ -278,15 +376,28 @@ class ChunkLevels12:
             g = sel[a : a + group]
             span = slice(int(g[0]), int(g[-1]) + 1) if g[-1] - g[0] == g.size - 1 else g
             if time_major:
-                img = np.ascontiguousarray(images[:, span].transpose(1, 0, 2, 3))
+                order = (1, 0, 2) if packed else (1, 0, 2, 3)
+                img = np.ascontiguousarray(images[:, span].transpose(*order))
             else:
                 img = images if g.size == n else images[span]
+            words = None
             if self._cleaner is not None:
-                img = self._cleaner.clean(img, g, longest)
+                cleaned = self._cleaner.clean_packed(img, g, longest, packed=packed)
+                words = cleaned.reshape(g.size, t, -1) if cleaned.ndim == 2 else None
+                img = self.ops.unpack(cleaned, self.shape[1]).reshape(g.size, t, *self.shape)
+            elif packed:
+                words, flat = img, img.reshape(g.size * t, -1)
+                img = self.ops.unpack(flat, self.shape[1]).reshape(g.size, t, *self.shape)
             on = img.reshape(g.size, t * taxels).any(axis=1)
             gt = g[on]
             if gt.size:
-                classes[gt], rows[gt] = self._levels(img if gt.size == g.size else img[on], t_s, gt)
+                every = gt.size == g.size
+                classes[gt], rows[gt] = self._levels(
+                    img if every else img[on],
+                    t_s,
+                    gt,
+                    words if every or words is None else words[on],
+                )
                 touched.append(gt)
         quiet = np.ones(n, bool)
         for gt in touched:

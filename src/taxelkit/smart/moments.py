@@ -53,6 +53,7 @@ axis of minimum moment of inertia, elongation); B. K. P. Horn, *Robot Vision*
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -272,6 +273,19 @@ class ImageStats:
         )
 
 
+def _fresh_stats(**fields: Any) -> ImageStats:
+    """An :class:`ImageStats` of arrays just computed here (valid, owned by no one else).
+
+    They are made read-only in place rather than copied, as ``__post_init__`` does.
+    """
+    out: ImageStats = object.__new__(ImageStats)
+    for name, value in fields.items():
+        if isinstance(value, np.ndarray):
+            value.setflags(write=False)
+        object.__setattr__(out, name, value)
+    return out
+
+
 def _stats_from_sums(sums: NDArray[np.float64], pitch: float) -> ImageStats:
     """Elementwise finish: physical statistics from the exact index sums."""
     n, su, sv, suu, svv, suv = sums
@@ -293,7 +307,7 @@ def _stats_from_sums(sums: NDArray[np.float64], pitch: float) -> ImageStats:
     theta = np.where(theta <= -90.0, theta + 180.0, theta)
     p2 = pitch * pitch
     centre = np.stack([su / nn * pitch, sv / nn * pitch], axis=-1)
-    return ImageStats(
+    return _fresh_stats(
         pitch_mm=pitch,
         n_taxels=n.astype(np.int64),
         area_mm2=n * p2,

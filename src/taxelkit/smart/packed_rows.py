@@ -30,6 +30,7 @@ class PackedRows:
         self.bytes = next(b for b in (1, 2, 4, 8) if 8 * b >= cols)
         self.dtype = np.dtype(f"<u{self.bytes}")
         self.mask = self.dtype.type((1 << cols) - 1)
+        self._full = cols == 8 * self.bytes  # a shift left drops the last column itself
 
     def pack(self, images: NDArray[np.bool_]) -> NDArray[Any]:
         t, r, c = images.shape
@@ -57,7 +58,9 @@ class PackedRows:
 
     def left(self, a: NDArray[Any], n: int = 1) -> NDArray[Any]:
         """Taxel (r, c) gets (r, c - n)."""
-        out: NDArray[Any] = (a << self.dtype.type(n)) & self.mask
+        out: NDArray[Any] = a << self.dtype.type(n)
+        if not self._full:
+            out &= self.mask
         return out
 
     def right(self, a: NDArray[Any], n: int = 1) -> NDArray[Any]:

@@ -221,18 +221,30 @@ def trailing_mean(
     # the rows, led by w - 1 zero rows so that every lag is a plain slice
     rows = np.concatenate([np.zeros((w - 1, *values.shape[1:])), head, values])
     acc = np.zeros_like(values)
-    count = np.zeros(n)
     top = int(pos.max()) if n else -1
     low = int(pos.min()) if n else 0
-    for lag in range(min(w, top + 1)):
+    lags = min(w, top + 1)
+    # A sum begun at +0 is never -0, so adding a finite row's exact zero (x * 0)
+    # leaves it as it is: with every row finite, a row a lag does not reach keeps
+    # its sum (the same floats; those rows, sorted by position, are a prefix);
+    # else it adds x * 0 (NaN stays NaN).
+    finite = low < lags - 1 and bool(np.all(np.isfinite(rows)))
+    if finite:
+        early = np.flatnonzero(pos < lags - 1)
+        order = early[np.argsort(pos[early], kind="stable")]
+        cuts = np.searchsorted(pos[order], np.arange(lags)).tolist()
+    for lag in range(lags):
         start = w - 1 + b - lag
         if lag <= low:  # every row reaches back this far: the plain rows (x * 1 is x)
             acc += rows[start : start + n]
-            continue
-        ok = pos >= lag
-        acc += rows[start : start + n] * ok[:, None]
-        count += ok
-    count += min(low + 1, w, top + 1)  # the lags every row had
+        elif finite:
+            short = order[: cuts[lag]]  # the rows this lag does not reach
+            kept = acc[short]
+            acc += rows[start : start + n]
+            acc[short] = kept
+        else:
+            acc += rows[start : start + n] * (pos >= lag)[:, None]
+    count = np.minimum(pos + 1, w).astype(np.float64)  # the lags each row had (exact)
     out: NDArray[np.float64] = acc / count[:, None]
     return out
 

@@ -49,14 +49,15 @@ class Runs:
     def cumsum(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         """``np.cumsum(x_s, axis=0)`` of every segment ``x_s`` of ``x`` ``(N, ...)``, end to end.
 
-        One accumulation per segment, each column along memory: the segments'
-        sums never mix, so the floats are those of each segment alone.
+        One accumulation per segment, row after row (each column's sums in
+        order, as along a column alone): the segments' sums never mix, so the
+        floats are those of each segment alone.
         """
-        xt = np.ascontiguousarray(x.reshape(x.shape[0], -1).T)  # (F, N)
-        out = np.empty_like(xt)
+        rows = x.reshape(x.shape[0], -1)  # (N, F)
+        out = np.empty_like(rows)
         for a, b in self._bounds:
-            np.cumsum(xt[:, a:b], axis=1, out=out[:, a:b])
-        result: NDArray[np.float64] = out.T.reshape(x.shape)
+            np.cumsum(rows[a:b], axis=0, out=out[a:b])
+        result: NDArray[np.float64] = out.reshape(x.shape)
         return result
 
     def rolling_mean(self, x: NDArray[np.float64], w: int) -> NDArray[np.float64]:

@@ -301,6 +301,10 @@ class SlipScanner:
         The run continues the hold kept in ``_above``; without an onset, the
         hold is kept for the next frames.
         """
+        if not flags.any():  # no onset without a frame above the limit: the hold moves on
+            tail = [*self._above, *([False] * min(flags.size, self.hold))]
+            self._above = tail[len(tail) - min(self.hold, len(tail)) :]
+            return None
         h = len(self._above)
         seq = np.concatenate([np.asarray(self._above, dtype=bool), flags])
         total = np.concatenate([[0], np.cumsum(seq)])

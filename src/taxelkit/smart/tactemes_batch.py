@@ -174,9 +174,8 @@ def _group(
                 out[s] += [(tac, int(track.frames[j])) for tac, j in faces if j is not None]
     firsts = starts.tolist()
     columns = [(tac, j.tolist()) for tac, j in hits]
-    frame_list = frames.tolist()
     for s in range(s_n):
-        found = [(tac, frame_list[firsts[s] + js[s]]) for tac, js in columns if js[s] >= 0]
+        found = [(tac, int(frames[firsts[s] + js[s]])) for tac, js in columns if js[s] >= 0]
         found += out[s]
         found.sort(key=lambda item: item[1])
         out[s] = found

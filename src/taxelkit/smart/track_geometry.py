@@ -9,6 +9,7 @@ averaged as doubled-angle vectors.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -191,6 +192,8 @@ def line_extents(
     centre_mm: NDArray[np.float64],
     orientation_deg: NDArray[np.float64],
     pitch_mm: float,
+    *,
+    row_words: NDArray[np.unsignedinteger[Any]] | None = None,
 ) -> NDArray[np.float64]:
     """Where each contact begins and ends along its own axis, mm from its centre.
 
@@ -202,6 +205,10 @@ def line_extents(
         Their centres (centred index coordinates times the pitch, as
         :func:`~taxelkit.smart.moments.image_stats`) and axes.
     pitch_mm : float
+    row_words : (n, rows) unsigned int, optional
+        The same images packed one word per row, bit ``c`` column ``c`` (as
+        :class:`~taxelkit.smart.packed_rows.PackedRows`), for arrays 8 or 16
+        taxels wide: saves packing them again.
 
     Returns
     -------
@@ -221,7 +228,8 @@ def line_extents(
     if cols in (8, 16):  # a line crosses few rows: only those with contact are projected
         for a in range(0, n, _WORD_EXTENT_CHUNK):
             b = min(n, a + _WORD_EXTENT_CHUNK)
-            out[a:b] = _row_extents(images[a:b], centre_mm[a:b], cos[a:b], sin[a:b], u, v)
+            word = _row_words(images[a:b]) if row_words is None else row_words[a:b]
+            out[a:b] = _row_extents(word, centre_mm[a:b], cos[a:b], sin[a:b], u, v)
         out[:, 0] -= 0.5 * pitch_mm
         out[:, 1] += 0.5 * pitch_mm
         return out
@@ -242,7 +250,7 @@ def line_extents(
 
 
 def _row_extents(
-    images: NDArray[np.bool_],
+    word: NDArray[np.unsignedinteger[Any]],
     centre_mm: NDArray[np.float64],
     cos: NDArray[np.float64],
     sin: NDArray[np.float64],
@@ -251,25 +259,33 @@ def _row_extents(
 ) -> NDArray[np.float64]:
     """The lowest and highest projection of :func:`line_extents` ``(m, 2)``, rows with contact.
 
+    ``word`` ``(m, rows)``: each frame's rows as words (bit ``c`` column ``c``).
     The same expression on each row with contact as over all rows, the
     extremes taken per frame (exact): frames without contact get +-inf.
     """
-    m = images.shape[0]
-    word = _row_words(images)
-    f, r = np.nonzero(word)  # frame by frame
-    w = word[f, r].astype(np.intp)
-    first_col, last_col = _LOW_BIT[w], _HIGH_BIT[w]
-    cx, cy, c, s = centre_mm[f, 0], centre_mm[f, 1], cos[f], sin[f]
+    m, rows = word.shape
+    flat = word.reshape(-1)
+    at = np.flatnonzero(flat)  # frame by frame
+    f = at // rows
+    r = at - f * rows
+    w = flat[at].astype(np.intp)
+    first_col, last_col = _LOW_BIT.take(w), _HIGH_BIT.take(w)
+    cx, cy = centre_mm[:, 0].take(f), centre_mm[:, 1].take(f)
+    c, s = cos.take(f), sin.take(f)
     up = c >= 0.0  # the projection grows with u
-    along_v = (v[r] - cy) * s
-    low = (u[np.where(up, first_col, last_col)] - cx) * c + along_v
-    high = (u[np.where(up, last_col, first_col)] - cx) * c + along_v
+    along_v = (v.take(r) - cy) * s
+    low = (u.take(np.where(up, first_col, last_col)) - cx) * c + along_v
+    high = (u.take(np.where(up, last_col, first_col)) - cx) * c + along_v
     out = np.empty((m, 2))
     out[:, 0], out[:, 1] = np.inf, -np.inf
     if f.size:
-        lead = np.flatnonzero(np.concatenate([[True], f[1:] != f[:-1]]))
-        out[f[lead], 0] = np.minimum.reduceat(low, lead)
-        out[f[lead], 1] = np.maximum.reduceat(high, lead)
+        new = np.empty(f.size, bool)
+        new[0] = True
+        np.not_equal(f[1:], f[:-1], out=new[1:])
+        lead = np.flatnonzero(new)
+        first = f[lead]
+        out[first, 0] = np.minimum.reduceat(low, lead)
+        out[first, 1] = np.maximum.reduceat(high, lead)
     return out
 
 
