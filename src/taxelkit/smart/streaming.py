@@ -54,6 +54,8 @@ from taxelkit.smart.tactemes import TactemeConfig
 
 __all__ = ["SmartSensor", "check_count"]
 
+_hypot, _arctan2 = np.hypot, np.arctan2
+
 
 def check_count(name: str, value: object) -> int:
     """``value`` as an integer >= 1, or :class:`~taxelkit.errors.InputError` naming ``name``."""
@@ -105,14 +107,18 @@ class _FrameLevels12:
         cuu = (n * suu - su * su) / (n * n) + CELL_SECOND_MOMENT
         cvv = (n * svv - sv * sv) / (n * n) + CELL_SECOND_MOMENT
         cuv = (n * suv - su * sv) / (n * n)
-        radius = math.hypot(0.5 * (cuu - cvv), cuv)
+        # NumPy's hypot and arctan2, the batch path's (math's differ in the last bit
+        # for about 1 % and 8 % of arguments), and its order of operations: the
+        # same floats, so that a tie at a threshold falls the same way in both
+        radius = float(_hypot(0.5 * (cuu - cvv), cuv))
         lam_max = 0.5 * (cuu + cvv) + radius
         lam_min = (cuu * cvv - cuv * cuv) / lam_max
         elong = math.sqrt(max(lam_max / lam_min, 1.0))  # >= 1 despite rounding
-        theta = 0.5 * math.degrees(math.atan2(2.0 * cuv, cuu - cvv))
+        theta = 0.5 * math.degrees(float(_arctan2(2.0 * cuv, cuu - cvv)))
         if theta <= -90.0:
             theta += 180.0
-        area = n * p * p
+        p2 = p * p
+        area = n * p2  # areas are multiples of p2: ratios of them tie with area_step
         x0, x1 = math.log(area / REFERENCE_AREA_MM2), math.log(elong)
         tanh = math.tanh
         h = [tanh(x0 * wa + x1 * we + bb) for wa, we, bb in self._hidden]
@@ -124,7 +130,8 @@ class _FrameLevels12:
         cls = (
             int(OUTPUT_CLASSES[best]) if prob > self.confidence else int(ContactClass.INDETERMINATE)
         )
-        half = math.sqrt(3.0 * lam_max * p * p)
+        vx, vy, cxy = cuu * p2, cvv * p2, cuv * p2  # as levels12.half_length
+        half = math.sqrt(3.0 * (0.5 * (vx + vy) + float(_hypot(0.5 * (vx - vy), cxy))))
         if self.limits is not None:
             cls = limit_one(
                 cls, int(n), 2.0 * half, elong, area, self.limits, self._limit_state, t_s
