@@ -88,3 +88,39 @@ def test_eliminator_and_explain_with_a_user_table() -> None:
     v = explain([("LC", 3)], table=table)
     assert "sphere" not in v.candidates and "ball" not in v.candidates
     assert any(o == "ball" and t == "LC" for o, t, _, _ in v.eliminated)
+
+
+def test_one_reading_does_not_rule_out_an_object_inside_another() -> None:
+    """A sphere's row lies inside a pill's: one line (a spurious reading) leaves both."""
+    pill = _row("pill", *PAPER_OBJECTS.row("sphere").tactemes, T.LC, T.LCM)
+    table = PAPER_OBJECTS.plus([pill])
+    seq = [T.PC, T.PC_MOVES, T.PC_ORTHOGONAL_TURN, T.LC]
+    elim = Eliminator.for_table(table)
+    for j, tac in enumerate(seq):
+        elim.apply(tac, j)
+    assert elim.candidates == ("sphere", "pill") and elim.strict == ("pill",)
+    v = explain([(t.value, j) for j, t in enumerate(seq)], table=table)
+    assert v.outcome is None and v.candidates == ("sphere", "pill")
+    assert not any(o == "sphere" for o, *_ in v.eliminated)
+    # a second reading against the sphere (the line again, or the line moving) decides
+    for more in (T.LC, T.LCM):
+        again = Eliminator.for_table(table)
+        events = [e for j, t in enumerate([*seq, more]) for e in again.apply(t, j)]
+        assert again.outcome == "pill"
+        assert [e.value for e in events if e.kind == "identified"] == ["pill"]
+        w = explain([(t.value, j) for j, t in enumerate([*seq, more])], table=table)
+        assert w.outcome == "pill" and any(o == "sphere" for o, *_ in w.eliminated)
+    # plain elimination (paper 001) names the pill at once; objects not inside it go
+    strict = ObjectTable(table.rows, superset_evidence=1)
+    plain = Eliminator.for_table(strict)
+    for j, tac in enumerate(seq):
+        plain.apply(tac, j)
+    assert plain.outcome == "pill"
+    assert explain([(t.value, j) for j, t in enumerate(seq)], table=strict).outcome == "pill"
+    with pytest.raises(InputError, match="superset_evidence"):
+        ObjectTable(table.rows, superset_evidence=0)
+    # the six alone: no row inside another, nothing held back
+    six = Eliminator.for_table(PAPER_OBJECTS)
+    for j, tac in enumerate([T.PC, T.LC]):
+        six.apply(tac, j)
+    assert six.candidates == six.strict

@@ -52,31 +52,46 @@ class Event:
 
 @dataclass
 class Eliminator:
-    """Mutable Level 4 state: the candidate objects of the current contact."""
+    """Mutable Level 4 state: the candidate objects of the current contact.
+
+    With an object table (:class:`~taxelkit.smart.object_table.ObjectTable`),
+    an object whose row lies inside another candidate's stays a candidate
+    until the tactemes against it were seen ``superset_evidence`` times
+    (:meth:`~taxelkit.smart.object_table.ObjectTable.doubtful`).
+    """
 
     objects: tuple[str, ...] = OBJECTS
     candidates: tuple[str, ...] = field(default=OBJECTS)
     identified: str | None = None
     #: Rows by object (None: Table 1 of paper 001, the six objects).
     table: ObjectTable | None = None
+    #: Candidates of plain elimination, and how often each tacteme was seen.
+    strict: tuple[str, ...] = field(default=OBJECTS)
+    seen: dict[Tacteme, int] = field(default_factory=dict)
 
     @classmethod
     def for_table(cls, table: ObjectTable | None) -> Eliminator:
         """Start with every object of ``table`` (None: the six of paper 001)."""
         if table is None:
             return cls()
-        return cls(table.objects, table.objects, None, table)
+        return cls(table.objects, table.objects, None, table, table.objects)
 
     def reset(self) -> None:
         """Forget the current object (after lift-off)."""
-        self.candidates = tuple(self.objects)
+        self.candidates = self.strict = tuple(self.objects)
         self.identified = None
+        self.seen = {}
 
     def apply(self, tacteme: Tacteme, frame: int) -> list[Event]:
         """Eliminate what ``tacteme`` rules out; report what changed."""
         events = [Event("tacteme", frame, tacteme.value)]
         gone = eliminated_by(tacteme) if self.table is None else self.table.eliminated_by(tacteme)
-        left = tuple(c for c in self.candidates if c not in gone)
+        self.strict = tuple(c for c in self.strict if c not in gone)
+        left = self.strict
+        if self.table is not None and self.table.superset_evidence > 1:
+            self.seen[tacteme] = self.seen.get(tacteme, 0) + 1
+            doubt = self.table.doubtful(left, self.seen)
+            left = tuple(c for c in self.objects if c in left or c in doubt)
         if left != self.candidates:
             self.candidates = left
             events.append(Event("candidates", frame, left))
@@ -210,6 +225,13 @@ def explain(
         for o in [o for o in left if o in gone]:
             eliminated.append((o, name, frame, reason[name]))
             left.remove(o)
+    if table is not None and table.superset_evidence > 1:  # as Eliminator.apply
+        seen: dict[Tacteme, int] = {}
+        for name, _ in tactemes:
+            seen[Tacteme(name)] = seen.get(Tacteme(name), 0) + 1
+        doubt = set(table.doubtful(left, seen))
+        left = [o for o in objects if o in left or o in doubt]
+        eliminated = [e for e in eliminated if e[0] not in doubt]
     outcome = left[0] if len(left) == 1 else (UNKNOWN if not left else None)
     deciders: list[tuple[str, tuple[str, ...], str]] = []
     if outcome is None:
