@@ -19,8 +19,8 @@ from taxelkit.smart import levels12
 from taxelkit.smart.bank import SensorBank
 from taxelkit.smart.cleaning import _backend, _crowded
 from taxelkit.smart.contact_classes import DEFAULT_CONFIDENCE, HAND_SET, ContactClass
+from taxelkit.smart.line_extents import line_extents
 from taxelkit.smart.recogniser import recognise
-from taxelkit.smart.track_geometry import line_extents
 
 PITCH = 1.7625
 

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from taxelkit.smart.line_extents import line_extents
 from taxelkit.smart.moments import image_stats
 from taxelkit.smart.pivots import pivot_fit, pivot_ratios, pivot_upper, trailing_mean
-from taxelkit.smart.track_geometry import carried_shift, line_extents
+from taxelkit.smart.track_geometry import carried_shift
 
 
 def _tapered_line(length: int, rows: int = 16) -> np.ndarray:

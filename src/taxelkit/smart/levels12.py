@@ -26,9 +26,9 @@ from taxelkit.smart.contact_classes import (
     classify_contacts,
 )
 from taxelkit.smart.contact_limits import ContactLimits, _length_thresholds, held_high_rows
+from taxelkit.smart.line_extents import line_extents
 from taxelkit.smart.moments import ImageStats, image_stats
-from taxelkit.smart.packed_rows import PACK_MAX_COLS, backend_for
-from taxelkit.smart.track_geometry import line_extents
+from taxelkit.smart.packed_rows import PACK_MAX_COLS, backend_for, repeats
 
 __all__ = [
     "DEFAULT_CLEANING",
@@ -81,28 +81,6 @@ def _touched(images: NDArray[np.bool_], time_major: bool) -> NDArray[np.bool_]:
         return out
     out = np.any(np.any(images.reshape(a, b, taxels), axis=2), axis=0)
     return out
-
-
-def _new_frames(flat: NDArray[np.bool_], packed: NDArray[Any] | None) -> NDArray[np.bool_] | None:
-    """``(n,)``: frames unlike the frame before them (the first is new).
-
-    Frames of several arrays laid end to end may match across arrays: equal
-    images have equal statistics. Compared 64 bits at a time, on the packed
-    rows if given; None when frames do not fill whole 64-bit words, or when
-    too few repeat (:data:`_REPEATS_WORTH`) to be worth gathering.
-    """
-    n = flat.shape[0]
-    per = (flat if packed is None else packed).reshape(n, -1)
-    if n < 2 or (per.shape[1] * per.itemsize) % 8 or not per.flags.c_contiguous:
-        return None
-    w = per.view(np.uint64)
-    new = np.empty(n, bool)
-    new[0] = True
-    diff = new[1:]
-    np.not_equal(w[1:, 0], w[:-1, 0], out=diff)
-    for j in range(1, w.shape[1]):
-        diff |= w[1:, j] != w[:-1, j]
-    return None if np.count_nonzero(new) > _REPEATS_WORTH * n else new
 
 
 def half_length(stats: ImageStats) -> NDArray[np.float64]:
@@ -184,7 +162,7 @@ class ChunkLevels12:
         n = m * t
         flat = images.reshape(n, *self.shape)
         packed = None if words is None else words.reshape(n, -1)
-        new = _new_frames(flat, packed)
+        new = repeats(flat, packed, _REPEATS_WORTH)
         idx = inv = None
         if new is not None:
             idx = np.flatnonzero(new)

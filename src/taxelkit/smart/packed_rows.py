@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["PACK_MAX_COLS", "PackedRows", "WordRows", "backend_for"]
+__all__ = ["PACK_MAX_COLS", "PackedRows", "WordRows", "backend_for", "repeats"]
 
 #: Widest array that is packed into one uint64 per row.
 PACK_MAX_COLS = 64
@@ -155,3 +155,28 @@ class WordRows(PackedRows):
 def backend_for(cols: int) -> PackedRows:
     """The packed rows of an array ``cols`` taxels wide."""
     return PackedRows(cols) if cols <= PACK_MAX_COLS else WordRows(cols)
+
+
+def repeats(
+    flat: NDArray[np.bool_], packed: NDArray[Any] | None, worth: float
+) -> NDArray[np.bool_] | None:
+    """``(n,)``: frames unlike the frame before them (the first is new).
+
+    Frames of several arrays laid end to end may match across arrays: equal
+    images have equal statistics. Compared 64 bits at a time, on the packed
+    rows ``packed`` if given (else on the bool frames ``flat``, ``(n, ...)``);
+    None when frames do not fill whole 64-bit words, or when more than
+    ``worth`` of them are new (too few repeat to be worth gathering).
+    """
+    n = flat.shape[0]
+    per = (flat if packed is None else packed).reshape(n, -1)
+    if n < 2 or (per.shape[1] * per.itemsize) % 8 or not per.flags.c_contiguous:
+        return None
+    w = per.view(np.uint64)
+    new = np.empty(n, bool)
+    new[0] = True
+    diff = new[1:]
+    np.not_equal(w[1:, 0], w[:-1, 0], out=diff)
+    for j in range(1, w.shape[1]):
+        diff |= w[1:, j] != w[:-1, j]
+    return None if np.count_nonzero(new) > worth * n else new

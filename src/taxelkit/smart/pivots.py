@@ -98,7 +98,7 @@ def drawn_pivot_fit(
         Their moment half-lengths, mm.
     extent_mm : (n, 2) float, optional
         Each line's drawn ends along its axis from its centre, mm (NaN where
-        not measured; :func:`~taxelkit.smart.track_geometry.line_extents`).
+        not measured; :func:`~taxelkit.smart.line_extents.line_extents`).
     arc_w : int
         Lines whose mean middle (:func:`trailing_mean`) the third ratio is
         measured from; 1: the current line's, the first ratio itself.

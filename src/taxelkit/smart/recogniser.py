@@ -34,6 +34,7 @@ from taxelkit.smart.levels12 import (
     half_length,
 )
 from taxelkit.smart.levels34 import Levels34, Recognition, finish, track_segments
+from taxelkit.smart.line_extents import line_extents
 from taxelkit.smart.moments import binary_images, image_stats
 from taxelkit.smart.streaming import SmartSensor
 from taxelkit.smart.tactemes import (
@@ -42,7 +43,6 @@ from taxelkit.smart.tactemes import (
     accepted_runs,
     debounce_counts,
 )
-from taxelkit.smart.track_geometry import line_extents
 
 _NONE = int(ContactClass.NONE)
 #: Accepted runs whose Level 3 the batch recogniser computes together.

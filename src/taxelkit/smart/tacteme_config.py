@@ -67,7 +67,7 @@ class TactemeConfig:
     pivot_end_ratio : float
         Pivot within this many half-lengths of the line's middle: about one
         end. Each line is its drawn segment, from end to end along its axis
-        (:func:`~taxelkit.smart.track_geometry.line_extents`), not its second
+        (:func:`~taxelkit.smart.line_extents.line_extents`), not its second
         moment, which shortens a tapering line and shifts its centre to the
         wide end. A cone: ideally 1; a truncated cone with top/bottom radius
         ratio ``q``: ``1 + 2q / (1 - q)``, 2.08 for the narrowest frustum the

@@ -171,7 +171,7 @@ class SegmentTrack:
         Timestamps of the frames.
     extent_mm : (n, 2) float or None
         Where each line begins and ends along its axis, mm from its centre
-        (:func:`~taxelkit.smart.track_geometry.line_extents`; NaN where not
+        (:func:`~taxelkit.smart.line_extents.line_extents`; NaN where not
         measured). None: the line is taken as centred on its centre, with
         half-length ``half_length_mm``.
     pitch_mm : float
