@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import json
 import re
-from collections.abc import Iterable, Mapping
+from collections.abc import Collection, Iterable, Mapping
 from dataclasses import dataclass, field
 from os import PathLike
 from pathlib import Path
@@ -205,12 +205,12 @@ class ObjectTable:
         """This table with ``extra`` rows appended."""
         return ObjectTable((*self.rows, *extra), self.superset_evidence)
 
-    def doubtful(self, strict: Iterable[str], seen: Mapping[Tacteme, int]) -> tuple[str, ...]:
+    def doubtful(self, strict: Collection[str], seen: Mapping[Tacteme, int]) -> tuple[str, ...]:
         """Objects ruled out on too few readings to leave a larger one (see ``superset_evidence``).
 
         Parameters
         ----------
-        strict : iterable of str
+        strict : collection of str
             The candidates plain elimination leaves.
         seen : mapping Tacteme -> int
             How often each tacteme of the contact was seen.
