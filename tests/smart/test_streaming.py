@@ -102,6 +102,19 @@ def test_streaming_equals_batch_on_a_faulty_roll_in_mini_batches(batch_frames: i
     assert list(sensor.result().events) == list(batch.events)
 
 
+def cleaned_in_chunks(
+    cleaner: ChunkCleaner, images: np.ndarray, t: np.ndarray, cuts: list[int]
+) -> np.ndarray:
+    """Images ``(N, T, ...)`` through ``cleaner`` in chunks of the lengths ``cuts`` (cycled)."""
+    n_arrays, n = images.shape[:2]
+    got, a, k = [], 0, 0
+    while a < n:
+        b = min(n, a + cuts[k % len(cuts)])
+        got.append(cleaner.push(images[:, a:b], np.broadcast_to(t[a:b], (n_arrays, b - a))))
+        a, k = b, k + 1
+    return np.concatenate(got, axis=1)
+
+
 @settings(max_examples=25, deadline=None)
 @given(seed=st.integers(0, 2**31), cuts=st.lists(st.integers(1, 97), min_size=1, max_size=8))
 def test_chunk_cleaner_equals_the_batch_cleaning_in_any_chunks(seed: int, cuts: list[int]) -> None:
@@ -115,12 +128,7 @@ def test_chunk_cleaner_equals_the_batch_cleaning_in_any_chunks(seed: int, cuts: 
     cfg = CleaningConfig(stuck_s=2.0)
     want = np.stack([clean_images(images[i], t, config=cfg) for i in range(2)])
     cleaner = ChunkCleaner(2, (9, 11), config=cfg)
-    got, a, k = [], 0, 0
-    while a < n:
-        b = min(n, a + cuts[k % len(cuts)])
-        got.append(cleaner.push(images[:, a:b], np.broadcast_to(t[a:b], (2, b - a))))
-        a, k = b, k + 1
-    np.testing.assert_array_equal(np.concatenate(got, axis=1), want)
+    np.testing.assert_array_equal(cleaned_in_chunks(cleaner, images, t, cuts), want)
 
 
 @settings(max_examples=15, deadline=None)
@@ -141,12 +149,7 @@ def test_chunk_cleaner_settles_clear_arrays_as_the_batch_cleaning(
     cfg = CleaningConfig(stuck_s=2.0)
     want = np.stack([clean_images(images[i], t, config=cfg) for i in range(4)])
     cleaner = ChunkCleaner(4, (8, 8), config=cfg)
-    got, a, k = [], 0, 0
-    while a < n:
-        b = min(n, a + cuts[k % len(cuts)])
-        got.append(cleaner.push(images[:, a:b], np.broadcast_to(t[a:b], (4, b - a))))
-        a, k = b, k + 1
-    np.testing.assert_array_equal(np.concatenate(got, axis=1), want)
+    np.testing.assert_array_equal(cleaned_in_chunks(cleaner, images, t, cuts), want)
     assert not cleaner.busy[3]  # never touched: at rest after its first chunk
 
 
