@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from taxelkit.experiments import new_objects
@@ -30,7 +31,25 @@ def test_a_small_run_scores_renders_and_plots(monkeypatch: pytest.MonkeyPatch) -
     assert {"sphere", "ellipsoid"} <= set(doc["not_distinguishable"])
     text = render_block("new-objects", {"new-objects": doc})
     assert "| hex-prism |" in text and "Acceptance:" in text
+    explore = doc["explore"]
+    assert explore["handlings"] == new_objects.EXPLORE_HANDLINGS
+    for row in explore["per_object"]:
+        by = row["identified_by_handling"]
+        assert len(by) == explore["handlings"] and by == sorted(by) and by[-1] == row["identified"]
+        assert 1.0 <= row["mean_handlings"] <= explore["handlings"]
+        assert sum(row["outcomes"].values()) == row["trials"] == 1
+    assert "handled until decided" in text
     from taxelkit.plotting.experiments import plot_experiment
 
     fig = plot_experiment("new-objects", result)
-    assert len(fig.axes) == 2
+    assert len(fig.axes) == 3
+
+
+def test_the_first_handling_is_the_single_roll() -> None:
+    """Exploring changes nothing in the single-roll outcome; one handling explores nothing."""
+    table = PAPER_OBJECTS
+    seq = np.random.SeedSequence(0).spawn(3)[2]
+    one = new_objects._trial(("cylinder", seq, table, 1))
+    five = new_objects._trial(("cylinder", seq, table, 5))
+    assert one[:4] == five[:4]
+    assert one[4][1] == 1 and one[4][0] == one[1]

@@ -18,6 +18,7 @@ from taxelkit.cli.options import (
     THRESHOLD,
     TIMEOUT_S,
 )
+from taxelkit.cli.recognize_output import echo_objects, one_object_json, with_objects
 from taxelkit.cli.view import ViewTarget, view_options, with_view
 from taxelkit.errors import InputError
 
@@ -97,6 +98,12 @@ __all__ = ["recognize", "roll"]
     help="A user object table (from 'taxelkit learn-object'): recognise its objects beside "
     "the six of paper 001 (face-shape tactemes on).",
 )
+@click.option(
+    "--one-object",
+    is_flag=True,
+    help="Every contact in FILE is of one object, handled several times: also give Level 4's "
+    "verdict over the tactemes of all its contacts ('one_object' in --json).",
+)
 @click.option("--force", is_flag=True, help="Overwrite existing --save-view and --record files.")
 @view_options
 def recognize(
@@ -113,6 +120,7 @@ def recognize(
     per_frame: bool,
     arrays: int,
     objects_file: Path | None,
+    one_object: bool,
     force: bool,
     view: ViewTarget,
 ) -> int:
@@ -127,6 +135,8 @@ def recognize(
     """
     if live is not None and objects_file is not None:
         raise InputError("--objects applies to recordings (FILE), not yet to --live streams")
+    if live is not None and one_object:
+        raise InputError("--one-object applies to recordings (FILE), not to --live streams")
     if live is not None:
         if file is not None:
             raise InputError("give either FILE or --live SOURCE, not both")
@@ -159,54 +169,23 @@ def recognize(
 
         options.update(cleaning=None, limits=None, config=PAPER_LEVEL3)
     if objects_file is not None:
-        options["config"] = _with_objects(options.get("config"), objects_file)
+        options["config"] = with_objects(options.get("config"), objects_file)
     if not view.wanted and topic is None and file.suffix.lower() in (".h5", ".hdf5", ".npz"):
         result, objects = _recognise_in_chunks(file, pitch_mm, per_frame, options)
     else:
         result, objects = _recognise_whole(file, pitch_mm, topic, view, force, options)
+    whole = one_object_json(objects, options.get("config")) if one_object else None
     if as_json:
         doc = result.to_json(per_frame=per_frame)
         doc.update(objects.to_json())
+        if whole is not None:
+            doc["one_object"] = whole
         click.echo(json.dumps(doc))
         return 0
-    _echo_objects(objects)
+    echo_objects(objects)
+    if whole is not None:
+        click.echo(f"one object over {whole['contacts']} contact(s): {whole['sentence']}")
     return 0
-
-
-def _with_objects(config: Any, path: Path) -> Any:
-    """``config`` (default Level 3) with the six plus the table's objects and face tactemes."""
-    import dataclasses
-
-    from taxelkit.smart.object_table import PAPER_OBJECTS, read_object_table
-    from taxelkit.smart.tactemes import TactemeConfig
-
-    table = PAPER_OBJECTS.plus(read_object_table(path).rows)
-    base = TactemeConfig() if config is None else config
-    return dataclasses.replace(base, face_shapes=True, objects=table)
-
-
-def _echo_objects(objects: ObjectRecognition) -> None:
-    """Every track's events, then one line per track and the verdicts (they never disagree)."""
-    for e in objects.events:
-        value = ", ".join(e.value) if isinstance(e.value, tuple) else e.value
-        value = "" if value is None else f"object {value}" if isinstance(value, int) else value
-        click.echo(f"frame {e.frame:6d}  {e.t_s:9.3f} s  object {e.track:<3d} {e.kind:11s} {value}")
-    accepted = [o for o in objects.objects if o.accepted]
-    for o in objects.objects:
-        click.echo(o.summary())
-        if o.accepted:
-            click.echo(f"  why: {o.verdict.sentence()}")
-    if not accepted:
-        click.echo("identified: nothing (no contact accepted)")
-        return
-    verdicts = [o.outcome_text() for o in accepted]
-    if len(accepted) == 1:
-        click.echo(f"identified: {verdicts[0]}")
-    else:
-        listed = "; ".join(
-            f"{v} (object {o.track})" for v, o in zip(verdicts, accepted, strict=True)
-        )
-        click.echo(f"identified: {listed}")
 
 
 def _recognise_in_chunks(

@@ -18,6 +18,16 @@ Beside it: the same frames recognised as paper 001's six-object table does
 (``baseline``), and ``n_outside`` rolls of an object in neither table (a
 triangular prism) with both, which must never be given a name.
 Ground truth serves only for scoring.
+
+*Exploration* (beyond paper 001): one roll decides only what its motion
+shows (a cylinder placed straight on its side and rolled is a cylinder or a
+capsule). A trial is also scored as a robot handling the object until it is
+decided: while the ten-object verdict is undecided the object is handled
+again (another roll drawn from the trial's seed: another placement, face
+and motion), up to :data:`EXPLORE_HANDLINGS` rolls, and Level 4 runs over the
+tactemes of all its contacts (:func:`~taxelkit.smart.one_object.one_object_verdict`).
+The first handling is the single roll above; the number of handlings was
+fixed before any run, and the outcome after each is reported.
 """
 
 from __future__ import annotations
@@ -31,6 +41,7 @@ from typing import Any
 import numpy as np
 
 from taxelkit.experiments.work_units import map_in_order
+from taxelkit.frames import TactileFrames
 from taxelkit.learn.check import DEFAULT_CHECK_ROLLS, learn_solid
 from taxelkit.learn.derive import derive_row
 from taxelkit.learn.examples import EXAMPLE_OBJECTS, OUTSIDE_OBJECTS, example_mesh
@@ -39,6 +50,7 @@ from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.motion.scenarios import make_scenario
 from taxelkit.sensors.presets import BONNEVILLE_16X16
 from taxelkit.smart.object_table import PAPER_OBJECTS, ObjectTable
+from taxelkit.smart.one_object import ContactEvidence, contacts_of, one_object_verdict
 from taxelkit.smart.recogniser import recognise
 from taxelkit.smart.tacteme_table import OBJECTS
 from taxelkit.smart.tactemes import TactemeConfig
@@ -48,6 +60,7 @@ from taxelkit.world.solids import make_solid
 
 __all__ = [
     "CHECK_SEED_OFFSET",
+    "EXPLORE_HANDLINGS",
     "NewObjectsResult",
     "decidable",
     "run_new_objects",
@@ -57,6 +70,10 @@ __all__ = [
 #: The learning check runs on ``seed + CHECK_SEED_OFFSET``, a stream the trials do not use.
 CHECK_SEED_OFFSET = 7919
 UNKNOWN, UNDECIDED = "unknown", "undecided"
+#: Rolls of one object at most in the exploration protocol (fixed before any run).
+EXPLORE_HANDLINGS = 5
+#: Spawn-key element of the handlings after the first (the first is the trial's own roll).
+_HANDLING_KEY = 104729
 
 
 @cache
@@ -75,22 +92,45 @@ def six_rows_agree() -> dict[str, list[str]]:
     return out
 
 
-def _trial(
-    args: tuple[str, np.random.SeedSequence, ObjectTable],
-) -> tuple[str, str, str, tuple[str, ...]]:
-    """One roll: object, outcome with the ten-object table, with the six, tactemes seen."""
-    name, seq, table = args
-    rng = np.random.default_rng(seq)
+def _recording(name: str, rng: np.random.Generator) -> TactileFrames:
+    """One randomised roll of ``name`` on the simulated Bonneville 16 x 16."""
     if name in OBJECTS:
         scenario = make_scenario(name, rng=rng)
     else:
         solid, feats = _mesh(name)
         scenario = make_mesh_scenario(solid, feats, name=name, rng=rng)
-    rec = frames_from_scenario(BONNEVILLE_16X16, scenario, rng=rng)
-    ten = recognise(rec, config=TactemeConfig(face_shapes=True, objects=table))
+    return frames_from_scenario(BONNEVILLE_16X16, scenario, rng=rng)
+
+
+def _handling_rng(seq: np.random.SeedSequence, j: int) -> np.random.Generator:
+    """Generator of handling ``j >= 1`` of a trial (handling 0 uses ``seq`` itself)."""
+    spawn = (*seq.spawn_key, _HANDLING_KEY, j)
+    return np.random.default_rng(np.random.SeedSequence(seq.entropy, spawn_key=spawn))
+
+
+def _trial(
+    args: tuple[str, np.random.SeedSequence, ObjectTable, int],
+) -> tuple[str, str, str, tuple[str, ...], tuple[str, int, tuple[str, ...]]]:
+    """One trial: object, outcomes of its first roll with the ten-object table and with
+    the six, tactemes seen; then the exploration's outcome, handlings used and tactemes."""
+    name, seq, table, handlings = args
+    config = TactemeConfig(face_shapes=True, objects=table)
+    rec = _recording(name, np.random.default_rng(seq))
+    ten = recognise(rec, config=config)
     six = recognise(rec)
     seen = tuple(sorted({t for t, _ in ten.tactemes}))
-    return name, ten.identified or UNDECIDED, six.identified or UNDECIDED, seen
+    contacts: list[ContactEvidence] = list(contacts_of(ten.events))
+    used = 1
+    while used < handlings:
+        if contacts and one_object_verdict(contacts, table=table).outcome is not None:
+            break
+        more = recognise(_recording(name, _handling_rng(seq, used)), config=config)
+        contacts += contacts_of(more.events)
+        used += 1
+    outcome = one_object_verdict(contacts, table=table).outcome if contacts else None
+    seen_all = tuple(sorted({t for c in contacts for t, _ in c.tactemes}))
+    explored = (outcome or UNDECIDED, used, seen_all)
+    return name, ten.identified or UNDECIDED, six.identified or UNDECIDED, seen, explored
 
 
 def decidable(table: ObjectTable, name: str, seen: tuple[str, ...]) -> bool:
@@ -127,6 +167,13 @@ class NewObjectsResult:
     decidable : dict
         ``decidable[object] = (rolls decidable, of them identified)`` (see :func:`decidable`).
     n_trials, n_outside, seed : int
+    checks : dict
+        What the learning check of each example saw.
+    explorations : dict
+        ``explorations[object]``: for every trial (outside objects too), the
+        exploration's outcome (ten-object table) and the handlings it used.
+    handlings : int
+        Most handlings of the exploration.
     """
 
     table: ObjectTable
@@ -140,6 +187,8 @@ class NewObjectsResult:
     n_outside: int
     seed: int
     checks: dict[str, Any] = field(default_factory=dict)
+    explorations: dict[str, list[tuple[str, int]]] = field(default_factory=dict)
+    handlings: int = EXPLORE_HANDLINGS
 
     def to_json(self) -> dict[str, Any]:
         """Confusions, rows, overlaps, per-object rates and the acceptance."""
@@ -174,6 +223,7 @@ class NewObjectsResult:
         named_outside = sum(v for d in self.outside.values() for k, v in d.items() if k in objects)
         n_dec = sum(r["decidable"] for r in rows)
         dec_ident = sum(r["decidable_identified"] for r in rows)
+        summary, acceptance = _scores(n_dist, ident, wrong, named_outside)
         return {
             "experiment": "new-objects",
             "seed": self.seed,
@@ -199,22 +249,74 @@ class NewObjectsResult:
             "per_object": rows,
             "six_differences": self.six_differences,
             "summary": {
-                "distinguishable_trials": n_dist,
-                "distinguishable_identified": ident,
-                "distinguishable_rate": ident / n_dist if n_dist else 0.0,
-                "wrong": wrong,
-                "outside_named": named_outside,
+                **summary,
                 "decidable_trials": n_dec,
                 "decidable_identified": dec_ident,
                 "decidable_rate": dec_ident / n_dec if n_dec else 0.0,
             },
+            "explore": self._explore_json(never),
             "acceptance": {
                 "six_rows_agree": all(not v for v in self.six_differences.values()),
-                "identified_ge_95_where_distinguishable": bool(n_dist and ident >= 0.95 * n_dist),
-                "no_wrong_identity": wrong == 0,
-                "outside_never_named": named_outside == 0,
+                **acceptance,
             },
         }
+
+    def _explore_json(self, never: list[str]) -> dict[str, Any]:
+        """The exploration: per object, the outcome after each number of handlings."""
+        objects = self.table.objects
+        rows: list[dict[str, Any]] = []
+        for name, runs in self.explorations.items():
+            right = [used for outcome, used in runs if outcome == name]
+            rows.append(
+                {
+                    "object": name,
+                    "inside": name in objects,
+                    "distinguishable": name in objects and name not in never,
+                    "trials": len(runs),
+                    "identified": len(right),
+                    "identified_by_handling": [
+                        sum(u <= h for u in right) for h in range(1, self.handlings + 1)
+                    ],
+                    "wrong": sum(o in objects and o != name for o, _ in runs),
+                    "unknown": sum(o == UNKNOWN for o, _ in runs),
+                    "undecided": sum(o == UNDECIDED for o, _ in runs),
+                    "mean_handlings": float(np.mean([u for _, u in runs])) if runs else 0.0,
+                    "outcomes": {
+                        o: sum(x == o for x, _ in runs) for o in sorted({x for x, _ in runs})
+                    },
+                }
+            )
+        dist = [r for r in rows if r["distinguishable"]]
+        n_dist = sum(r["trials"] for r in dist)
+        ident = sum(r["identified"] for r in dist)
+        wrong = sum(r["wrong"] for r in rows if r["inside"])
+        named_outside = sum(r["wrong"] for r in rows if not r["inside"])
+        summary, acceptance = _scores(n_dist, ident, wrong, named_outside)
+        return {
+            "handlings": self.handlings,
+            "per_object": rows,
+            "summary": summary,
+            "acceptance": acceptance,
+        }
+
+
+def _scores(
+    n_dist: int, ident: int, wrong: int, named_outside: int
+) -> tuple[dict[str, Any], dict[str, bool]]:
+    """Summary and acceptance from the distinguishable trials, identified, wrong, outside named."""
+    summary = {
+        "distinguishable_trials": n_dist,
+        "distinguishable_identified": ident,
+        "distinguishable_rate": ident / n_dist if n_dist else 0.0,
+        "wrong": wrong,
+        "outside_named": named_outside,
+    }
+    acceptance = {
+        "identified_ge_95_where_distinguishable": bool(n_dist and ident >= 0.95 * n_dist),
+        "no_wrong_identity": wrong == 0,
+        "outside_never_named": named_outside == 0,
+    }
+    return summary, acceptance
 
 
 def _learn(seed: int) -> tuple[ObjectTable, dict[str, Any]]:
@@ -239,6 +341,7 @@ def run_new_objects(
     seed: int = 0,
     n_trials: int = 100,
     n_outside: int = 100,
+    handlings: int = EXPLORE_HANDLINGS,
     workers: int | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> NewObjectsResult:
@@ -251,6 +354,8 @@ def run_new_objects(
         Rolls per object (ten objects).
     n_outside : int
         Rolls of each object outside both tables.
+    handlings : int
+        Most rolls of one object in the exploration (1: none beyond the first).
     workers : int, optional
         Local worker processes (default: up to 4).
     progress : callable, optional
@@ -260,13 +365,16 @@ def run_new_objects(
     names = [o for o in table.objects for _ in range(n_trials)]
     names += [o for o in OUTSIDE_OBJECTS for _ in range(n_outside)]
     seqs = np.random.SeedSequence(seed).spawn(len(names))
-    jobs = [(n, s, table) for n, s in zip(names, seqs, strict=True)]
+    n_handlings = max(1, int(handlings))
+    jobs = [(n, s, table, n_handlings) for n, s in zip(names, seqs, strict=True)]
     n_workers = min(4, os.cpu_count() or 1) if workers is None else max(1, int(workers))
     results = map_in_order(_trial, jobs, workers=n_workers, chunksize=4, progress=progress)
     confusion: dict[str, dict[str, int]] = {}
     baseline: dict[str, dict[str, int]] = {}
     dec: dict[str, tuple[int, int]] = {name: (0, 0) for name in table.objects}
-    for name, ten, six, seen in results:
+    explorations: dict[str, list[tuple[str, int]]] = {}
+    for name, ten, six, seen, (explored, used, _) in results:
+        explorations.setdefault(name, []).append((explored, used))
         if name in dec and decidable(table, name, seen):
             n, ok = dec[name]
             dec[name] = (n + 1, ok + int(ten == name))
@@ -286,4 +394,6 @@ def run_new_objects(
         n_outside,
         seed,
         checks,
+        explorations,
+        n_handlings,
     )

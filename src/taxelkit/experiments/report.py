@@ -167,6 +167,8 @@ def new_objects_markdown(doc: dict[str, Any]) -> str:
         f"({100 * s['decidable_rate']:.1f} %); wrong identities: {s['wrong']}.",
         f"Objects in neither table ({doc['n_outside']} rolls each): {outside}.",
         "",
+        *_explore_lines(doc["explore"]),
+        "",
         "Not distinguishable with these tactemes (learn-object says so):",
         "",
         *[f"- {o['sentence']}" for o in doc["overlaps"]],
@@ -178,6 +180,40 @@ def new_objects_markdown(doc: dict[str, Any]) -> str:
         f"outside the table never named {'holds' if acc['outside_never_named'] else 'fails'}.",
     ]
     return "\n".join(lines)
+
+
+def _explore_lines(ex: dict[str, Any]) -> list[str]:
+    """The exploration of ``new-objects``: identified after each number of handlings."""
+    k = ex["handlings"]
+    lines = [
+        "",
+        f"Handled until decided (up to {k} rolls of the same object, each drawn anew; "
+        "Level 4 over the tactemes of all its contacts, `recognize --one-object`): "
+        "identified after each number of rolls, and the outcome after the last.",
+        "",
+        "| object | "
+        + " | ".join(f"{h} roll{'s' if h > 1 else ''}" for h in range(1, k + 1))
+        + " | wrong | unknown | undecided | mean rolls |",
+        "| --- | " + " | ".join("---" for _ in range(k)) + " | --- | --- | --- | --- |",
+    ]
+    for r in ex["per_object"]:
+        lines.append(
+            f"| {r['object']}{'' if r['inside'] else ' (in neither table)'} | "
+            + " | ".join(str(n) for n in r["identified_by_handling"])
+            + f" | {r['wrong']} | {r['unknown']} | {r['undecided']} | {r['mean_handlings']:.2f} |"
+        )
+    s, acc = ex["summary"], ex["acceptance"]
+    lines += [
+        "",
+        f"Distinguishable objects identified: {s['distinguishable_identified']}/"
+        f"{s['distinguishable_trials']} ({100 * s['distinguishable_rate']:.1f} %); wrong "
+        f"identities: {s['wrong']}; rolls of objects in neither table given a name: "
+        f"{s['outside_named']}. Acceptance (handled until decided): >= 95 % identified where "
+        f"distinguishable {'holds' if acc['identified_ge_95_where_distinguishable'] else 'fails'}"
+        f"; no wrong identity {'holds' if acc['no_wrong_identity'] else 'fails'}; objects "
+        f"outside the table never named {'holds' if acc['outside_never_named'] else 'fails'}.",
+    ]
+    return lines
 
 
 #: Blocks of the README rendered from results: name -> (experiments it needs, renderer).

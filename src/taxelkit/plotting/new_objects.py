@@ -1,13 +1,13 @@
-"""Confusion matrix of the ``new-objects`` experiment (ten-object table and paper 001's six)."""
+"""Confusion matrices of the ``new-objects`` experiment: one roll (ten-object table, paper
+001's six) and the exploration (the object handled until decided)."""
 
 from __future__ import annotations
 
 from typing import Any
 
+import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
-
-from taxelkit.plotting._axes import axes_pair
 
 __all__ = ["plot_new_objects"]
 
@@ -35,13 +35,14 @@ def _draw(
 
 
 def plot_new_objects(result: Any, ax: Any = None) -> Figure:
-    """Left: outcomes with the ten-object table and face tactemes. Right: the same rolls
-    recognised with paper 001's six-object table.
+    """Left: outcomes of one roll with the ten-object table and face tactemes. Middle: the
+    same rolls recognised with paper 001's six-object table. Right: the ten-object table
+    over up to ``handlings`` rolls of the object (the exploration).
 
     Parameters
     ----------
     result : NewObjectsResult
-    ax : pair of Axes, optional
+    ax : three Axes, optional
 
     Returns
     -------
@@ -51,7 +52,10 @@ def plot_new_objects(result: Any, ax: Any = None) -> Figure:
     objects = list(doc["objects"])
     rows = objects + sorted(doc["outside"])
     cols = [*objects, "unknown", "undecided"]
-    fig, axes = axes_pair(ax, (13.0, 5.6))
+    if ax is None:
+        fig, axes = plt.subplots(1, 3, figsize=(19.0, 5.8))
+    else:
+        fig, axes = ax[0].figure, ax
     ten = {**doc["confusion"], **doc["outside"]}
     six = {**doc["baseline"], **doc["outside_baseline"]}
     s = doc["summary"]
@@ -60,6 +64,12 @@ def plot_new_objects(result: Any, ax: Any = None) -> Figure:
           f"{100 * s['distinguishable_rate']:.1f} % of distinguishable identified")  # fmt: skip
     six_cols = [*objects[:6], "unknown", "undecided"]
     _draw(axes[1], _matrix(six, rows, six_cols), rows, six_cols, "paper 001's six-object table")
+    ex = doc["explore"]
+    explored = {r["object"]: r["outcomes"] for r in ex["per_object"]}
+    es = ex["summary"]
+    _draw(axes[2], _matrix(explored, rows, cols), rows, cols,
+          f"handled up to {ex['handlings']} times: {es['wrong']} wrong, "
+          f"{100 * es['distinguishable_rate']:.1f} % of distinguishable identified")  # fmt: skip
     axes[0].set_ylabel("object rolled")
     fig.tight_layout()
     return fig
