@@ -34,6 +34,20 @@ def test_arrays_are_read_only_copies() -> None:
         rec.frames[0, 0, 0] = 2.0
 
 
+def test_adopt_keeps_the_arrays_it_is_handed_and_checks_them_alike() -> None:
+    frames = np.random.default_rng(0).random((3, 2, 2)) > 0.5
+    t_s = np.array([0.0, 0.5, 1.5])
+    rec = TactileFrames.adopt(frames, t_s, pitch_mm=2.0, sensor="x")
+    assert rec.frames is frames  # no copy: made read-only in place
+    assert not frames.flags.writeable
+    assert rec.equals(TactileFrames(frames.copy(), t_s.copy(), pitch_mm=2.0, sensor="x"))
+    ints = TactileFrames.adopt(np.ones((1, 2, 2), np.int16))  # converted: as the constructor
+    assert ints.frames.dtype == np.float64 and ints.units == "mm"
+    for bad, t, match in [(np.zeros((3, 4)), None, "3 dimensions"), (frames, t_s[:2], "3 entries")]:
+        with pytest.raises(InputError, match=match):
+            TactileFrames.adopt(bad, t)
+
+
 @pytest.mark.parametrize(
     ("frames", "t_s", "match"),
     [

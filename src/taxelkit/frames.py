@@ -90,6 +90,50 @@ class TactileFrames:
         units: str | None = None,
         sensor: str = "unknown",
     ) -> None:
+        self._fill(frames, t_s, pitch_mm, units, sensor, copy=True)
+
+    @classmethod
+    def adopt(
+        cls,
+        frames: NDArray[Any],
+        t_s: NDArray[Any] | None = None,
+        pitch_mm: float = DEFAULT_PITCH_MM,
+        units: str | None = None,
+        sensor: str = "unknown",
+    ) -> TactileFrames:
+        """As the constructor, holding arrays that the caller made and hands over (no copy).
+
+        For readers that have just created ``frames`` (and ``t_s``) and keep
+        no reference to them: the arrays are checked as by the constructor
+        and made read-only in place, rather than copied (a chunk of a long
+        recording is read once). Arrays that are converted (integer frames,
+        timestamps of another dtype) are copied as by the constructor.
+
+        Parameters
+        ----------
+        frames : (T, rows, cols) bool or float
+        t_s : (T,) float, s, optional
+        pitch_mm, units, sensor
+            As the constructor.
+
+        Returns
+        -------
+        TactileFrames
+        """
+        out = cls.__new__(cls)
+        out._fill(frames, t_s, pitch_mm, units, sensor, copy=False)
+        return out
+
+    def _fill(
+        self,
+        frames: ArrayLike,
+        t_s: ArrayLike | None,
+        pitch_mm: float,
+        units: str | None,
+        sensor: str,
+        *,
+        copy: bool,
+    ) -> None:
         f = check_ndim("frames", frames, 3, "(T, rows, cols)")
         if f.dtype.kind not in "biuf":
             raise InputError(f"frames must be bool or numeric, got dtype {f.dtype}")
@@ -117,8 +161,8 @@ class TactileFrames:
             u = DEFAULT_UNITS if units is None else str(units)
             if u == CONTACT_UNITS:
                 raise InputError("units 'contact' requires bool frames")
-        object.__setattr__(self, "frames", readonly_copy(f))
-        object.__setattr__(self, "t_s", readonly_copy(t))
+        object.__setattr__(self, "frames", readonly_copy(f) if copy else _readonly(f))
+        object.__setattr__(self, "t_s", readonly_copy(t) if copy else _readonly(t))
         object.__setattr__(self, "pitch_mm", pitch)
         object.__setattr__(self, "units", u)
         object.__setattr__(self, "sensor", str(sensor))
@@ -179,3 +223,10 @@ class TactileFrames:
             and self.units == other.units
             and self.sensor == other.sensor
         )
+
+
+def _readonly(a: NDArray[Any]) -> NDArray[Any]:
+    """``a`` itself, made read-only."""
+    if a.flags.writeable:
+        a.setflags(write=False)
+    return a

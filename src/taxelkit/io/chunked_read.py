@@ -178,7 +178,9 @@ class ChunkedRecording:
                 units=scalars.get("units"),
                 sensor=scalars.get("sensor"),
             )
-            chunk = _build(raw, self.path, self._override)
+            # frames read from HDF5 are new arrays (a memory-mapped member's are not)
+            owned = isinstance(self._frames, h5py.Dataset)
+            chunk = _build(raw, self.path, self._override, owned=owned)
             t_last = float(chunk.t_s[-1])
             yield chunk
 

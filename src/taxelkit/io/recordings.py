@@ -209,8 +209,14 @@ def _number_field(path: Path, name: str, value: object | None) -> float | None:
     raise fail(InvalidRecordingError, path, f"{name} must be a single number, got {_show(value)}")
 
 
-def _build(raw: RawRecording, path: Path, pitch_override: float | None) -> TactileFrames:
-    """Validate raw fields into a :class:`TactileFrames`, naming the file on failure."""
+def _build(
+    raw: RawRecording, path: Path, pitch_override: float | None, *, owned: bool = False
+) -> TactileFrames:
+    """Validate raw fields into a :class:`TactileFrames`, naming the file on failure.
+
+    ``owned``: the frames and times were just read into arrays that nothing
+    else holds; they are kept rather than copied (:meth:`TactileFrames.adopt`).
+    """
     if raw.frames is None:
         found = ", ".join(raw.found) if raw.found else "nothing"
         raise fail(CorruptRecordingError, path, f"no 'frames' array (the file holds: {found})")
@@ -246,7 +252,7 @@ def _build(raw: RawRecording, path: Path, pitch_override: float | None) -> Tacti
         if t_s.dtype.kind not in "iuf":
             raise fail(InvalidRecordingError, path, f"t_s must be numeric, got dtype {t_s.dtype}")
     try:
-        return TactileFrames(
+        return (TactileFrames.adopt if owned else TactileFrames)(
             frames,
             t_s,
             pitch_mm=pitch,
