@@ -21,6 +21,7 @@ from taxelkit.smart.one_object import ContactEvidence, contacts_of, one_object_v
 from taxelkit.smart.recogniser import recognise
 from taxelkit.smart.tacteme_table import OBJECTS
 from taxelkit.smart.tacteme_table import Tacteme as T
+from tests.test_schemas import assert_valid
 
 #: A capsule-like object: rolls as a cylinder does, on points as a sphere does, no face.
 PILL = ObjectRow("pill", frozenset({T.PC, T.PC_MOVES, T.LC, T.LCM, T.LCMP}))
@@ -109,11 +110,26 @@ def test_recognize_one_object(tmp_path: Path, capsys: pytest.CaptureFixture[str]
     doc = json.loads(capsys.readouterr().out)
     accepted = [o for o in doc["objects"] if o["accepted"]]
     assert doc["one_object"]["contacts"] == len(accepted) >= 2
-    assert doc["one_object"]["outcome"] == "cylinder"
+    assert doc["one_object"]["identified"] == "cylinder"
+    assert doc["one_object"]["why"]["outcome"] == "cylinder"
+    assert_valid("cli-recognize", doc)
     assert run(["recognize", str(path), "--one-object"]) == 0
     assert f"one object over {len(accepted)} contact(s): cylinder" in capsys.readouterr().out
     assert run(["recognize", str(path), "--json"]) == 0
     assert "one_object" not in json.loads(capsys.readouterr().out)
+
+
+def test_recognize_one_object_without_contact(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = tmp_path / "blank.h5"
+    write_recording(TactileFrames(np.zeros((5, 4, 4), bool)), path)
+    assert run(["recognize", str(path), "--json", "--one-object"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["one_object"] == {"contacts": 0, "identified": None, "candidates": [], "why": None}
+    assert_valid("cli-recognize", doc)
+    assert run(["recognize", str(path), "--one-object"]) == 0
+    assert "one object: nothing (no contact accepted)" in capsys.readouterr().out
 
 
 def test_recognize_one_object_refuses_live(capsys: pytest.CaptureFixture[str]) -> None:

@@ -13,7 +13,7 @@ import click
 if TYPE_CHECKING:
     from taxelkit.smart.object_results import ObjectRecognition
 
-__all__ = ["echo_objects", "one_object_json", "with_objects"]
+__all__ = ["echo_objects", "one_object_json", "one_object_line", "with_objects"]
 
 
 def with_objects(config: Any, path: Path) -> Any:
@@ -53,12 +53,29 @@ def echo_objects(objects: ObjectRecognition) -> None:
 
 
 def one_object_json(objects: ObjectRecognition, config: Any) -> dict[str, Any]:
-    """Level 4 over every accepted track's tactemes (``--one-object``), as JSON."""
+    """Level 4 over every accepted track's tactemes (``--one-object``), as JSON.
+
+    Keys: ``contacts`` (accepted tracks used), ``identified`` (the object,
+    ``"unknown"`` or null), ``candidates`` and ``why`` (null without any
+    accepted contact), as for one track.
+    """
     from taxelkit.smart.one_object import one_object_verdict, track_contacts
 
     contacts = track_contacts(objects)
     if not contacts:
-        return {"contacts": 0, "sentence": "nothing (no contact accepted)"}
+        return {"contacts": 0, "identified": None, "candidates": [], "why": None}
     table = None if config is None else config.objects
     verdict = one_object_verdict(contacts, table=table)
-    return {"contacts": len(contacts), **verdict.to_json()}
+    return {
+        "contacts": len(contacts),
+        "identified": verdict.outcome,
+        "candidates": list(verdict.candidates),
+        "why": verdict.to_json(),
+    }
+
+
+def one_object_line(doc: dict[str, Any]) -> str:
+    """The summary line of ``--one-object`` from :func:`one_object_json`."""
+    if doc["why"] is None:
+        return "one object: nothing (no contact accepted)"
+    return f"one object over {doc['contacts']} contact(s): {doc['why']['sentence']}"

@@ -18,7 +18,12 @@ from taxelkit.cli.options import (
     THRESHOLD,
     TIMEOUT_S,
 )
-from taxelkit.cli.recognize_output import echo_objects, one_object_json, with_objects
+from taxelkit.cli.recognize_output import (
+    echo_objects,
+    one_object_json,
+    one_object_line,
+    with_objects,
+)
 from taxelkit.cli.view import ViewTarget, view_options, with_view
 from taxelkit.errors import InputError
 
@@ -184,7 +189,7 @@ def recognize(
         return 0
     echo_objects(objects)
     if whole is not None:
-        click.echo(f"one object over {whole['contacts']} contact(s): {whole['sentence']}")
+        click.echo(one_object_line(whole))
     return 0
 
 
