@@ -20,6 +20,20 @@ measures both).
 
 The caller asserts that every contact is of one object; nothing in the
 frames can check it.
+
+Measured (the learnt ten-object table of ``new-objects`` seed 0, face
+tactemes on), on the ``robustness`` recordings of seed 0 (both engines,
+every rate and imperfection): five consecutive rolls of one cell handled as
+one object, stopping once decided, against each roll alone. Cylinders
+identified 911 of 3,200 rolls alone, 540 of 640 handled; cones and
+truncated cones 640 and 636 of 640 handled, none wrong. Wrong names: cubes
+named square pyramid 3 of 3,200 rolls alone, 7 of 640 handled (threshold
+spread and every imperfection at once: a face that loses a corner reads
+triangular, and two such readings among five handlings pass the superset
+rule); cylinders and spheres named capsule 0 and 1 of 3,200 alone, 1 and 1
+of 640 handled. On clean frames (``new-objects``) no object of the table
+got a wrong name, handled or not, while the triangular prism, in no table,
+is named square pyramid far more often handled than alone.
 """
 
 from __future__ import annotations
