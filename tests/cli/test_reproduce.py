@@ -110,3 +110,19 @@ def test_reproduce_progress_names_the_experiment_and_its_unit(
     err = capsys.readouterr().err
     assert "cylinder:" in err and "/1" in err and "roll" in err
     assert "0run" not in err
+
+
+def test_a_block_of_two_experiments_is_rendered_from_the_one_run_and_the_other_committed(
+    tmp_path: Path,
+) -> None:
+    from taxelkit.cli.reproduce import _with_companions
+
+    committed = Path(__file__).parents[2] / "docs" / "results"
+    held = json.loads((committed / "new-objects-heldout.json").read_text())
+    docs = _with_companions({"new-objects-heldout": held}, committed)
+    assert set(docs) == {"new-objects-heldout", "new-objects"}  # the block's companion
+    assert docs["new-objects"]["experiment"] == "new-objects"
+    assert _with_companions({"new-objects-heldout": held}, tmp_path) == {
+        "new-objects-heldout": held
+    }  # nothing there: the block is left as it is
+    assert set(_with_companions({"fig7": {}}, committed)) == {"fig7"}

@@ -53,3 +53,21 @@ def test_the_first_handling_is_the_single_roll() -> None:
     five = new_objects._trial(("cylinder", seq, table, 5))
     assert one[:4] == five[:4]
     assert one[4][1] == 1 and one[4][0] == one[1]
+
+
+def test_the_held_out_run_is_marked_and_renders_beside_the_main_one(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from taxelkit.experiments.new_objects_heldout import run_new_objects_heldout
+
+    monkeypatch.setattr(new_objects, "DEFAULT_CHECK_ROLLS", 1)
+    main = new_objects.run_new_objects(n_trials=1, n_outside=1, handlings=2, workers=1)
+    held = run_new_objects_heldout(n_trials=1, n_outside=1, handlings=2, workers=1)
+    doc = held.to_json()
+    assert doc["experiment"] == "new-objects-heldout"
+    assert (doc["tuned_on_seed"], doc["held_out_seed"], doc["seed"]) == (0, 11, 11)
+    text = render_block(
+        "new-objects-heldout", {"new-objects": main.to_json(), "new-objects-heldout": doc}
+    )
+    assert "| capsule | yes |" in text and "seed 0 / seed 11" in text
+    assert "(in neither table: named)" in text and "Held-out seed:" in text

@@ -263,7 +263,8 @@ def sensors() -> None:
 
 from taxelkit.cli.convert import convert  # noqa: E402  (sub-commands)
 from taxelkit.cli.learn import learn_object  # noqa: E402
-from taxelkit.cli.paper000 import memorise, reproduce, trace  # noqa: E402
+from taxelkit.cli.paper000 import memorise, trace  # noqa: E402
+from taxelkit.cli.reproduce import reproduce  # noqa: E402
 from taxelkit.cli.simulate import demo, simulate  # noqa: E402
 from taxelkit.cli.smart import recognize, roll  # noqa: E402
 from taxelkit.cli.sources import sources  # noqa: E402

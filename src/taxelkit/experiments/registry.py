@@ -142,6 +142,12 @@ def _new_objects(**kw: Any) -> ExperimentResult:
     return run_new_objects(**kw)
 
 
+def _new_objects_heldout(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.new_objects_heldout import run_new_objects_heldout
+
+    return run_new_objects_heldout(**kw)
+
+
 def _robustness(**kw: Any) -> ExperimentResult:
     from taxelkit.experiments.robustness import run_robustness
 
@@ -259,6 +265,14 @@ EXPERIMENTS: dict[str, Experiment] = {
             "new-objects",
             "Smart sensor: the six objects and four learnt from meshes, confusion",
             _new_objects,
+            "trial",
+            trials=100,
+            workers=True,
+        ),
+        Experiment(
+            "new-objects-heldout",
+            "Smart sensor: new-objects on a seed its rules were not set on",
+            _new_objects_heldout,
             "trial",
             trials=100,
             workers=True,

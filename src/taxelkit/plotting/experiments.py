@@ -34,6 +34,7 @@ def _plotters() -> dict[str, Callable[[Any], Figure]]:
         "open-set": _plot_open_set,
         "multi-object": plot_multi_object,
         "new-objects": plot_new_objects,
+        "new-objects-heldout": plot_new_objects,
         "recall-vs-s": plot_recall_vs_s,
         "robustness": plot_robustness,
         "robustness-heldout": plot_robustness,
