@@ -35,7 +35,7 @@ from taxelkit.smart.tactemes import (
 )
 from taxelkit.smart.track_geometry import anchors, axis_angle_deg, drawn_half_mm
 
-__all__ = ["batch_tactemes"]
+__all__ = ["batch_tactemes", "frames_for_interval"]
 
 _POINT, _LINE, _AREA = int(ContactClass.POINT), int(ContactClass.LINE), int(ContactClass.AREA)
 
@@ -46,8 +46,8 @@ PIECE_ROWS = 16384
 _PIVOT_TACTEMES = (Tacteme.LC_SPINS, Tacteme.LCMT_ABOUT_END, Tacteme.LCMT_ARC)
 
 
-def _frames_for(dt: float, seconds: float, floor: int) -> int:
-    """:meth:`~taxelkit.smart.tactemes.SegmentTrack.frames_for` from the frame interval."""
+def frames_for_interval(dt: float, seconds: float, floor: int) -> int:
+    """:meth:`~taxelkit.smart.tactemes.SegmentTrack.frames_for` from the interval ``dt``, s."""
     return max(floor, math.ceil(seconds / dt - 1e-9)) if dt > 0 else floor
 
 
@@ -73,8 +73,8 @@ def batch_tactemes(items: Sequence[tuple[int, SegmentTrack]], config: TactemeCon
         if n < k or cls not in (_POINT, _LINE, _AREA):
             continue
         dt = track.frame_interval_s(k)
-        hold = _frames_for(dt, config.motion_hold_s, MOTION_MIN_FRAMES)
-        w = _frames_for(dt, config.smooth_s, k)
+        hold = frames_for_interval(dt, config.motion_hold_s, MOTION_MIN_FRAMES)
+        w = frames_for_interval(dt, config.smooth_s, k)
         groups.setdefault((int(cls), w, hold), []).append(i)
     for (cls, w, hold), members in groups.items():
         for part in _pieces(members, [items[i][1].frames.size for i in members]):
@@ -302,7 +302,7 @@ def _pivots(
     verdicts = pivot_verdicts(config, ratio, error, arc_ratio, turned_now, line_mm, pitch)
     holds = np.array(
         [
-            _frames_for(tracks[s].frame_interval_s(k), config.pivot_hold_s, hold)
+            frames_for_interval(tracks[s].frame_interval_s(k), config.pivot_hold_s, hold)
             for s in together.tolist()
         ]
     )

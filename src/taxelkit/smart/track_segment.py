@@ -22,7 +22,7 @@ from taxelkit.smart.slip_batch import batch_slip_scanners
 from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, segment_tactemes
-from taxelkit.smart.tactemes_batch import batch_tactemes
+from taxelkit.smart.tactemes_batch import batch_tactemes, frames_for_interval
 from taxelkit.smart.track_geometry import drawn_half_mm, grid_wobble_deg
 
 __all__ = ["TrackSegment", "track_segments"]
@@ -43,9 +43,14 @@ class TrackSegment:
         Its slip scanner fed the whole track, when already computed
         (:func:`~taxelkit.smart.slip_batch.batch_slip_scanners`); only read
         when ``config.slip`` is set.
-    axis_sums : (n, 2) float, optional
+    axis_sums : (n, 2) or (n, 4) float, optional
         Running sums of the doubled-angle axis vectors ``cos 2 theta, sin 2
-        theta`` (``np.cumsum`` along the track), for :meth:`mean_axis_deg`.
+        theta`` (``np.cumsum`` along the track), for :meth:`mean_axis_deg`;
+        with four columns, then those of the centre ``x, y`` (mm), for
+        :meth:`mean_centre_mm`.
+    line_mm : (n,) float, optional
+        Drawn length of each frame's line, mm (``2 drawn_half_mm``), for
+        :meth:`grid_wobble_deg`.
     """
 
     def __init__(
@@ -57,9 +62,12 @@ class TrackSegment:
         found: list[tuple[Tacteme, int]] | None = None,
         slip: SlipScanner | None = None,
         axis_sums: NDArray[np.float64] | None = None,
+        line_mm: NDArray[np.float64] | None = None,
     ) -> None:
         self.track = track
         self._axis_sums = axis_sums
+        self._line_mm = line_mm
+        self._dt: dict[int, float] = {}  # frame interval by k, s (fixed once accepted)
         self.size = int(track.frames.size)
         self.first_frame = int(track.frames[0])
         self.last_frame = int(track.frames[-1])
@@ -72,7 +80,10 @@ class TrackSegment:
                 self._slip.extend(track.frames, rows_from_track(track))
 
     def frames_for(self, seconds: float, k: int, *, minimum: int | None = None) -> int:
-        return self.track.frames_for(seconds, k, minimum=minimum)
+        dt = self._dt.get(k)
+        if dt is None:
+            dt = self._dt[k] = self.track.frame_interval_s(k)
+        return frames_for_interval(dt, seconds, k if minimum is None else minimum)
 
     def frame_at(self, i: int) -> int:
         return int(self.track.frames[i])
@@ -83,15 +94,21 @@ class TrackSegment:
         n = len(range(self.size)[:stop])  # the frames that track.orientation_deg[:stop] holds
         if n == 0:
             return float("nan")
-        sx, sy = self._axis_sums[n - 1]  # mean_axis_deg's sums: the same floats
+        sx, sy = self._axis_sums[n - 1, :2]  # mean_axis_deg's sums: the same floats
         return float(0.5 * np.rad2deg(np.arctan2(sy, sx)))
 
     def mean_centre_mm(self, stop: int) -> tuple[float, float]:
-        c = self.track.centre_mm[:stop].mean(axis=0)
-        return float(c[0]), float(c[1])
+        n = len(range(self.size)[:stop])
+        if self._axis_sums is None or self._axis_sums.shape[1] < 4 or n == 0:
+            c = self.track.centre_mm[:stop].mean(axis=0)
+            return float(c[0]), float(c[1])
+        sums = self._axis_sums[n - 1]  # the sums of the mean along axis 0: the same floats
+        return float(sums[2] / n), float(sums[3] / n)
 
     def grid_wobble_deg(self, stop: int) -> float:
         t = self.track
+        if self._line_mm is not None:
+            return grid_wobble_deg(self._line_mm[:stop], t.pitch_mm)
         ext = None if t.extent_mm is None else t.extent_mm[:stop]
         return grid_wobble_deg(2.0 * drawn_half_mm(t.half_length_mm[:stop], ext), t.pitch_mm)
 
@@ -135,21 +152,47 @@ def track_segments(
                 k=int(config.debounce_frames),
             )
         )
-    sums = _axis_sums([track for _, track, _ in items])
+    tracks = [track for _, track, _ in items]
+    sums, lines = _axis_sums(tracks), _line_lengths(tracks)
     return [
-        TrackSegment(cls, track, config, found=f, slip=sl, axis_sums=a)
-        for (cls, track, _), f, sl, a in zip(items, found, slips, sums, strict=True)
+        TrackSegment(cls, track, config, found=f, slip=sl, axis_sums=a, line_mm=m)
+        for (cls, track, _), f, sl, a, m in zip(items, found, slips, sums, lines, strict=True)
     ]
 
 
 def _axis_sums(tracks: list[SegmentTrack]) -> list[NDArray[np.float64]]:
-    """Running sums of each track's doubled-angle axis vectors (as ``mean_axis_deg``)."""
+    """Running sums of each track's doubled-angle axis vectors and centres ``(n, 4)``.
+
+    Columns ``cos 2 theta, sin 2 theta`` (as ``mean_axis_deg``), then the
+    centre ``x, y`` in mm (as the mean of the centres along axis 0).
+    """
     if not tracks:
         return []
     runs = Runs(np.array([t.frames.size for t in tracks], dtype=np.intp))
     t = np.deg2rad(2.0 * np.concatenate([tr.orientation_deg for tr in tracks]))
-    vectors = np.empty((t.size, 2))
+    vectors = np.empty((t.size, 4))
     vectors[:, 0], vectors[:, 1] = np.cos(t), np.sin(t)
+    vectors[:, 2:4] = np.concatenate([tr.centre_mm for tr in tracks])
     sums = runs.cumsum(vectors)
     ends = (runs.starts + runs.lengths).tolist()
     return [sums[a:b] for a, b in zip(runs.starts.tolist(), ends, strict=True)]
+
+
+def _line_lengths(tracks: list[SegmentTrack]) -> list[NDArray[np.float64] | None]:
+    """Each track's drawn line lengths ``2 drawn_half_mm`` ``(n,)``, mm, element-wise at once.
+
+    Tracks that measure no extents (None) are left to compute their own (None).
+    """
+    out: list[NDArray[np.float64] | None] = [None] * len(tracks)
+    measured = [i for i, t in enumerate(tracks) if t.extent_mm is not None]
+    if not measured:
+        return out
+    half = np.concatenate([tracks[i].half_length_mm for i in measured])
+    ext = np.concatenate([tracks[i].extent_mm for i in measured])
+    line = 2.0 * drawn_half_mm(half, ext)
+    a = 0
+    for i in measured:
+        b = a + tracks[i].frames.size
+        out[i] = line[a:b]
+        a = b
+    return out
