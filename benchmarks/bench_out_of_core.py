@@ -11,7 +11,8 @@ and peak resident memory (``resource.getrusage(RUSAGE_SELF).ru_maxrss``) are
 reported:
 
 * out-of-core: :func:`taxelkit.io.chunked_read.open_chunks` read chunk by chunk
-  into :class:`taxelkit.smart.recognise_chunks.ChunkRecogniser`;
+  into :class:`taxelkit.smart.recognise_chunks.ChunkRecogniser` (the rows kept
+  packed as stored: ``packed_chunks`` into ``push_packed``);
 * in memory (the baseline): ``read_recording`` then ``recognise`` (the path
   ``taxelkit recognize`` took before), on the first ``--compare-frames``
   frames, a file that fits; the out-of-core path is run on the same file and
@@ -58,8 +59,12 @@ from taxelkit.smart.recognise_chunks import ChunkRecogniser
 t0 = time.process_time()
 with open_chunks(sys.argv[1]) as rec:
     recogniser = ChunkRecogniser(rec.shape, pitch_mm=1.7625)
-    for chunk in rec.chunks(int(sys.argv[2])):
-        recogniser.push(chunk.frames, chunk.t_s)
+    if rec.packed:  # the rows as stored: the cleaning starts from them
+        for packed in rec.packed_chunks(int(sys.argv[2])):
+            recogniser.push_packed(packed.rows, packed.t_s)
+    else:
+        for chunk in rec.chunks(int(sys.argv[2])):
+            recogniser.push(chunk.frames, chunk.t_s)
 result = recogniser.result()
 seconds = time.process_time() - t0
 print(json.dumps({

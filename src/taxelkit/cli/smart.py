@@ -197,22 +197,28 @@ def _recognise_in_chunks(
     file: Path, pitch_mm: float | None, per_frame: bool, options: dict[str, Any]
 ) -> tuple[ChunkRecognition, ObjectRecognition]:
     """Read and recognise a recording a chunk at a time (memory bounded by the chunk)."""
-    from taxelkit.io.chunked_read import open_chunks
+    from taxelkit.io.chunked_read import PackedChunk, open_chunks
     from taxelkit.smart.objects import ObjectRecogniser
     from taxelkit.smart.recognise_chunks import ChunkRecogniser
 
     with open_chunks(file, pitch_mm=pitch_mm) as opened:
         recogniser: ChunkRecogniser | None = None
         tracks: ObjectRecogniser | None = None
-        for chunk in opened.chunks():
+        # packed rows as stored (HDF5) go to the recogniser's cleaning as they are
+        pieces = opened.packed_chunks() if opened.packed else opened.chunks()
+        for chunk in pieces:
             if recogniser is None or tracks is None:
                 shape = (chunk.shape[1], chunk.shape[2])
                 recogniser = ChunkRecogniser(
                     shape, pitch_mm=chunk.pitch_mm, per_frame=per_frame, **options
                 )
                 tracks = ObjectRecogniser(shape, pitch_mm=chunk.pitch_mm, **options)
-            recogniser.push(chunk.frames, chunk.t_s)
-            tracks.push(chunk.frames, chunk.t_s)
+            if isinstance(chunk, PackedChunk):
+                recogniser.push_packed(chunk.rows, chunk.t_s)
+                tracks.push(chunk.unpacked(), chunk.t_s)
+            else:
+                recogniser.push(chunk.frames, chunk.t_s)
+                tracks.push(chunk.frames, chunk.t_s)
     assert recogniser is not None and tracks is not None  # open_chunks refuses zero frames
     return recogniser.result(), tracks.result()
 

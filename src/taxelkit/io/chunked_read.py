@@ -45,6 +45,7 @@ from taxelkit.io._raw import RawRecording, describe_exception, fail
 from taxelkit.io.chunked_npz import SCALARS, FortranOrder, Layout, item_bytes, open_npz
 from taxelkit.io.limits import ReadBudget
 from taxelkit.io.limits_h5 import check_h5_attribute, check_h5_dataset, h5_node
+from taxelkit.io.packed_chunk import PackedChunk, unpack_rows
 from taxelkit.io.recording_codecs import PACKED_COLS_ATTR, PACKED_FRAMES
 from taxelkit.io.recordings import (
     _build,
@@ -57,6 +58,7 @@ __all__ = [
     "PACKED_COLS_ATTR",
     "PACKED_FRAMES",
     "ChunkedRecording",
+    "PackedChunk",
     "open_chunks",
 ]
 
@@ -134,11 +136,7 @@ class ChunkedRecording:
         RecordingError
             If a piece breaks the rules of a recording (named by its frames).
         """
-        if chunk_frames is None:
-            quarter = ReadBudget(self.path).limit // 4
-            chunk_frames = max(1, min(DEFAULT_CHUNK_FRAMES, quarter // self.layout.frame_bytes))
-        if isinstance(chunk_frames, bool) or not isinstance(chunk_frames, int) or chunk_frames < 1:
-            raise InputError(f"chunk_frames must be an integer >= 1, got {chunk_frames!r}")
+        chunk_frames = self._chunk_frames(chunk_frames)
         if self._whole is not None:
             whole = self._whole
             for a in range(0, whole.n_frames, chunk_frames):
@@ -152,15 +150,54 @@ class ChunkedRecording:
             return
         yield from self._pieces(0, self.n_frames, chunk_frames)
 
+    @property
+    def packed(self) -> bool:
+        """Whether the frames are stored packed, and :meth:`packed_chunks` reads them so."""
+        return self.layout.packed and self._whole is None and self._npz_stream is None
+
+    def packed_chunks(self, chunk_frames: int | None = None) -> Iterator[PackedChunk]:
+        """As :meth:`chunks`, the contact frames kept packed as stored (only if :attr:`packed`).
+
+        The timestamps and the recording's fields are checked as by
+        :meth:`chunks` (the same errors); the bits need none.
+
+        Raises
+        ------
+        InputError
+            If the recording is not stored packed.
+        """
+        if not self.packed:
+            raise InputError(f"{self.path} is not stored packed: read it with chunks()")
+        cols, step = self.shape[1], self._chunk_frames(chunk_frames)
+        for rows, chunk in self._pieces(0, self.n_frames, step, packed=True):
+            yield PackedChunk(rows, chunk.t_s, cols, chunk.pitch_mm, chunk.sensor)
+
+    def _chunk_frames(self, chunk_frames: int | None) -> int:
+        """Frames per piece: as given (checked), else the default within the read limit."""
+        if chunk_frames is None:
+            quarter = ReadBudget(self.path).limit // 4
+            chunk_frames = max(1, min(DEFAULT_CHUNK_FRAMES, quarter // self.layout.frame_bytes))
+        if isinstance(chunk_frames, bool) or not isinstance(chunk_frames, int) or chunk_frames < 1:
+            raise InputError(f"chunk_frames must be an integer >= 1, got {chunk_frames!r}")
+        return chunk_frames
+
     def _pieces(
-        self, first: int, stop: int, chunk_frames: int = DEFAULT_CHUNK_FRAMES
-    ) -> Iterator[TactileFrames]:
-        """Frames ``first .. stop - 1`` of a sliceable recording, in validated pieces."""
+        self, first: int, stop: int, chunk_frames: int = DEFAULT_CHUNK_FRAMES, packed: bool = False
+    ) -> Iterator[Any]:
+        """Frames ``first .. stop - 1`` of a sliceable recording, in validated pieces.
+
+        ``packed``: pieces ``(rows, chunk)`` of the packed rows as stored and a
+        chunk holding the same timestamps and fields over one-taxel frames
+        (validated as the frames would be; bits need no check).
+        """
         budget = ReadBudget(self.path)
         t_last = -math.inf
         for a in range(first, stop, chunk_frames):
             b = min(a + chunk_frames, stop)
-            frames, t_s = self._read(a, b, budget)
+            frames, t_s = self._read(a, b, budget, unpack=not packed)
+            rows = frames
+            if packed:
+                frames = np.broadcast_to(np.zeros((1, 1, 1), bool), (b - a, 1, 1))
             if t_s is not None and t_s.size and not t_s[0] > t_last:
                 raise fail(
                     InvalidRecordingError,
@@ -182,7 +219,11 @@ class ChunkedRecording:
             owned = isinstance(self._frames, h5py.Dataset)
             chunk = _build(raw, self.path, self._override, owned=owned)
             t_last = float(chunk.t_s[-1])
-            yield chunk
+            if packed:
+                rows.setflags(write=False)
+                yield rows, chunk
+            else:
+                yield chunk
 
     def frames_at(self, indices: Sequence[int]) -> TactileFrames:
         """Only the frames at ``indices`` (increasing, in ``[0, n_frames)``), as a recording.
@@ -241,14 +282,16 @@ class ChunkedRecording:
                 )
             last = float(t[-1])
 
-    def _read(self, a: int, b: int, budget: ReadBudget) -> tuple[NDArray[Any], NDArray[Any] | None]:
+    def _read(
+        self, a: int, b: int, budget: ReadBudget, *, unpack: bool = True
+    ) -> tuple[NDArray[Any], NDArray[Any] | None]:
         try:
             if self._npz_stream is not None:
                 return self._read_stream(a, b, budget)
             budget.check_block(f"frames {a}..{b - 1}", (b - a) * self.layout.frame_bytes)
             frames = np.asarray(self._frames[a:b])
-            if self.layout.packed:
-                frames = _unpacked(frames, self.shape[1])
+            if self.layout.packed and unpack:
+                frames = unpack_rows(frames, self.shape[1])
             t_s = None if self._t_s is None else np.asarray(self._t_s[a:b])
         except TaxelkitError:
             raise
@@ -273,16 +316,6 @@ class ChunkedRecording:
             t_dtype = self._t_s
             t_s = np.frombuffer(_read_exactly(t_fh, (b - a) * t_dtype.itemsize), dtype=t_dtype)
         return frames.reshape((b - a, *self.shape)), t_s
-
-
-def _unpacked(packed: NDArray[np.uint8], cols: int) -> NDArray[np.bool_]:
-    """Bool frames from rows packed 8 taxels to a byte (whole bytes: the flat array at once)."""
-    t, rows, n_bytes = packed.shape
-    if cols == 8 * n_bytes:
-        flat = np.unpackbits(np.ascontiguousarray(packed).reshape(-1), bitorder="little")
-        return flat.view(bool).reshape(t, rows, cols)
-    out: NDArray[np.bool_] = np.unpackbits(packed, axis=2, count=cols, bitorder="little").view(bool)
-    return out
 
 
 def _read_exactly(fh: IO[bytes], nbytes: int) -> bytes:

@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import InputError
 
-__all__ = ["ClassHistory", "check_chunk"]
+__all__ = ["ClassHistory", "check_chunk", "check_chunk_times"]
 
 
 def check_chunk(
@@ -44,14 +44,25 @@ def check_chunk(
         If the shapes do not match or the timestamps do not increase across chunks.
     """
     f = np.asarray(frames)
-    t = np.asarray(t_s, dtype=np.float64)
     if f.ndim != 3 or f.shape[1:] != tuple(shape):
         raise InputError(f"frames must have shape (n, {shape[0]}, {shape[1]}), got {f.shape}")
-    if t.shape != (f.shape[0],):
-        raise InputError(f"t_s must have shape ({f.shape[0]},), got {t.shape}")
-    if f.shape[0] and not t[0] > t_last_s:
+    return f, check_chunk_times(t_s, f.shape[0], t_last_s)
+
+
+def check_chunk_times(t_s: ArrayLike, n: int, t_last_s: float) -> NDArray[np.float64]:
+    """The timestamps ``(n,)`` of a chunk of ``n`` frames, checked (see :func:`check_chunk`), s.
+
+    Raises
+    ------
+    InputError
+        If there are not ``n`` of them or they do not increase across chunks.
+    """
+    t = np.asarray(t_s, dtype=np.float64)
+    if t.shape != (n,):
+        raise InputError(f"t_s must have shape ({n},), got {t.shape}")
+    if n and not t[0] > t_last_s:
         raise InputError(f"t_s must increase across chunks, got {float(t[0])!r} after {t_last_s!r}")
-    return f, t
+    return t
 
 
 class ClassHistory(Sequence[int]):
