@@ -22,7 +22,6 @@ from __future__ import annotations
 import contextlib
 import math
 import os
-import sys
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import IO, Any
@@ -42,9 +41,9 @@ from taxelkit.errors import (
 )
 from taxelkit.frames import DEFAULT_FRAME_INTERVAL_S, TactileFrames
 from taxelkit.io._raw import RawRecording, describe_exception, fail
-from taxelkit.io.chunked_npz import SCALARS, FortranOrder, Layout, item_bytes, open_npz
+from taxelkit.io.chunked_h5 import open_h5
+from taxelkit.io.chunked_npz import FortranOrder, Layout, open_npz
 from taxelkit.io.limits import ReadBudget
-from taxelkit.io.limits_h5 import check_h5_attribute, check_h5_dataset, h5_node
 from taxelkit.io.packed_chunk import PackedChunk, unpack_rows
 from taxelkit.io.recording_codecs import PACKED_COLS_ATTR, PACKED_FRAMES
 from taxelkit.io.recordings import (
@@ -64,7 +63,6 @@ __all__ = [
 
 #: Frames per chunk by default: 65,536 frames of 16 x 16 are 16 MiB as bool.
 DEFAULT_CHUNK_FRAMES = 65536
-_UNLIMITED = sys.maxsize
 #: Largest ratio of the frames' declared bytes to the file's size that is read
 #: without raising the limit: gzip packs zeros about 1000x, real recordings of
 #: contact frames (packed) 3-30x, so a file declaring more is taken for a
@@ -371,7 +369,7 @@ def open_chunks(path: str | os.PathLike[str], *, pitch_mm: float | None = None) 
         if suffix == ".npz":
             open_npz(rec, head)
         else:
-            _open_h5(rec)
+            open_h5(rec)
     except FortranOrder:
         rec.close()
         rec = ChunkedRecording(p, override)
@@ -398,63 +396,3 @@ def open_chunks(path: str | os.PathLike[str], *, pitch_mm: float | None = None) 
             f"{limit / 2**20:.4g} MiB; raise the limit with --max-mb or TAXELKIT_MAX_MB",
         )
     return rec
-
-
-def _open_h5(rec: ChunkedRecording) -> None:
-    path = rec.path
-    try:
-        root = rec._stack.enter_context(h5py.File(path, "r"))
-        budget = ReadBudget(path)
-        for name in SCALARS:
-            if name in root.attrs:
-                check_h5_attribute(path, root.attrs, name, budget)
-                rec._scalars[name] = root.attrs[name]
-            elif (node := h5_node(path, root, name)) is not None:
-                check_h5_dataset(path, name, node, budget)
-                rec._scalars[name] = node[()]
-        structure = ReadBudget(path, limit=_UNLIMITED)  # sizes are checked per chunk
-        frames = h5_node(path, root, "frames")
-        packed = frames is None and (frames := h5_node(path, root, PACKED_FRAMES)) is not None
-        if frames is None:
-            found = ", ".join(root.keys()) or "nothing"
-            raise fail(CorruptRecordingError, path, f"no 'frames' array (the file holds: {found})")
-        name = PACKED_FRAMES if packed else "frames"
-        if not isinstance(frames, h5py.Dataset):
-            raise fail(
-                CorruptRecordingError, path, f"{name!r} is an HDF5 group, expected a dataset"
-            )
-        check_h5_dataset(path, name, frames, structure)
-        t_s = h5_node(path, root, "t_s")
-        if t_s is not None:
-            if not isinstance(t_s, h5py.Dataset):
-                raise fail(CorruptRecordingError, path, "'t_s' is an HDF5 group, not a dataset")
-            check_h5_dataset(path, "t_s", t_s, structure)
-        shape = tuple(frames.shape)
-        if len(shape) != 3:
-            raise fail(InvalidRecordingError, path, f"frames must be (T, rows, cols), got {shape}")
-        cols = shape[2]
-        if packed:
-            cols = int(frames.attrs.get(PACKED_COLS_ATTR, 8 * shape[2]))
-            if frames.dtype != np.uint8 or not 8 * shape[2] - 8 < cols <= 8 * shape[2]:
-                raise fail(
-                    InvalidRecordingError,
-                    path,
-                    f"{PACKED_FRAMES} must be uint8 with {PACKED_COLS_ATTR} in "
-                    f"({8 * shape[2] - 8}, {8 * shape[2]}], got {frames.dtype} and {cols}",
-                )
-            rec._scalars.setdefault("units", "contact")
-        if t_s is not None and tuple(t_s.shape) != (shape[0],):
-            raise fail(
-                InvalidRecordingError,
-                path,
-                f"t_s must have {shape[0]} entries (one per frame), got shape {t_s.shape}",
-            )
-    except TaxelkitError:
-        raise
-    except Exception as exc:
-        raise fail(
-            CorruptRecordingError, path, f"not a readable HDF5 file ({describe_exception(exc)})"
-        ) from exc
-    rec._frames, rec._t_s = frames, t_s
-    item = 1 if packed else item_bytes(frames.dtype)
-    rec.layout = Layout(int(shape[0]), (int(shape[1]), int(cols)), packed, shape[1] * cols * item)
