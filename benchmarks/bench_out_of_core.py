@@ -7,8 +7,10 @@ see ``docs/recording-format.md``), by repeating a block of randomised rolling
 scenarios of the six objects (each contact is touched, rolled and lifted).
 It is then recognised, each in a fresh subprocess whose CPU time
 (``time.process_time``, so that other work on a shared machine does not count)
-and peak resident memory (``resource.getrusage(RUSAGE_SELF).ru_maxrss``) are
-reported:
+and peak resident memory (``VmHWM`` of ``/proc/self/status``, the process's
+own high-water mark; ``ru_maxrss`` where there is no ``/proc``: on Linux it
+keeps the peak of the parent the child was forked from, which holds the
+frames this script writes) are reported:
 
 * out-of-core: :func:`taxelkit.io.chunked_read.open_chunks` read chunk by chunk
   into :class:`taxelkit.smart.recognise_chunks.ChunkRecogniser` (the rows kept
@@ -52,7 +54,19 @@ from taxelkit.smart.tacteme_table import OBJECTS  # noqa: E402
 
 RATE_HZ = BONNEVILLE_16X16.max_rate_hz
 
-_OUT_OF_CORE = """
+_PEAK = """
+import resource
+def peak_mb():
+    try:
+        with open("/proc/self/status") as fh:
+            return int(fh.read().split("VmHWM:")[1].split()[0]) / 1024
+    except (OSError, IndexError, ValueError):
+        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+"""
+
+_OUT_OF_CORE = (
+    _PEAK
+    + """
 import json, resource, sys, time
 from taxelkit.io.chunked_read import open_chunks
 from taxelkit.smart.recognise_chunks import ChunkRecogniser
@@ -71,11 +85,14 @@ print(json.dumps({
     "frames": result.n_frames, "seconds": seconds, "events": len(result.events),
     "digest": [(e.kind, e.frame, str(e.value)) for e in result.events[-50:]],
     "identified": result.identified, "segments": int(result.segments.class_code.size),
-    "maxrss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+    "maxrss_mb": peak_mb(),
 }))
 """
+)
 
-_IN_MEMORY = """
+_IN_MEMORY = (
+    _PEAK
+    + """
 import json, resource, sys, time
 from taxelkit.io.limits import read_limit
 from taxelkit.io.recordings import read_recording
@@ -89,9 +106,10 @@ print(json.dumps({
     "frames": rec.n_frames, "seconds": seconds, "events": len(result.events),
     "digest": [(e.kind, e.frame, str(e.value)) for e in result.events[-50:]],
     "identified": result.identified,
-    "maxrss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+    "maxrss_mb": peak_mb(),
 }))
 """
+)
 
 
 def base_block(n_scenarios: int) -> np.ndarray:
