@@ -20,7 +20,7 @@ from taxelkit.experiments.new_objects import (
     NewObjectsResult,
     run_new_objects,
 )
-from taxelkit.experiments.robustness_heldout import HELD_OUT_OFFSET
+from taxelkit.experiments.robustness_heldout import HELD_OUT_OFFSET, held_out_json
 
 __all__ = ["HeldOutNewObjects", "run_new_objects_heldout"]
 
@@ -41,12 +41,7 @@ class HeldOutNewObjects:
 
     def to_json(self) -> dict[str, Any]:
         """The ``new-objects`` document, marked ``new-objects-heldout`` with both seeds."""
-        return {
-            **self.result.to_json(),
-            "experiment": "new-objects-heldout",
-            "tuned_on_seed": self.seed,
-            "held_out_seed": self.seed + HELD_OUT_OFFSET,
-        }
+        return held_out_json(self.result.to_json(), self.seed, experiment="new-objects-heldout")
 
 
 def run_new_objects_heldout(

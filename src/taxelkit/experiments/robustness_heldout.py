@@ -29,25 +29,29 @@ __all__ = ["HELD_OUT_OFFSET", "HeldOutRobustness", "held_out_json", "run_robustn
 HELD_OUT_OFFSET = 11
 
 
-def held_out_json(doc: dict[str, Any], seed: int) -> dict[str, Any]:
-    """A robustness document marked as the held-out sweep of ``seed``.
+def held_out_json(
+    doc: dict[str, Any], seed: int, *, experiment: str = "robustness-heldout"
+) -> dict[str, Any]:
+    """An experiment's document marked as its held-out run for ``seed``.
 
     Parameters
     ----------
     doc : dict
-        :meth:`RobustnessResult.to_json` of the sweep run on ``seed + HELD_OUT_OFFSET``.
+        The experiment's JSON (for example :meth:`RobustnessResult.to_json`)
+        from its run on ``seed + HELD_OUT_OFFSET``.
     seed : int
         The seed the thresholds were set on (the CLI's ``--seed``).
+    experiment : str
+        The held-out experiment's registry name.
 
     Returns
     -------
     dict
-        ``doc`` with ``experiment`` set to ``"robustness-heldout"``, and
-        ``tuned_on_seed`` and ``held_out_seed``.
+        ``doc`` with ``experiment`` set, and ``tuned_on_seed`` and ``held_out_seed``.
     """
     return {
         **doc,
-        "experiment": "robustness-heldout",
+        "experiment": experiment,
         "tuned_on_seed": int(seed),
         "held_out_seed": int(seed) + HELD_OUT_OFFSET,
     }
