@@ -11,7 +11,7 @@ import pytest
 from taxelkit.cli import run
 from taxelkit.errors import InputError
 from taxelkit.frames import TactileFrames
-from taxelkit.io.recordings import write_recording
+from taxelkit.io.recordings import read_recording, write_recording
 from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.motion.scenarios import make_scenario
 from taxelkit.sensors.presets import BONNEVILLE_16X16
@@ -130,6 +130,31 @@ def test_recognize_one_object_without_contact(
     assert_valid("cli-recognize", doc)
     assert run(["recognize", str(path), "--one-object"]) == 0
     assert "one object: nothing (no contact accepted)" in capsys.readouterr().out
+
+
+def test_simulate_roll_handlings_then_recognize_one_object(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "three.npz"
+    argv = ["simulate", "roll", "--object", "cube", "--seed", "4", "--handlings", "3"]
+    assert run([*argv, "--contact", "--out", str(out)]) == 0
+    assert "3 handlings" in capsys.readouterr().out
+    rec = read_recording(out)
+    one = [read_recording(tmp_path / f"h{k}.npz") for k in range(3) if _roll_one(tmp_path, k)]
+    assert rec.n_frames == sum(r.n_frames for r in one)
+    assert np.array_equal(rec.frames, np.concatenate([r.frames for r in one]))
+    assert np.all(np.diff(rec.t_s) > 0)
+    capsys.readouterr()
+    assert run(["recognize", str(out), "--json", "--one-object"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["one_object"]["contacts"] >= 3
+    assert doc["one_object"]["identified"] in ("cube", None)
+
+
+def _roll_one(folder: Path, k: int) -> bool:
+    """Handling ``k`` of the three above alone (seed 4 + k)."""
+    argv = ["simulate", "roll", "--object", "cube", "--seed", str(4 + k), "--contact"]
+    return run([*argv, "--out", str(folder / f"h{k}.npz")]) == 0
 
 
 def test_recognize_one_object_refuses_live(capsys: pytest.CaptureFixture[str]) -> None:

@@ -266,7 +266,8 @@ from taxelkit.cli.learn import learn_object  # noqa: E402
 from taxelkit.cli.paper000 import memorise, trace  # noqa: E402
 from taxelkit.cli.reproduce import reproduce  # noqa: E402
 from taxelkit.cli.simulate import demo, simulate  # noqa: E402
-from taxelkit.cli.smart import recognize, roll  # noqa: E402
+from taxelkit.cli.simulate_roll import roll  # noqa: E402
+from taxelkit.cli.smart import recognize  # noqa: E402
 from taxelkit.cli.sources import sources  # noqa: E402
 
 simulate.add_command(roll)
