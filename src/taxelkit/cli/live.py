@@ -25,24 +25,20 @@ sensor bank; events and the summary name the array.
 
 from __future__ import annotations
 
-import contextlib
 import logging
 import math
-import signal
-import threading
-import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from taxelkit.cli.live_loop import EXIT_INTERRUPTED, EXIT_OK, EXIT_TERMINATED, run_live
 from taxelkit.cli.live_record import Recorder
 from taxelkit.cli.view import ViewTarget, with_view
 from taxelkit.errors import InputError, check_positive
 from taxelkit.io.datagram_batch import FrameBatch
 from taxelkit.io.frame_protocol import MAX_ARRAY_ID, PayloadType
-from taxelkit.io.live_sources import FrameSource, LiveTimeoutError
 from taxelkit.io.source_plugins import resolve_source
 from taxelkit.smart.elimination import Event
 from taxelkit.smart.recognise_chunks import ChunkRecogniser
@@ -56,25 +52,14 @@ __all__ = [
     "recognize_live",
 ]
 
-#: Exit code after ``max_frames`` frames, the end of the stream, or a quiet device.
-EXIT_OK = 0
-#: Exit code after Ctrl-C or SIGINT (128 + 2), once the summary has been printed.
-EXIT_INTERRUPTED = 130
-#: Exit code after SIGTERM (128 + 15), once the summary has been printed.
-EXIT_TERMINATED = 143
 #: Frames whose sender index and time are kept to print events (1 MiB): an event
 #: about an older frame prints index -1 and time nan.
 WIRE_HISTORY_FRAMES = 2**16
-#: Longest wait in one read, s: how soon a signal or a timeout is noticed.
-_POLL_S = 0.1
-_STOPS = {signal.SIGINT: ("interrupted", EXIT_INTERRUPTED)}
-if hasattr(signal, "SIGTERM"):
-    _STOPS[signal.SIGTERM] = ("terminated", EXIT_TERMINATED)
 
 logger = logging.getLogger(__name__)
 
 if TYPE_CHECKING:
-    from taxelkit.cli.live_bank import BankRun
+    pass
 
 
 def format_event(event: Event, index: int, t_s: float) -> str:
@@ -87,36 +72,6 @@ def format_event(event: Event, index: int, t_s: float) -> str:
     """
     value = event.value if isinstance(event.value, str) else ",".join(event.value) or "-"
     return f"{t_s:10.3f} s  frame {index}  {event.kind} {value}"
-
-
-class _Stop:
-    """The signal that asked the run to stop, if any."""
-
-    def __init__(self) -> None:
-        self.signum: int | None = None
-
-    def __call__(self, signum: int, frame: Any) -> None:
-        self.signum = signum
-
-
-@contextlib.contextmanager
-def _stop_on_signals() -> Iterator[_Stop]:
-    """SIGINT and SIGTERM set a flag instead of killing the run (main thread only).
-
-    The handlers are installed whatever the inherited disposition: a command
-    started in the background by a shell inherits SIGINT ignored, and would
-    otherwise never stop on it.
-    """
-    stop = _Stop()
-    if threading.current_thread() is not threading.main_thread():
-        yield stop
-        return
-    previous = {sig: signal.signal(sig, stop) for sig in _STOPS}
-    try:
-        yield stop
-    finally:
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
 
 
 class _LiveRun:
@@ -315,7 +270,7 @@ def recognize_live(
         from taxelkit.cli.live_bank import BankRun, background
 
         bank = BankRun(arrays, pitch, threshold)
-        return _run_live(lambda: background(opener()), bank, max_frames, idle, echo)
+        return run_live(lambda: background(opener()), bank, max_frames, idle, echo)
     recorder = None
     if record is not None:
         if record.suffix.lower() not in (".h5", ".hdf5"):
@@ -326,14 +281,14 @@ def recognize_live(
             raise OutputExistsError(f"{record}: exists; pass --force to replace it")
         recorder = Recorder(record, pitch, force)
     if not target.wanted:
-        return _run_live(opener, _LiveRun(pitch, threshold, None, recorder), max_frames, idle, echo)
+        return run_live(opener, _LiveRun(pitch, threshold, None, recorder), max_frames, idle, echo)
     from taxelkit.viewer.rerun_view import RerunView
 
     def session(where: ViewTarget) -> int:
         view = RerunView(save_path=where.save_path, spawn=where.spawn, connect_url=where.url)
         run = _LiveRun(pitch, threshold, view, recorder)
         try:
-            return _run_live(opener, run, max_frames, idle, echo)
+            return run_live(opener, run, max_frames, idle, echo)
         finally:
             if run.sensor is not None and run.frames:
                 from taxelkit.smart.recogniser import Recognition
@@ -347,72 +302,3 @@ def recognize_live(
             view.close()
 
     return with_view(target, session, force=force)
-
-
-def _run_live(
-    opener: Callable[[], FrameSource],
-    run: _LiveRun | BankRun,
-    max_frames: int | None,
-    idle: float | None,
-    echo: Callable[[str], None],
-) -> int:
-    """The receive loop: batches to the sensor, lines to ``echo``, then the summary."""
-    with _stop_on_signals() as stop, opener() as src:
-        why, code = "end of stream", EXIT_OK
-        try:
-            why, code = _receive(src, run, max_frames, idle, echo, stop)
-        except KeyboardInterrupt:  # SIGINT outside the main thread's handler
-            why, code = "interrupted", EXIT_INTERRUPTED
-        finally:
-            recorded = "" if run.recorder is None else f"; {run.recorder.close()}"
-        for line in run.finish():
-            echo(line)
-        s = src.stats
-        counts = (
-            f"damaged packets skipped: {s.corrupted}, frame indices missing: {s.missing}, "
-            f"bytes skipped: {s.bytes_skipped}"
-        )
-        dropped = int(getattr(src, "dropped", 0))  # a BackgroundReceiver's full queue
-        if dropped:
-            counts += f", datagrams dropped by a full queue: {dropped}"
-        echo(run.summary(counts, why) + recorded)
-    return code
-
-
-def _receive(
-    src: FrameSource,
-    run: _LiveRun | BankRun,
-    max_frames: int | None,
-    idle: float | None,
-    echo: Callable[[str], None],
-    stop: _Stop,
-) -> tuple[str, int]:
-    """Read until the end, a limit, a quiet device or a signal; why it ended and the code."""
-    last = time.monotonic()
-    while True:
-        if stop.signum is not None:
-            return _STOPS[signal.Signals(stop.signum)]
-        wait = _POLL_S if idle is None else max(0.0, min(_POLL_S, last + idle - time.monotonic()))
-        batches = src.poll_batches(wait)
-        if not batches:
-            if src.at_end:
-                return "end of stream", EXIT_OK
-            if idle is not None and time.monotonic() - last >= idle:
-                if run.sensor is None:
-                    s = src.stats
-                    raise LiveTimeoutError(
-                        f"no frame from {src.description} for {idle:g} s ({s.bytes_received} "
-                        f"bytes received, {s.frames} frames, {s.corrupted} damaged packets)"
-                    )
-                return f"no frame for {idle:g} s", EXIT_OK
-            continue
-        for batch in batches:
-            if max_frames is not None and run.frames + batch.n_frames >= max_frames:
-                keep = max_frames - run.frames
-                batch = batch.take(np.arange(keep))
-                for line in run.push(batch):
-                    echo(line)
-                return f"stopped after {max_frames} frames", EXIT_OK
-            for line in run.push(batch):
-                echo(line)
-        last = time.monotonic()  # the wait starts once the frames are processed
