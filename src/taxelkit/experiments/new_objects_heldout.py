@@ -12,36 +12,11 @@ saw) and other explorations. Nothing else differs.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
-from typing import Any
 
-from taxelkit.experiments.new_objects import (
-    EXPLORE_HANDLINGS,
-    NewObjectsResult,
-    run_new_objects,
-)
-from taxelkit.experiments.robustness_heldout import HELD_OUT_OFFSET, held_out_json
+from taxelkit.experiments.new_objects import EXPLORE_HANDLINGS, run_new_objects
+from taxelkit.experiments.robustness_heldout import HELD_OUT_OFFSET, HeldOut
 
-__all__ = ["HeldOutNewObjects", "run_new_objects_heldout"]
-
-
-@dataclass(frozen=True, eq=False)
-class HeldOutNewObjects:
-    """``new-objects`` on the held-out seed.
-
-    Attributes
-    ----------
-    result : NewObjectsResult
-    seed : int
-        The seed the rules were set on; the trials ran on ``seed + HELD_OUT_OFFSET``.
-    """
-
-    result: NewObjectsResult
-    seed: int
-
-    def to_json(self) -> dict[str, Any]:
-        """The ``new-objects`` document, marked ``new-objects-heldout`` with both seeds."""
-        return held_out_json(self.result.to_json(), self.seed, experiment="new-objects-heldout")
+__all__ = ["run_new_objects_heldout"]
 
 
 def run_new_objects_heldout(
@@ -52,7 +27,7 @@ def run_new_objects_heldout(
     handlings: int = EXPLORE_HANDLINGS,
     workers: int | None = None,
     progress: Callable[[int, int], None] | None = None,
-) -> HeldOutNewObjects:
+) -> HeldOut:
     """Run :func:`~taxelkit.experiments.new_objects.run_new_objects` on ``seed + HELD_OUT_OFFSET``.
 
     Parameters
@@ -64,7 +39,9 @@ def run_new_objects_heldout(
 
     Returns
     -------
-    HeldOutNewObjects
+    HeldOut
+        ``to_json()``: the ``new-objects`` document marked ``new-objects-heldout``
+        with ``tuned_on_seed`` and ``held_out_seed``.
     """
     result = run_new_objects(
         seed=int(seed) + HELD_OUT_OFFSET,
@@ -74,4 +51,4 @@ def run_new_objects_heldout(
         workers=workers,
         progress=progress,
     )
-    return HeldOutNewObjects(result, int(seed))
+    return HeldOut(result, int(seed), "new-objects-heldout")

@@ -19,11 +19,16 @@ from typing import Any
 from taxelkit.experiments.robustness import (
     OTHER_ARRAYS,
     RATES_HZ,
-    RobustnessResult,
     run_robustness,
 )
 
-__all__ = ["HELD_OUT_OFFSET", "HeldOutRobustness", "held_out_json", "run_robustness_heldout"]
+__all__ = [
+    "HELD_OUT_OFFSET",
+    "HeldOut",
+    "HeldOutRobustness",
+    "held_out_json",
+    "run_robustness_heldout",
+]
 
 #: Offset of the held-out seed from the seed the thresholds were set on.
 HELD_OUT_OFFSET = 11
@@ -58,22 +63,30 @@ def held_out_json(
 
 
 @dataclass(frozen=True, eq=False)
-class HeldOutRobustness:
-    """The robustness sweep on the held-out seed.
+class HeldOut:
+    """An experiment's result on the held-out seed.
 
     Attributes
     ----------
-    result : RobustnessResult
+    result : ExperimentResult
+        Anything with ``to_json()`` (the experiment's own result).
     seed : int
-        The seed the thresholds were set on; the sweep ran on ``seed + HELD_OUT_OFFSET``.
+        The seed the thresholds were set on; the run used ``seed + HELD_OUT_OFFSET``.
+    experiment : str
+        The held-out experiment's registry name.
     """
 
-    result: RobustnessResult
+    result: Any
     seed: int
+    experiment: str = "robustness-heldout"
 
     def to_json(self) -> dict[str, Any]:
-        """The robustness document of the held-out sweep (:func:`held_out_json`)."""
-        return held_out_json(self.result.to_json(), self.seed)
+        """The experiment's document marked as held out (:func:`held_out_json`)."""
+        return held_out_json(self.result.to_json(), self.seed, experiment=self.experiment)
+
+
+#: The robustness sweep on the held-out seed (``result``: a RobustnessResult).
+HeldOutRobustness = HeldOut
 
 
 def run_robustness_heldout(
@@ -115,4 +128,4 @@ def run_robustness_heldout(
         scheduler=scheduler,
         progress=progress,
     )
-    return HeldOutRobustness(result, int(seed))
+    return HeldOut(result, int(seed))
