@@ -18,7 +18,7 @@ import pytest
 from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.motion.slip_scenarios import make_partial_slip_scenario
 from taxelkit.sensors.presets import BONNEVILLE_16X16
-from taxelkit.smart import segment_scan, slip_batch, track_segment
+from taxelkit.smart import segment_head, slip_batch, track_segment
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.recognise_chunks import ChunkRecogniser
 from taxelkit.smart.recogniser import SmartSensor, recognise
@@ -250,7 +250,7 @@ def test_recognition_with_slips_is_the_same_with_the_per_frame_rule(
         return [(r.events, r.slips, r.verdict) for r in (batch, sensor.result(), chunks.result())]
 
     fast = everything()
-    for module in (segment_scan, track_segment, slip_batch):  # the streamed and whole segments'
+    for module in (segment_head, track_segment, slip_batch):  # the streamed and whole segments'
         monkeypatch.setattr(module, "SlipScanner", partial(SlipScanner, reference=True))
     assert fast == everything()
     assert fast[0][1]  # the roll did slip
