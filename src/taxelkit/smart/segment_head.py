@@ -10,8 +10,6 @@ and its slip scanner. :class:`SegmentHead` holds that part of
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numpy.typing import NDArray
 
@@ -19,7 +17,7 @@ from taxelkit.smart.slip import Slip
 from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_config import TactemeConfig
 from taxelkit.smart.tacteme_table import Tacteme
-from taxelkit.smart.tactemes import SegmentTrack
+from taxelkit.smart.tactemes import SegmentTrack, frames_for_interval
 from taxelkit.smart.track_geometry import grid_wobble_deg
 from taxelkit.smart.track_stream import RunningSum, drawn_length_mm, mean_axis_deg
 
@@ -95,8 +93,7 @@ class SegmentHead:
         dt = self._dt.get(k)
         if dt is None:
             dt = self._dt[k] = self._timing().frame_interval_s(k)
-        floor = k if minimum is None else minimum
-        return max(floor, math.ceil(seconds / dt - 1e-9)) if dt > 0 else floor
+        return frames_for_interval(dt, seconds, k if minimum is None else minimum)
 
     def frame_at(self, i: int) -> int:
         """Frame number of the segment's ``i``-th frame (``i`` within the first frames kept)."""

@@ -91,6 +91,7 @@ __all__ = [
     "TactemeConfig",
     "accepted_runs",
     "debounce_counts",
+    "frames_for_interval",
     "segment_tactemes",
 ]
 
@@ -152,6 +153,15 @@ def accepted_runs(
     return out
 
 
+def frames_for_interval(dt: float, seconds: float, floor: int) -> int:
+    """Frames covering ``seconds`` at the frame interval ``dt`` (s), at least ``floor``.
+
+    ``floor`` when the interval is unknown (``dt <= 0``); the time is rounded up,
+    less 1e-9 frames so that a span of whole frames is not counted one over.
+    """
+    return max(floor, math.ceil(seconds / dt - 1e-9)) if dt > 0 else floor
+
+
 @dataclass(frozen=True, eq=False)
 class SegmentTrack:
     """Level 1 statistics of one segment's frames, in order.
@@ -203,9 +213,9 @@ class SegmentTrack:
 
         The rate comes from the first ``k`` frames.
         """
-        floor = k if minimum is None else minimum
-        dt = self.frame_interval_s(k)
-        return max(floor, math.ceil(seconds / dt - 1e-9)) if dt > 0 else floor
+        return frames_for_interval(
+            self.frame_interval_s(k), seconds, k if minimum is None else minimum
+        )
 
 
 def _orthogonal_turn(centre: NDArray[np.float64], start: int, config: TactemeConfig) -> int | None:

@@ -15,7 +15,6 @@ a face's shape) run per segment on the segment's slice of the batch.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -32,10 +31,11 @@ from taxelkit.smart.tactemes import (
     TactemeConfig,
     _face_tactemes,
     _point_turn,
+    frames_for_interval,
 )
 from taxelkit.smart.track_geometry import anchors, axis_angle_deg, drawn_half_mm
 
-__all__ = ["batch_tactemes", "frames_for_interval"]
+__all__ = ["batch_tactemes"]
 
 _POINT, _LINE, _AREA = int(ContactClass.POINT), int(ContactClass.LINE), int(ContactClass.AREA)
 
@@ -44,11 +44,6 @@ Found = list[tuple[Tacteme, int]]
 PIECE_ROWS = 16384
 #: What a turning line's pivot may read (at most one of them per segment).
 _PIVOT_TACTEMES = (Tacteme.LC_SPINS, Tacteme.LCMT_ABOUT_END, Tacteme.LCMT_ARC)
-
-
-def frames_for_interval(dt: float, seconds: float, floor: int) -> int:
-    """:meth:`~taxelkit.smart.tactemes.SegmentTrack.frames_for` from the interval ``dt``, s."""
-    return max(floor, math.ceil(seconds / dt - 1e-9)) if dt > 0 else floor
 
 
 def batch_tactemes(items: Sequence[tuple[int, SegmentTrack]], config: TactemeConfig) -> list[Found]:

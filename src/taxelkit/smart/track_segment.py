@@ -21,8 +21,13 @@ from taxelkit.smart.slip import Slip
 from taxelkit.smart.slip_batch import batch_slip_scanners
 from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_table import Tacteme
-from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, segment_tactemes
-from taxelkit.smart.tactemes_batch import batch_tactemes, frames_for_interval
+from taxelkit.smart.tactemes import (
+    SegmentTrack,
+    TactemeConfig,
+    frames_for_interval,
+    segment_tactemes,
+)
+from taxelkit.smart.tactemes_batch import batch_tactemes
 from taxelkit.smart.track_geometry import drawn_half_mm, grid_wobble_deg
 
 __all__ = ["TrackSegment", "track_segments"]
