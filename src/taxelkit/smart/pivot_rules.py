@@ -54,11 +54,16 @@ def pivot_tacteme(
     ref: NDArray[np.intp],
     j_turn: int,
     hold: int,
-) -> tuple[int, Tacteme] | None:
-    """The pivot of a line that turned at ``j_turn``: ``(index, tacteme)`` or None.
+) -> list[tuple[int, Tacteme]]:
+    """The pivot verdicts of a line that turned at ``j_turn``: ``(index, tacteme)`` each.
 
     ``angle``, ``anchor`` and ``ref`` are the segment's smoothed axis (deg),
-    anchors and references (:func:`segment_tactemes`).
+    anchors and references (:func:`segment_tactemes`). Every verdict that is
+    sustained somewhere in the segment is returned, at its first sustained
+    index, in the order of the indices (ties in the order spins, about one
+    end, in an arc): a line whose pivot reads in two places (about one end,
+    later in an arc) gives both, so that no object whose row holds only one
+    of them is named from it.
     """
     k = int(config.debounce_frames)
     n = track.frames.size
@@ -77,7 +82,7 @@ def pivot_tacteme(
         j = first(sustained(verdict, pivot_hold), 0)
         if j is not None:
             pivots.append((start + j, tac))
-    return min(pivots) if pivots else None
+    return sorted(pivots, key=lambda found: found[0])
 
 
 def pivot_verdicts(

@@ -4,7 +4,7 @@
 :func:`~taxelkit.smart.pivots.pivot_fit` from one anchor on and runs the three
 pivot verdicts of :func:`~taxelkit.smart.tactemes.segment_tactemes` ("spins",
 "about one end", "in an arc") on frames as they arrive, with the same floats
-as the batch path.
+as the batch path; each verdict is looked for until it is found.
 """
 
 from __future__ import annotations
@@ -59,7 +59,13 @@ class PivotRun:
             ]
         ] = []
         self.verdicts = [Sustained(hold) for _ in range(3)]
-        self.found: tuple[int, Tacteme] | None = None
+        # (frame, tacteme) of each verdict sustained so far, in the order found
+        self.found: list[tuple[int, Tacteme]] = []
+
+    @property
+    def complete(self) -> bool:
+        """Every verdict has been found: later frames change nothing."""
+        return all(s.found is not None for s in self.verdicts)
 
     def ratios(
         self, rows: NDArray[np.float64]
@@ -117,10 +123,12 @@ class PivotRun:
         :func:`~taxelkit.smart.pivots.pivot_upper`), on frames turned
         more than ``turn_deg`` from the reference; in an arc from
         :func:`~taxelkit.smart.pivots.arc_ratio_limit` of the turn;
-        no verdict on lines drawn shorter than ``min_line_mm``.
+        no verdict on lines drawn shorter than ``min_line_mm``. Each verdict
+        is looked for until it is found (all three may be), as
+        :func:`~taxelkit.smart.pivot_rules.pivot_tacteme` does.
         """
         for ratio, error, arc_ratio, angle, frames, line_mm in self.pending:
-            if self.found is not None:
+            if self.complete:
                 break
             if frames.size == 0:
                 continue
@@ -148,11 +156,12 @@ class PivotRun:
             )
             hits = []
             for s, (tac, verdict) in zip(self.verdicts, verdicts, strict=True):
+                if s.found is not None:  # found before: its frame is emitted already
+                    continue
                 f = s.push(verdict, frames)
                 if f is not None:
                     hits.append((f, tac))
-            if hits:
-                self.found = min(hits)
+            self.found += sorted(hits, key=lambda hit: hit[0])
         self.pending = []
 
 
@@ -186,7 +195,7 @@ class LinePivot:
     def waiting(self) -> bool:
         """A verdict waits for the run's reference angle (see :meth:`close`)."""
         run = self.run
-        return run is not None and run.found is None and run.ref_angle is None and bool(run.pending)
+        return run is not None and not run.complete and run.ref_angle is None and bool(run.pending)
 
     def close(self, last_angle: float) -> None:
         """The segment ended: the waiting frames are judged against ``last_angle``."""
@@ -214,7 +223,7 @@ class LinePivot:
             if run is None or (run.start != a and (turn_seg is None or a <= turn_seg)):
                 run = self.run = PivotRun(a, self.hold, self.arc_w)
                 self._kept, self._kept_n = [], 0
-            if run.found is not None:
+            if run.complete:
                 continue
             r = run.start + self.w - 1
             if run.ref_angle is None and int(j[lo]) <= r < int(j[hi - 1]) + 1:

@@ -354,8 +354,7 @@ class SegmentScanner(SegmentHead):
 
     def _emit_pivot(self, new: list[tuple[Tacteme, int]]) -> list[tuple[Tacteme, int]]:
         piv = self._piv.run
-        if self._j_turn is not None and piv is not None and piv.found is not None:
-            frame, tac = piv.found
-            if not self._done & {Tacteme.LC_SPINS, Tacteme.LCMT_ABOUT_END, Tacteme.LCMT_ARC}:
+        if self._j_turn is not None and piv is not None:
+            for frame, tac in piv.found:  # each verdict once (_add), the run's in its order
                 self._add(new, tac, frame)
         return new

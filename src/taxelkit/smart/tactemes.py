@@ -341,9 +341,8 @@ def segment_tactemes(
             emit(Tacteme.LCMP, j_par)
         if j_turn is not None:
             emit(Tacteme.LCMT, j_turn)
-            pivot = pivot_tacteme(track, config, angle, anchor, ref, j_turn, hold)
-            if pivot is not None:
-                emit(pivot[1], pivot[0])
+            for j_pivot, tac in pivot_tacteme(track, config, angle, anchor, ref, j_turn, hold):
+                emit(tac, j_pivot)
     else:
         same = np.abs(area / area[ref] - 1.0) <= config.area_tolerance
         emit(Tacteme.AC_MOVES, first(sustained((moved > config.move_mm) & same, hold), 0))

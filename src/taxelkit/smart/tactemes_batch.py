@@ -240,7 +240,7 @@ def _line_hits(
         (Tacteme.LCMP, par),
         (Tacteme.LCMT, j_turn),
     ]
-    return out + list(pivots.items())  # at most one of them per segment
+    return out + list(pivots.items())  # each verdict sustained in a segment, at its first index
 
 
 def _pivots(
@@ -263,7 +263,8 @@ def _pivots(
     ``raw``, ``raw_theta``, ``raw_ext``: the group's unsmoothed centres (columns
     0-1) and half-lengths (column 6), axes and line extents (None: not all
     measured, each segment alone); ``w``: the group's smoothing window, frames.
-    Returns ``(segment, (index, tacteme))`` for those with a pivot verdict.
+    Returns ``(segment, (index, tacteme))`` for each pivot verdict sustained
+    in a segment (one segment may have several).
     """
     starts, lengths = runs.starts, runs.lengths
     k = int(config.debounce_frames)
@@ -278,8 +279,7 @@ def _pivots(
         found = pivot_tacteme(
             tracks[s], config, angle[a:b], anchor[a:b], ref[a:b], int(j_turn[s]), hold
         )
-        if found is not None:
-            out.append((s, found))
+        out += [(s, jt) for jt in found]
     if together.size == 0 or raw_ext is None:
         return out
     # the lines from each turn's anchor to the segment's end, laid end to end
@@ -310,7 +310,8 @@ def _pivots(
         for i, j in enumerate(js.tolist()):
             if j >= 0:
                 verdicts_of[i].append((int(first[i]) + j, tac))
-    out += [(s, min(v)) for s, v in zip(together.tolist(), verdicts_of, strict=True) if v]
+    for s, v in zip(together.tolist(), verdicts_of, strict=True):
+        out += [(s, jt) for jt in sorted(v, key=lambda found: found[0])]
     return out
 
 

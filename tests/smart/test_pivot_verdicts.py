@@ -1,0 +1,73 @@
+"""A turning line whose pivot reads in two places gets both verdicts (batch and streamed)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from taxelkit.frames import TactileFrames
+from taxelkit.smart.recognise_chunks import ChunkRecogniser
+from taxelkit.smart.recogniser import SmartSensor, recognise
+
+PITCH = 1.7625
+
+
+def end_then_arc_frames(far_mm: float) -> np.ndarray:
+    """A 20 mm line turning 30 deg about its own end, then 40 deg about a point behind it.
+
+    The second pivot lies ``far_mm`` behind the line's end (a truncated cone's
+    virtual apex at ``far_mm`` = 16: pivot ratio 2.6); ``far_mm`` = 0 keeps the
+    first pivot (a cone about its apex) throughout.
+    """
+    ax = (np.arange(16) - 7.5) * PITCH
+    x, y = np.meshgrid(ax, ax)
+    end = np.array([-9.0, -7.0])
+    poses = [(end, 0.0, 0.0)] * 10
+    poses += [(end, a, 0.0) for a in np.linspace(0.0, 30.0, 40)]
+    u = np.array([np.cos(np.deg2rad(30.0)), np.sin(np.deg2rad(30.0))])
+    pivot = end - far_mm * u
+    poses += [(pivot, a, far_mm) for a in np.linspace(30.0, 70.0, 60)[1:]]
+    poses += [poses[-1]] * 20
+    out = np.zeros((len(poses), 16, 16), dtype=bool)
+    for i, (p, deg, start) in enumerate(poses):
+        t = np.deg2rad(deg)
+        along = (x - p[0]) * np.cos(t) + (y - p[1]) * np.sin(t)
+        across = -(x - p[0]) * np.sin(t) + (y - p[1]) * np.cos(t)
+        out[i] = (np.abs(across) <= 0.9) & (along >= start) & (along <= start + 20.0)
+    return out
+
+
+def test_a_pivot_read_at_the_end_then_far_beyond_gives_both_verdicts() -> None:
+    """Both verdicts are sustained: cone and truncated cone are both ruled out, never named."""
+    frames = end_then_arc_frames(16.0)
+    rec = TactileFrames(frames, t_s=np.arange(frames.shape[0]) / 20.0, pitch_mm=PITCH)
+    res = recognise(rec, cleaning=None)
+    names = [n for n, _ in res.tactemes]
+    assert "LCMT about one end" in names and "LCMT in an arc" in names
+    assert names.index("LCMT about one end") < names.index("LCMT in an arc")
+    assert res.identified == "unknown" and res.candidates == ()
+    # the cone was named from "about one end" until "in an arc" ruled it out
+    named = [e.value for e in res.events if e.kind == "identified"]
+    assert named[:1] == ["cone"]
+    # streamed one frame at a time, in uneven chunks and out of core: the same events
+    sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None)
+    for f, t in zip(rec.frames, rec.t_s, strict=True):
+        sensor.push(f, t)
+    assert list(sensor.result().events) == list(res.events)
+    chunked = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None)
+    for part in np.array_split(np.arange(frames.shape[0]), 9):
+        chunked.push_many(rec.frames[part], rec.t_s[part])
+    assert list(chunked.result().events) == list(res.events)
+    chunks = ChunkRecogniser((16, 16), pitch_mm=PITCH, cleaning=None)
+    for part in np.array_split(np.arange(frames.shape[0]), 5):
+        chunks.push(rec.frames[part], rec.t_s[part])
+    assert list(chunks.result().events) == list(res.events)
+
+
+def test_a_pivot_that_stays_at_the_end_gives_one_verdict() -> None:
+    """The same turn about the end throughout: "about one end" alone, the cone named."""
+    frames = end_then_arc_frames(0.0)
+    rec = TactileFrames(frames, t_s=np.arange(frames.shape[0]) / 20.0, pitch_mm=PITCH)
+    res = recognise(rec, cleaning=None)
+    names = [n for n, _ in res.tactemes]
+    assert "LCMT about one end" in names and "LCMT in an arc" not in names
+    assert res.identified == "cone"
