@@ -21,9 +21,9 @@ from taxelkit.io.limits import (
     ReadBudget,
     max_read_bytes,
     read_limit,
-    read_npz,
 )
 from taxelkit.io.limits_h5 import check_h5_dataset, h5_node
+from taxelkit.io.npz_read import read_npz
 from taxelkit.io.recordings import read_recording
 from tests.fuzz.corpus import npy_bytes, zip_of
 

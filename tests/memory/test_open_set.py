@@ -10,15 +10,17 @@ import pytest
 
 from taxelkit.errors import InputError
 from taxelkit.memory import AssociativeMemory, ChainCodeConfig, open_set
+from taxelkit.memory.calibration import (
+    expected_calibration_error,
+    fit_temperature,
+    probabilities_from_scores,
+)
 from taxelkit.memory.open_set import (
     OpenSetCalibration,
     compactness_from_points,
     decided_at_s,
-    expected_calibration_error,
     fit_open_set,
-    fit_temperature,
     open_set_from_recall,
-    probabilities_from_scores,
 )
 
 

@@ -9,7 +9,8 @@ import pytest
 import trimesh
 
 from taxelkit.learn.examples import example_mesh
-from taxelkit.motion.mesh_scenarios import make_mesh_scenario, roll_path
+from taxelkit.motion.mesh_roll import roll_path
+from taxelkit.motion.mesh_scenarios import make_mesh_scenario
 from taxelkit.motion.rolling import Pose
 from taxelkit.world.mesh_features import mesh_features
 from taxelkit.world.mesh_solid import MeshSolid

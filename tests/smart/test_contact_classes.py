@@ -17,7 +17,8 @@ from numpy.typing import NDArray
 import taxelkit.smart.contact_classes as classes_module
 from taxelkit.errors import InputError
 from taxelkit.experiments.contact_classes import features_of
-from taxelkit.motion.contact_samples import CONTACT_SCENARIOS, LabelledContacts, pressed_contacts
+from taxelkit.motion.contact_samples import LabelledContacts, pressed_contacts
+from taxelkit.motion.contact_scenarios import CONTACT_SCENARIOS
 from taxelkit.plotting.decision_regions import plot_decision_regions
 from taxelkit.sensors.array_geometry import TaxelArray
 from taxelkit.sensors.presets import BONNEVILLE_16X16

@@ -36,13 +36,13 @@ from numpy.typing import NDArray
 from taxelkit.experiments.paper000_common import IMPROVED, reference_memory, reference_traces
 from taxelkit.experiments.work_units import map_in_order
 from taxelkit.memory.associatron import AssociativeMemory
+from taxelkit.memory.calibration import expected_calibration_error
 from taxelkit.memory.contour_recall import prefix_codes
 from taxelkit.memory.open_set import (
     OpenSetCalibration,
     OpenSetResult,
     compactness_from_points,
     decided_at_s,
-    expected_calibration_error,
     fit_open_set,
     open_set_from_recall,
 )

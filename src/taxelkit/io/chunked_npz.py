@@ -17,7 +17,8 @@ import numpy as np
 
 from taxelkit.errors import CorruptRecordingError, InvalidRecordingError, TaxelkitError
 from taxelkit.io._raw import describe_exception, fail
-from taxelkit.io.limits import MAX_NPY_HEADER_BYTES, ReadBudget, _members, _read_header
+from taxelkit.io.limits import MAX_NPY_HEADER_BYTES, ReadBudget
+from taxelkit.io.npz_read import npy_header, npz_members
 from taxelkit.io.recording_codecs import sniff
 
 if TYPE_CHECKING:
@@ -55,12 +56,12 @@ def open_npz(rec: ChunkedRecording, head: bytes) -> None:
         raise fail(CorruptRecordingError, path, "not an .npz file (no zip archive signature)")
     try:
         archive = rec._stack.enter_context(zipfile.ZipFile(path))
-        members = _members(path, archive)
+        members = npz_members(path, archive)
         budget = ReadBudget(path)
         for name in SCALARS:
             if name in members:
                 with archive.open(members[name]) as fh:
-                    shape, dtype = _read_header(path, name, fh)
+                    shape, dtype = npy_header(path, name, fh)
                 budget.take(name, shape, dtype)
                 with archive.open(members[name]) as fh:
                     rec._scalars[name] = np.lib.format.read_array(
@@ -108,7 +109,7 @@ def open_npz(rec: ChunkedRecording, head: bytes) -> None:
 
 def _stream(rec: ChunkedRecording, archive: zipfile.ZipFile, info: zipfile.ZipInfo) -> IO[bytes]:
     fh = rec._stack.enter_context(archive.open(info))
-    _read_header(rec.path, info.filename, fh)
+    npy_header(rec.path, info.filename, fh)
     return fh
 
 
@@ -117,7 +118,7 @@ def _npz_array(
 ) -> tuple[Any, tuple[int, ...], np.dtype[Any]]:
     """A memory map of a stored member, else an open stream past its header."""
     fh = rec._stack.enter_context(archive.open(info))
-    shape, dtype = _read_header(rec.path, name, fh)
+    shape, dtype = npy_header(rec.path, name, fh)
     header = fh.tell()
     fh.seek(0)
     version = np.lib.format.read_magic(fh)

@@ -46,11 +46,8 @@ from taxelkit.io.chunked_npz import FortranOrder, Layout, open_npz
 from taxelkit.io.limits import ReadBudget
 from taxelkit.io.packed_chunk import PackedChunk, unpack_rows
 from taxelkit.io.recording_codecs import PACKED_COLS_ATTR, PACKED_FRAMES
-from taxelkit.io.recordings import (
-    _build,
-    _probe_input,
-    read_recording,
-)
+from taxelkit.io.recording_fields import build_frames
+from taxelkit.io.recordings import _probe_input, read_recording
 
 __all__ = [
     "DEFAULT_CHUNK_FRAMES",
@@ -215,7 +212,7 @@ class ChunkedRecording:
             )
             # frames read from HDF5 are new arrays (a memory-mapped member's are not)
             owned = isinstance(self._frames, h5py.Dataset)
-            chunk = _build(raw, self.path, self._override, owned=owned)
+            chunk = build_frames(raw, self.path, self._override, owned=owned)
             t_last = float(chunk.t_s[-1])
             if packed:
                 rows.setflags(write=False)

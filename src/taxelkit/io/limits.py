@@ -2,7 +2,8 @@
 
 Recordings, heightmaps, memories, meshes (and any future format) come from
 other people and programs. Every reader goes through the same steps, which
-this module provides so that new readers can call them too:
+this module provides (and :mod:`taxelkit.io.npz_read` for ``.npz`` archives)
+so that new readers can call them too:
 
 1. **Look before allocating.** A :class:`ReadBudget` is charged with the size
    of the file on disk and with the size every array *declares* (the ``.npy``
@@ -32,15 +33,13 @@ from __future__ import annotations
 import contextlib
 import math
 import os
-import zipfile
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Iterator
 from contextvars import ContextVar
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import IO, Any
+from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from taxelkit.errors import (
     CorruptRecordingError,
@@ -48,8 +47,6 @@ from taxelkit.errors import (
     InputError,
     RecordingAccessError,
     RecordingNotFoundError,
-    TaxelkitError,
-    UnsafeFileError,
 )
 from taxelkit.io._raw import describe_exception, fail
 
@@ -61,7 +58,6 @@ __all__ = [
     "max_read_bytes",
     "open_budget",
     "read_limit",
-    "read_npz",
 ]
 
 #: Default read limit, MiB per file: the file on disk, and the arrays it
@@ -261,166 +257,3 @@ def open_budget(path: Path, *, what: str) -> ReadBudget:
     budget = ReadBudget(path)
     budget.check_file_size(info.st_size)
     return budget
-
-
-# ----------------------------------------------------------------------------- npz
-@dataclass(frozen=True)
-class _Member:
-    info: zipfile.ZipInfo
-    shape: tuple[int, ...]
-    dtype: np.dtype[Any]
-
-
-def _read_header(path: Path, name: str, fh: IO[bytes]) -> tuple[tuple[int, ...], np.dtype[Any]]:
-    version = np.lib.format.read_magic(fh)
-    if version == (1, 0):
-        shape, _, dtype = np.lib.format.read_array_header_1_0(fh, MAX_NPY_HEADER_BYTES)
-    elif version == (2, 0):
-        shape, _, dtype = np.lib.format.read_array_header_2_0(fh, MAX_NPY_HEADER_BYTES)
-    else:
-        raise fail(
-            CorruptRecordingError,
-            path,
-            f"array {name!r} uses .npy format version {version}; expected 1.0 or 2.0",
-        )
-    if dtype.hasobject:
-        raise fail(
-            CorruptRecordingError,
-            path,
-            f"array {name!r} holds Python objects (a pickle), which taxelkit never loads",
-        )
-    if dtype.fields is not None or dtype.kind not in "biufcUS":
-        raise fail(CorruptRecordingError, path, f"array {name!r} has unsupported dtype {dtype}")
-    return tuple(int(n) for n in shape), dtype
-
-
-def _members(path: Path, archive: zipfile.ZipFile) -> dict[str, zipfile.ZipInfo]:
-    infos = archive.infolist()
-    if len(infos) > MAX_NPZ_MEMBERS:
-        raise fail(
-            CorruptRecordingError,
-            path,
-            f"the archive holds {len(infos)} members; an .npz file taxelkit reads holds at "
-            f"most {MAX_NPZ_MEMBERS}",
-        )
-    out: dict[str, zipfile.ZipInfo] = {}
-    for info in infos:
-        name = info.filename
-        if "/" in name or "\\" in name or name.startswith(".") or ":" in name:
-            raise fail(
-                UnsafeFileError,
-                path,
-                f"archive member {name[:60]!r} has a path; an .npz holds only top-level "
-                f"NAME.npy arrays",
-            )
-        key = name.removesuffix(".npy")
-        if key in out:
-            raise fail(CorruptRecordingError, path, f"archive holds {key!r} twice")
-        out[key] = info
-    return out
-
-
-@dataclass(frozen=True)
-class NpzContents:
-    """What :func:`read_npz` read.
-
-    Parameters
-    ----------
-    arrays : mapping of str to ndarray
-        The requested arrays the file holds.
-    names : tuple of str
-        Names of every array in the archive, in stored order.
-    """
-
-    arrays: Mapping[str, NDArray[Any]]
-    names: tuple[str, ...]
-
-
-def read_npz(path: Path, names: Iterable[str], *, what: str) -> NpzContents:
-    """Read named arrays from an ``.npz`` file under the read limit.
-
-    The sizes that the ``.npy`` headers of the requested members declare are
-    checked (against the member's stored size and the read limit) before any
-    array is allocated; object arrays are refused without unpickling.
-
-    Parameters
-    ----------
-    path : pathlib.Path
-        The file.
-    names : iterable of str
-        Arrays to read; absent ones are left out of the result.
-    what : str
-        What the file should be (``"recording"``, ``"heightmap"``,
-        ``"memory"``), for messages.
-
-    Returns
-    -------
-    NpzContents
-
-    Raises
-    ------
-    RecordingNotFoundError, RecordingAccessError
-        If the path is missing or not a regular file.
-    FileTooLargeError
-        If the file or its requested arrays exceed :func:`max_read_bytes`.
-    UnsafeFileError
-        If an archive member name carries a path.
-    CorruptRecordingError
-        If the file is empty, not a zip archive (a bare ``.npy`` included), is
-        truncated or damaged, or an array is an object array, of an
-        unsupported dtype, or larger than its stored bytes.
-    """
-    budget = open_budget(path, what=what)
-    try:
-        with path.open("rb") as fh:
-            magic = fh.read(6)
-    except OSError as exc:
-        raise fail(RecordingAccessError, path, f"cannot open ({describe_exception(exc)})") from None
-    if magic.startswith(b"\x93NUMPY"):
-        raise fail(
-            CorruptRecordingError,
-            path,
-            f"holds a single .npy array, not an .npz archive of named arrays as a {what} "
-            f"file must; save it with numpy.savez(path, name=array, ...)",
-        )
-    if not magic.startswith(b"PK"):
-        raise fail(CorruptRecordingError, path, f"not an .npz {what} file (no zip signature)")
-    try:
-        with zipfile.ZipFile(path) as archive:
-            members = _members(path, archive)
-            wanted = [n for n in dict.fromkeys(names) if n in members]
-            headers: dict[str, _Member] = {}
-            for name in wanted:
-                info = members[name]
-                with archive.open(info) as fh:
-                    shape, dtype = _read_header(path, name, fh)
-                    stored = info.file_size - fh.tell()
-                declared = math.prod(shape) * dtype.itemsize
-                if declared > stored:
-                    raise fail(
-                        CorruptRecordingError,
-                        path,
-                        f"array {name!r} declares shape {shape} of {dtype} "
-                        f"({declared} bytes) but stores {max(stored, 0)} bytes",
-                    )
-                budget.take(name, shape, dtype)
-                headers[name] = _Member(info, shape, dtype)
-            arrays: dict[str, NDArray[Any]] = {}
-            for name, member in headers.items():
-                with archive.open(member.info) as fh:
-                    arrays[name] = np.lib.format.read_array(
-                        fh, allow_pickle=False, max_header_size=MAX_NPY_HEADER_BYTES
-                    )
-    except TaxelkitError:
-        raise
-    except MemoryError:
-        raise fail(
-            FileTooLargeError, path, f"not enough memory to read the file; {_HOW_TO_RAISE}"
-        ) from None
-    except Exception as exc:  # zipfile, zlib and numpy report damage in many ways
-        raise fail(
-            CorruptRecordingError,
-            path,
-            f"unreadable .npz {what} file ({describe_exception(exc)})",
-        ) from None
-    return NpzContents(arrays, tuple(members))

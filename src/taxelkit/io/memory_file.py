@@ -15,7 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from taxelkit.errors import CorruptRecordingError, InputError
-from taxelkit.io.limits import ReadBudget, read_npz
+from taxelkit.io.limits import ReadBudget
+from taxelkit.io.npz_read import read_npz
 from taxelkit.memory.associatron import AssociativeMemory
 
 __all__ = ["MEMORY_ARRAYS", "read_memory"]

@@ -25,8 +25,9 @@ from taxelkit.errors import (
 from taxelkit.frames import CONTACT_UNITS, TactileFrames
 from taxelkit.io._raw import RECORDING_FIELDS, RawRecording, describe_exception, fail
 from taxelkit.io.csv_format import read_csv_recording, write_csv_recording
-from taxelkit.io.limits import ReadBudget, read_npz
+from taxelkit.io.limits import ReadBudget
 from taxelkit.io.limits_h5 import check_h5_attribute, check_h5_dataset, h5_node
+from taxelkit.io.npz_read import read_npz
 
 __all__ = [
     "FORMATS",

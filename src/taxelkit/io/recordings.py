@@ -14,10 +14,8 @@ from __future__ import annotations
 import os
 import stat
 from pathlib import Path
-from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from taxelkit.errors import (
     CorruptRecordingError,
@@ -30,12 +28,10 @@ from taxelkit.errors import (
     check_positive,
     check_type,
 )
-from taxelkit.frames import CONTACT_UNITS, DEFAULT_PITCH_MM, TactileFrames
-from taxelkit.io._raw import RawRecording, describe_exception, fail
+from taxelkit.frames import TactileFrames
+from taxelkit.io._raw import describe_exception, fail
 from taxelkit.io.atomic import atomic_write
-from taxelkit.io.limits import (
-    ReadBudget,
-)
+from taxelkit.io.limits import ReadBudget
 from taxelkit.io.recording_codecs import (
     FORMATS,
     MAGIC_LENGTH,
@@ -45,6 +41,7 @@ from taxelkit.io.recording_codecs import (
     sniff,
     write_mcap,
 )
+from taxelkit.io.recording_fields import build_frames
 
 __all__ = [
     "BAG_SUFFIXES",
@@ -70,8 +67,6 @@ WRITABLE_FRAME_DTYPES = (
     np.dtype(np.float32),
     np.dtype(np.float64),
 )
-#: Default sensor name, as in :class:`~taxelkit.frames.TactileFrames`.
-_DEFAULT_SENSOR = "unknown"
 _CANONICAL_SUFFIX = {"npz": ".npz", "hdf5": ".h5", "csv": ".csv", "mcap": ".mcap"}
 _CONTENT_LABEL = {
     "npz": "an .npz archive",
@@ -164,105 +159,6 @@ def _probe_input(path: Path) -> tuple[int, bytes]:
     return info.st_size, head
 
 
-def _show(value: object) -> str:
-    if isinstance(value, np.ndarray):
-        return f"an array of shape {value.shape} and dtype {value.dtype}"
-    text = repr(value)
-    return text if len(text) <= 40 else text[:37] + "..."
-
-
-def _text_field(path: Path, name: str, value: object | None) -> str | None:
-    """A text scalar from ``str``, ``bytes`` or a one-element string array."""
-    if value is None:
-        return None
-    item = value
-    if isinstance(item, np.ndarray) and item.size == 1 and item.dtype.kind in "US":
-        item = item.reshape(()).item()
-    if isinstance(item, bytes):
-        try:
-            item = item.decode("utf-8")
-        except UnicodeDecodeError:
-            raise fail(InvalidRecordingError, path, f"{name} is not UTF-8 text") from None
-    if isinstance(item, str):
-        return str(item)
-    raise fail(InvalidRecordingError, path, f"{name} must be text, got {_show(value)}")
-
-
-def _number_field(path: Path, name: str, value: object | None) -> float | None:
-    """A real scalar from a number, a numeric string or a one-element array of either."""
-    if value is None:
-        return None
-    item = value
-    if isinstance(item, np.ndarray) and item.size == 1:
-        item = item.reshape(()).item()
-    if isinstance(item, bytes):
-        item = item.decode("utf-8", "replace")
-    if isinstance(item, str):
-        try:
-            return float(item)
-        except ValueError:
-            pass
-    elif isinstance(item, int | float | np.integer | np.floating) and not isinstance(
-        item, bool | np.bool_
-    ):
-        return float(item)
-    raise fail(InvalidRecordingError, path, f"{name} must be a single number, got {_show(value)}")
-
-
-def _build(
-    raw: RawRecording, path: Path, pitch_override: float | None, *, owned: bool = False
-) -> TactileFrames:
-    """Validate raw fields into a :class:`TactileFrames`, naming the file on failure.
-
-    ``owned``: the frames and times were just read into arrays that nothing
-    else holds; they are kept rather than copied (:meth:`TactileFrames.adopt`).
-    """
-    if raw.frames is None:
-        found = ", ".join(raw.found) if raw.found else "nothing"
-        raise fail(CorruptRecordingError, path, f"no 'frames' array (the file holds: {found})")
-    frames: NDArray[Any] = np.asarray(raw.frames)
-    if frames.ndim == 3 and frames.shape[0] == 0:
-        raise fail(EmptyRecordingError, path, f"holds zero frames (frames shape {frames.shape})")
-    if frames.ndim == 3 and 0 in frames.shape[1:]:
-        raise fail(
-            InvalidRecordingError,
-            path,
-            f"frames must have at least one row and one column, got shape {frames.shape}",
-        )
-    if frames.dtype.byteorder not in "=|":
-        frames = frames.astype(frames.dtype.newbyteorder("="))
-    units = _text_field(path, "units", raw.units)
-    sensor = _text_field(path, "sensor", raw.sensor)
-    if (raw.contact or units == CONTACT_UNITS) and frames.dtype.kind in "iuf":
-        if not np.all((frames == 0) | (frames == 1)):
-            raise fail(
-                InvalidRecordingError,
-                path,
-                f"frames must hold only 0 and 1 for units {CONTACT_UNITS!r}",
-            )
-        frames = frames != 0
-    if pitch_override is not None:
-        pitch = pitch_override
-    else:
-        stored = _number_field(path, "pitch_mm", raw.pitch_mm)
-        pitch = DEFAULT_PITCH_MM if stored is None else stored
-    t_s: NDArray[Any] | None = None
-    if raw.t_s is not None:
-        t_s = np.asarray(raw.t_s)
-        if t_s.dtype.kind not in "iuf":
-            raise fail(InvalidRecordingError, path, f"t_s must be numeric, got dtype {t_s.dtype}")
-    try:
-        return (TactileFrames.adopt if owned else TactileFrames)(
-            frames,
-            t_s,
-            pitch_mm=pitch,
-            units=units,
-            sensor=_DEFAULT_SENSOR if sensor is None else sensor,
-        )
-    except InputError as exc:
-        raise fail(InvalidRecordingError, path, str(exc)) from exc
-
-
 def _check_text_for_file(name: str, value: str) -> None:
     """Text fields must survive every format: one line, no NUL, no outer spaces, UTF-8."""
     try:
@@ -345,7 +241,7 @@ def read_recording(
     from taxelkit.io.bags import is_rosbag2_folder, raw_from_rosbag2
 
     if is_rosbag2_folder(p):
-        return _build(raw_from_rosbag2(p, topic=topic), p, override)
+        return build_frames(raw_from_rosbag2(p, topic=topic), p, override)
     size, head = _probe_input(p)
     fmt = _format_for(p)
     if size == 0:
@@ -353,10 +249,10 @@ def read_recording(
     ReadBudget(p).check_file_size(size)
     _check_signature(p, head, fmt)
     if fmt is MCAP:
-        return _build(read_mcap(p, head, topic), p, override)
+        return build_frames(read_mcap(p, head, topic), p, override)
     if topic is not None:
         raise InputError(f"{p}: a topic applies only to ROS 2 bags and MCAP files")
-    return _build(fmt.read(p, head), p, override)
+    return build_frames(fmt.read(p, head), p, override)
 
 
 def write_recording(

@@ -7,11 +7,11 @@ scores
     ``c_k`` of Eq. 14 against every stored shape ``k`` (best over rotations).
 probabilities
     ``p_k = softmax(c_k / T)`` over the stored shapes (temperature scaling,
-    Guo et al., ICML 2017). ``T`` (dimensionless, in units of ``c``) is fitted
-    by :func:`fit_temperature` to the negative log-likelihood of held-out
-    traces of the stored shapes (other seeds, poses and sizes than any
-    evaluation), at several traced fractions, so that a shape given 0.9 is
-    right about 90 % of the time.
+    Guo et al., ICML 2017). ``T`` (dimensionless, in units of ``c``) is
+    fitted by :func:`~taxelkit.memory.calibration.fit_temperature` to the
+    negative log-likelihood of held-out traces of the stored shapes (other
+    seeds, poses and sizes than any evaluation), at several traced
+    fractions, so that a shape given 0.9 is right about 90 % of the time.
 unknown
     A completed (closed) trace is "unknown" when its best score is below
     ``min_top_score``, or - when a reference is known - when its compactness
@@ -42,6 +42,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import InputError
+from taxelkit.memory.calibration import fit_temperature, probabilities_from_scores
 from taxelkit.memory.recall import RecallResult
 
 __all__ = [
@@ -52,11 +53,8 @@ __all__ = [
     "OpenSetResult",
     "compactness_from_points",
     "decided_at_s",
-    "expected_calibration_error",
     "fit_open_set",
-    "fit_temperature",
     "open_set_from_recall",
-    "probabilities_from_scores",
 ]
 
 #: Top probability from which a known trace is decided (dimensionless).
@@ -68,8 +66,6 @@ REJECTION_SLACK = 0.02
 #: The largest held-out compactness deviation ``|log(Q / Q_ref)|`` is widened
 #: by this factor to give ``compactness_tolerance`` (dimensionless).
 COMPACTNESS_TOLERANCE_FACTOR = 1.5
-#: Temperatures searched by :func:`fit_temperature` (log-spaced, units of ``c``).
-TEMPERATURE_GRID = np.geomspace(1e-3, 1.0, 301)
 
 
 @dataclass(frozen=True)
@@ -146,61 +142,6 @@ class OpenSetResult:
     recognised: tuple[str | None, ...]
     verdicts: tuple[str, ...]
     unknown_reasons: tuple[str, ...]
-
-
-def probabilities_from_scores(scores: ArrayLike, temperature: float) -> NDArray[np.float64]:
-    """Softmax ``exp(c_k / T) / sum_j exp(c_j / T)`` along the last axis.
-
-    Parameters
-    ----------
-    scores : (..., K) float
-        Correlations ``c`` (Eq. 14).
-    temperature : float
-        ``T`` > 0, units of ``c``.
-
-    Returns
-    -------
-    (..., K) float64
-        Rows sum to 1; equal scores get equal probabilities.
-
-    Examples
-    --------
-    >>> probabilities_from_scores([1.0, 1.0, 0.0], 1e-3).round(3).tolist()
-    [0.5, 0.5, 0.0]
-    """
-    if not (np.isfinite(temperature) and temperature > 0):
-        raise InputError(f"temperature must be a finite number > 0, got {temperature!r}")
-    z = np.asarray(scores, dtype=np.float64) / temperature
-    z = z - z.max(axis=-1, keepdims=True)
-    e = np.exp(z)
-    out: NDArray[np.float64] = e / e.sum(axis=-1, keepdims=True)
-    return out
-
-
-def fit_temperature(scores: ArrayLike, labels: ArrayLike) -> float:
-    """Temperature with the least negative log-likelihood of the true labels.
-
-    Parameters
-    ----------
-    scores : (Q, K) float
-        Held-out scores of traces of stored shapes.
-    labels : (Q,) int
-        Index of each trace's true shape.
-
-    Returns
-    -------
-    float
-        The best of :data:`TEMPERATURE_GRID`.
-    """
-    c = np.asarray(scores, dtype=np.float64)
-    y = np.asarray(labels, dtype=np.int64)
-    if c.ndim != 2 or y.shape != (c.shape[0],) or c.shape[0] == 0:
-        raise InputError(f"scores (Q, K) and labels (Q,) must match, got {c.shape}, {y.shape}")
-    nll = [
-        -float(np.mean(np.log(probabilities_from_scores(c, t)[np.arange(len(y)), y] + 1e-300)))
-        for t in TEMPERATURE_GRID
-    ]
-    return float(TEMPERATURE_GRID[int(np.argmin(nll))])
 
 
 def compactness_from_points(points_mm: ArrayLike) -> float:
@@ -326,43 +267,6 @@ def decided_at_s(s: ArrayLike, verdicts: Sequence[str]) -> float | None:
     while k > 0 and v[k - 1] == v[-1]:
         k -= 1
     return float(grid[k])
-
-
-def expected_calibration_error(
-    confidence: ArrayLike, correct: ArrayLike, *, n_bins: int = 10
-) -> tuple[float, NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
-    """Expected calibration error and the reliability diagram's bins.
-
-    Parameters
-    ----------
-    confidence : (Q,) float
-        Top probability of each prediction.
-    correct : (Q,) bool or float
-        Whether the top shape was right (a fraction in [0, 1] when the top
-        is shared by tied shapes).
-    n_bins : int
-        Equal-width bins over [0, 1].
-
-    Returns
-    -------
-    ece : float
-        ``sum_b (n_b / Q) |accuracy_b - confidence_b|``.
-    accuracy, mean_confidence : (n_bins,) float64
-        Per bin (NaN where empty).
-    counts : (n_bins,) int64
-    """
-    p = np.asarray(confidence, dtype=np.float64)
-    ok = np.asarray(correct, dtype=np.float64)
-    if p.shape != ok.shape or p.ndim != 1 or p.size == 0:
-        raise InputError(f"confidence and correct must be matching (Q,), got {p.shape}, {ok.shape}")
-    b = np.minimum((p * n_bins).astype(np.int64), n_bins - 1)
-    counts = np.bincount(b, minlength=n_bins)
-    with np.errstate(invalid="ignore"):
-        acc = np.bincount(b, weights=ok, minlength=n_bins) / counts
-        conf = np.bincount(b, weights=p, minlength=n_bins) / counts
-    gaps = np.where(counts > 0, np.abs(acc - conf), 0.0)
-    ece = float(np.sum(counts * gaps) / p.size)
-    return ece, acc, conf, counts.astype(np.int64)
 
 
 def fit_open_set(

@@ -18,7 +18,7 @@ round           (anything else) rests in its most stable pose found and rolls
                 its contact in 2-3 runs joined by right-angle turns
 =============== ==============================================================
 
-Rolling a general convex body (:func:`roll_path`): small turns about the
+Rolling a general convex body (:func:`~taxelkit.motion.mesh_roll.roll_path`): small turns about the
 horizontal axis ``e_z x d`` through the lowest point farthest along the
 direction of travel ``d``: rolling without slip and without spin for a
 smooth body, tipping over the front edge for a face, so the same step rolls
@@ -53,6 +53,7 @@ from taxelkit.motion._script import (
     unit_h,
 )
 from taxelkit.motion.array_placement import EDGE_MARGIN_MM, fit_on_array, yawed
+from taxelkit.motion.mesh_roll import roll_path
 from taxelkit.motion.roll_paths import rotate_about_line
 from taxelkit.motion.rolling import DEFAULT_DEPTH_MM, DEFAULT_RATE_HZ, E_Z, Pose, Scenario
 from taxelkit.motion.scenarios import SPHERE_MAX_CONTACT_RADIUS_MM
@@ -62,73 +63,13 @@ from taxelkit.world.mesh_features import MeshFeatures
 from taxelkit.world.mesh_solid import MeshSolid
 from taxelkit.world.pose import matrix_from_axis_angle
 
-__all__ = ["ROLL_STEP_DEG", "make_mesh_scenario", "roll_path"]
+__all__ = ["make_mesh_scenario"]
 
-#: Turn of one step of the general roller, deg (0.5 deg moves the contact of
-#: a 6 mm ball by 0.05 mm).
-ROLL_STEP_DEG = 0.5
 #: Edges shown on each kind of face.
 _EDGES_SHOWN = 3
 _N_DRAWS = 1024
 _ATTEMPTS = 6
 _YAW_TRIES = 8
-
-
-def roll_path(
-    solid: MeshSolid,
-    pose: Pose,
-    direction: NDArray[np.float64],
-    *,
-    distance_mm: float | None = None,
-    angle_rad: float | None = None,
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Roll a convex body over the plane towards ``direction`` (see the module docstring).
-
-    Parameters
-    ----------
-    solid : MeshSolid
-    pose : Pose
-        Resting start pose.
-    direction : (3,) float
-        Horizontal direction of travel.
-    distance_mm, angle_rad : float
-        Stop once the contact has advanced this far along ``direction``, or
-        the body has turned this much (exactly one of the two).
-
-    Returns
-    -------
-    rotations : (n, 3, 3) float
-    centroids_mm : (n, 3) float
-        One pose per step of :data:`ROLL_STEP_DEG`, the start excluded.
-    """
-    if (distance_mm is None) == (angle_rad is None):
-        raise InputError("give exactly one of distance_mm and angle_rad")
-    d = unit_h(np.asarray(direction, dtype=np.float64))
-    step = math.radians(ROLL_STEP_DEG)
-    q = matrix_from_axis_angle(np.cross(E_Z, d), step)
-    rot, cen = pose.rotation.copy(), pose.centroid_mm.copy()
-    verts = solid.vertices_mm
-    rots, cents = [], []
-    travelled, turned = 0.0, 0.0
-    world = cen + verts @ rot.T
-    pivot = world[np.argmax(np.where(world[:, 2] <= world[:, 2].min() + 1e-6, world @ d, -np.inf))]
-    while (travelled < distance_mm) if distance_mm is not None else (turned < abs(angle_rad or 0)):
-        rot = q @ rot
-        cen = pivot + q @ (cen - pivot)
-        world = cen + verts @ rot.T
-        low = world[:, 2].min()
-        cen[2] -= low  # rest on the plane again (a finite step dips a little)
-        world[:, 2] -= low
-        front = np.where(world[:, 2] <= 1e-6, world @ d, -np.inf)
-        new = world[np.argmax(front)]
-        travelled += float((new - pivot) @ d)  # the contact's advance along d
-        turned += step
-        pivot = new
-        rots.append(rot.copy())
-        cents.append(cen.copy())
-        if len(rots) > 20000:
-            raise InputError("roll_path: the body does not roll (20000 steps)")
-    return np.array(rots), np.array(cents)
 
 
 def _roll(b: Builder, d: NDArray[np.float64], speed: float, label: str, **stop: float) -> None:

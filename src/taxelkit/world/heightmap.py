@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import CorruptRecordingError, InputError, check_positive
-from taxelkit.io.limits import read_npz
+from taxelkit.io.npz_read import read_npz
 from taxelkit.world._planar import broadcast_xy
 from taxelkit.world.base import Relief
 

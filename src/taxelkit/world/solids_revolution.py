@@ -48,13 +48,20 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from taxelkit.world.revolution_roots import (
+    BOUNDED,
+    OPENS_DOWN,
+    OPENS_UP,
+    SIMPLE_COMBINE,
+    STABLE_COMBINE,
+    upright_cylinder,
+)
 from taxelkit.world.solid_methods import SolidMethods
 from taxelkit.world.solids_grid import (
     TILT_EPS,
     PoseGroup,
     as_rotation_batch,
     evaluate_bottom,
-    finish_interval,
     line_grid,
 )
 
@@ -86,14 +93,6 @@ A_MIN = 1e-30
 #: is evaluated as exactly upright: its lateral surface only restricts
 #: ``(x, y)`` to a disc.
 A_VERTICAL = 1e-20
-
-#: Pose cases of a lateral quadric (see module notes).
-_BOUNDED, _OPENS_UP, _OPENS_DOWN = 0, 1, 2
-
-# Rows of the stable function table of a body of revolution.
-_BN, _DISC, _CS, _G, _CROW, _CAP_LO, _CAP_HI = range(7)
-# Rows of the simple table: B/A, disc/A**2, c/|A|, caps.
-_S_BNA, _S_DISC, _S_CS, _S_CAP_LO, _S_CAP_HI = range(5)
 
 
 @dataclass(frozen=True)
@@ -205,100 +204,6 @@ def revolution_lowest_z_mm(profile: RevolutionProfile, rotations: ArrayLike) -> 
     return low
 
 
-def _stable_roots(slabs: NDArray[Any], work: Any, inv_a: NDArray[Any], clamp: bool) -> None:
-    """Stable roots of the lateral quadric: work[1] = m / A, work[2] = C / m.
-
-    A line that misses (negative discriminant) gives NaN unless ``clamp``.
-    """
-    w0, w1, w2 = work[0], work[1], work[2]
-    np.multiply(slabs[_CS], slabs[_CS], out=w0)
-    np.subtract(slabs[_DISC], w0, out=w0)
-    if clamp:
-        np.maximum(w0, 0.0, out=w0)
-    np.sqrt(w0, out=w0)
-    np.copysign(w0, slabs[_BN], out=w0)
-    np.add(slabs[_BN], w0, out=w0)  # m
-    np.multiply(w0, inv_a, out=w1)
-    np.multiply(slabs[_G], slabs[_G], out=w2)
-    np.subtract(w2, slabs[_CROW], out=w2)  # C
-    np.divide(w2, w0, out=w2)
-
-
-def _stable_bounded(slabs: NDArray[Any], work: Any, out: NDArray[Any], pv: NDArray[Any]) -> None:
-    _stable_roots(slabs, work, pv[:, 0:1], clamp=False)
-    lo, hi = work[0], work[1]
-    np.minimum(work[1], work[2], out=lo)
-    np.maximum(work[1], work[2], out=hi)
-    np.maximum(lo, slabs[_CAP_LO], out=lo)
-    np.minimum(hi, slabs[_CAP_HI], out=hi)
-    np.fmin(lo, np.inf, out=lo)  # NaN (the line misses) -> +inf
-    finish_interval(lo, hi, hi, out)
-
-
-def _stable_opens_up(slabs: NDArray[Any], work: Any, out: NDArray[Any], pv: NDArray[Any]) -> None:
-    _stable_roots(slabs, work, pv[:, 0:1], clamp=True)
-    lo = work[0]
-    np.maximum(work[1], work[2], out=lo)
-    np.maximum(lo, slabs[_CAP_LO], out=lo)
-    np.fmin(lo, np.inf, out=lo)
-    finish_interval(lo, slabs[_CAP_HI], work[1], out)
-
-
-def _stable_opens_down(slabs: NDArray[Any], work: Any, out: NDArray[Any], pv: NDArray[Any]) -> None:
-    _stable_roots(slabs, work, pv[:, 0:1], clamp=True)
-    hi = work[0]
-    np.minimum(work[1], work[2], out=hi)
-    np.minimum(hi, slabs[_CAP_HI], out=hi)
-    np.fmax(hi, -np.inf, out=hi)  # NaN -> -inf: no interval
-    finish_interval(slabs[_CAP_LO], hi, hi, out)
-
-
-def _simple_sqrt(slabs: NDArray[Any], w: NDArray[Any], clamp: bool) -> None:
-    """w = sqrt(disc) / |A|, NaN where the line misses unless ``clamp``."""
-    np.multiply(slabs[_S_CS], slabs[_S_CS], out=w)
-    np.subtract(slabs[_S_DISC], w, out=w)
-    if clamp:
-        np.maximum(w, 0.0, out=w)
-    np.sqrt(w, out=w)
-
-
-def _simple_bounded(slabs: NDArray[Any], work: Any, out: NDArray[Any], pv: NDArray[Any]) -> None:
-    hi, lo = work[0], work[1]
-    _simple_sqrt(slabs, hi, clamp=False)
-    np.subtract(slabs[_S_BNA], hi, out=lo)
-    np.add(slabs[_S_BNA], hi, out=hi)
-    np.maximum(lo, slabs[_S_CAP_LO], out=lo)
-    np.minimum(hi, slabs[_S_CAP_HI], out=hi)
-    np.fmin(lo, np.inf, out=lo)  # NaN (the line misses) -> +inf
-    finish_interval(lo, hi, hi, out)
-
-
-def _simple_opens_up(slabs: NDArray[Any], work: Any, out: NDArray[Any], pv: NDArray[Any]) -> None:
-    lo = work[0]
-    _simple_sqrt(slabs, lo, clamp=True)
-    np.add(slabs[_S_BNA], lo, out=lo)
-    np.maximum(lo, slabs[_S_CAP_LO], out=lo)
-    finish_interval(lo, slabs[_S_CAP_HI], work[1], out)
-
-
-def _simple_opens_down(slabs: NDArray[Any], work: Any, out: NDArray[Any], pv: NDArray[Any]) -> None:
-    hi = work[0]
-    _simple_sqrt(slabs, hi, clamp=True)
-    np.subtract(slabs[_S_BNA], hi, out=hi)
-    np.minimum(hi, slabs[_S_CAP_HI], out=hi)
-    finish_interval(slabs[_S_CAP_LO], hi, hi, out)
-
-
-def _upright_cylinder(slabs: NDArray[Any], work: Any, out: NDArray[Any], pv: NDArray[Any]) -> None:
-    """Bottom cap inside the disc (row 0 = rho**2 - r**2 <= 0), +inf outside."""
-    np.multiply(slabs[0], np.inf, out=work[0])
-    np.fmax(slabs[1], work[0], out=out)
-
-
-_STABLE = {_BOUNDED: _stable_bounded, _OPENS_UP: _stable_opens_up, _OPENS_DOWN: _stable_opens_down}
-_SIMPLE = {_BOUNDED: _simple_bounded, _OPENS_UP: _simple_opens_up, _OPENS_DOWN: _simple_opens_down}
-
-
 def _linear(c0: NDArray[np.float64], cx: Any, cy: Any, cq: Any = 0.0) -> NDArray[np.float64]:
     """(P, 4) coefficients of ``c0 + cx x + cy y + cq (x**2 + y**2)``."""
     return np.stack(np.broadcast_arrays(c0, cx, cy, cq), axis=1).astype(np.float64)
@@ -315,7 +220,7 @@ def _revolution_groups(profile: RevolutionProfile, rot: NDArray[np.float64]) -> 
     vx, vy, vz = v[:, 0], v[:, 1], v[:, 2]
     tilt2 = dx * dx + dy * dy
     a_quad = profile.sin2 - tilt2
-    case = np.where(a_quad <= 0.0, _BOUNDED, np.where(dz > 0.0, _OPENS_UP, _OPENS_DOWN))
+    case = np.where(a_quad <= 0.0, BOUNDED, np.where(dz > 0.0, OPENS_UP, OPENS_DOWN))
     upright = (tilt2 <= A_VERTICAL) if k == 1.0 else np.zeros(n_poses, dtype=bool)
     simple = ~upright & (np.abs(a_quad) >= A_SIMPLE)
     a_eff = np.where(a_quad <= 0.0, np.minimum(a_quad, -A_MIN), np.maximum(a_quad, A_MIN))
@@ -359,19 +264,20 @@ def _revolution_groups(profile: RevolutionProfile, rot: NDArray[np.float64]) -> 
     if upright.any():
         rim = rho2.copy()
         rim[:, 0] -= kappa
-        add(upright, np.stack([rim, cap_lo], axis=1), _upright_cylinder, 1)
+        add(upright, np.stack([rim, cap_lo], axis=1), upright_cylinder, 1)
     if simple.any():
         inv_a = 1.0 / np.where(simple, a_quad, 1.0)
         s_disc = disc * (inv_a * inv_a)[:, None]
         s_cs = cs * np.abs(inv_a)[:, None]
+        # rows as revolution_roots reads them: B/A, disc/A**2, c/|A|, caps
         table = np.stack([bn * inv_a[:, None], s_disc, s_cs, cap_lo, cap_hi], axis=1)
-        for c, combine in _SIMPLE.items():
+        for c, combine in SIMPLE_COMBINE.items():
             add(simple & (case == c), table, combine, 2)
     stable = ~upright & ~simple
     if stable.any():
-        table = np.stack([bn, disc, cs, g, crow, cap_lo, cap_hi], axis=1)
+        table = np.stack([bn, disc, cs, g, crow, cap_lo, cap_hi], axis=1)  # revolution_roots' rows
         inv_a_eff = (1.0 / a_eff)[:, None]
-        for c, combine in _STABLE.items():
+        for c, combine in STABLE_COMBINE.items():
             add(stable & (case == c), table, combine, 3, inv_a_eff, float64=True)
     return groups
 
