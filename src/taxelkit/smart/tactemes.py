@@ -37,7 +37,9 @@ a row, so the one-frame collapse of a contact that tips away is not motion)
       A pivot far beyond the line may be called "in an arc" from
       ``pivot_arc_turn_deg`` on, with a band that widens as the turn shrinks;
       "in an arc" reads the pivot's distance from the mean middle of the
-      lines of the last ``smooth_s`` (``pivot_arc_smooth``).
+      lines of the last ``smooth_s`` (``pivot_arc_smooth``). Every verdict
+      sustained in the segment is emitted: a pivot read in two places
+      (about one end, later in an arc) gives both.
 
     References re-anchor whenever the smoothed area differs from the area at
     the reference by more than ``area_step`` (see :class:`TactemeConfig`):

@@ -42,7 +42,7 @@ _POINT, _LINE, _AREA = int(ContactClass.POINT), int(ContactClass.LINE), int(Cont
 Found = list[tuple[Tacteme, int]]
 #: Rows (frames of all segments) computed together: the temporaries stay in the cache.
 PIECE_ROWS = 16384
-#: What a turning line's pivot may read (at most one of them per segment).
+#: What a turning line's pivot may read (each that is sustained, at its first frame).
 _PIVOT_TACTEMES = (Tacteme.LC_SPINS, Tacteme.LCMT_ABOUT_END, Tacteme.LCMT_ARC)
 
 
