@@ -7,6 +7,7 @@ import numpy as np
 from taxelkit.frames import TactileFrames
 from taxelkit.smart.recognise_chunks import ChunkRecogniser
 from taxelkit.smart.recogniser import SmartSensor, recognise
+from taxelkit.smart.tactemes import PAPER_LEVEL3, TactemeConfig
 
 PITCH = 1.7625
 
@@ -71,3 +72,22 @@ def test_a_pivot_that_stays_at_the_end_gives_one_verdict() -> None:
     names = [n for n, _ in res.tactemes]
     assert "LCMT about one end" in names and "LCMT in an arc" not in names
     assert res.identified == "cone"
+
+
+def test_the_paper_pipeline_keeps_only_the_first_verdict() -> None:
+    """``pivot_every_verdict=False`` (as in PAPER_LEVEL3): the first reading names the cone."""
+    frames = end_then_arc_frames(16.0)
+    rec = TactileFrames(frames, t_s=np.arange(frames.shape[0]) / 20.0, pitch_mm=PITCH)
+    cfg = TactemeConfig(pivot_every_verdict=False)
+    res = recognise(rec, cleaning=None, config=cfg)
+    names = [n for n, _ in res.tactemes]
+    assert "LCMT about one end" in names and "LCMT in an arc" not in names
+    assert res.identified == "cone"
+    assert not PAPER_LEVEL3.pivot_every_verdict and TactemeConfig().pivot_every_verdict
+    for batch_frames in (1, 16):
+        sensor = SmartSensor(
+            (16, 16), pitch_mm=PITCH, cleaning=None, config=cfg, batch_frames=batch_frames
+        )
+        for f, t in zip(rec.frames, rec.t_s, strict=True):
+            sensor.push(f, t)
+        assert list(sensor.result().events) == list(res.events), batch_frames

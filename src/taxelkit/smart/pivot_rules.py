@@ -63,7 +63,8 @@ def pivot_tacteme(
     index, in the order of the indices (ties in the order spins, about one
     end, in an arc): a line whose pivot reads in two places (about one end,
     later in an arc) gives both, so that no object whose row holds only one
-    of them is named from it.
+    of them is named from it. Only the first with
+    ``config.pivot_every_verdict`` False (paper 001's pipeline).
     """
     k = int(config.debounce_frames)
     n = track.frames.size
@@ -82,7 +83,8 @@ def pivot_tacteme(
         j = first(sustained(verdict, pivot_hold), 0)
         if j is not None:
             pivots.append((start + j, tac))
-    return sorted(pivots, key=lambda found: found[0])
+    found = sorted(pivots, key=lambda hit: hit[0])
+    return found if config.pivot_every_verdict else found[:1]
 
 
 def pivot_verdicts(

@@ -37,10 +37,14 @@ class PivotRun:
         Frames a verdict must hold.
     arc_w : int
         Lines whose mean middle "in an arc" reads (1: the current line's).
+    every : bool
+        Look for every verdict until it is found (False: stop at the first,
+        :attr:`~taxelkit.smart.tactemes.TactemeConfig.pivot_every_verdict`).
     """
 
-    def __init__(self, start: int, hold: int, arc_w: int = 1) -> None:
+    def __init__(self, start: int, hold: int, arc_w: int = 1, every: bool = True) -> None:
         self.start = start  # segment index of the anchor
+        self.every = every
         self.sums = RunningSum(7)  # sxx, sxy, syy, bx, by, half, dd: column by column
         self.count = 0
         self.arc_w = arc_w
@@ -64,7 +68,9 @@ class PivotRun:
 
     @property
     def complete(self) -> bool:
-        """Every verdict has been found: later frames change nothing."""
+        """Every verdict looked for has been found: later frames change nothing."""
+        if not self.every:
+            return bool(self.found)
         return all(s.found is not None for s in self.verdicts)
 
     def ratios(
@@ -162,6 +168,8 @@ class PivotRun:
                 if f is not None:
                     hits.append((f, tac))
             self.found += sorted(hits, key=lambda hit: hit[0])
+            if not self.every:
+                self.found = self.found[:1]
         self.pending = []
 
 
@@ -183,10 +191,15 @@ class LinePivot:
         The arguments of :meth:`PivotRun.decide`.
     arc_w : int
         Lines whose mean middle "in an arc" reads (:class:`PivotRun`).
+    every : bool
+        Every verdict, or only the first (:class:`PivotRun`).
     """
 
-    def __init__(self, w: int, hold: int, limits: tuple[float, ...], arc_w: int = 1) -> None:
+    def __init__(
+        self, w: int, hold: int, limits: tuple[float, ...], arc_w: int = 1, every: bool = True
+    ) -> None:
         self.w, self.hold, self.limits, self.arc_w = w, hold, limits, arc_w
+        self.every = every
         self.run: PivotRun | None = None
         self._kept: list[tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]] = []
         self._kept_n = 0
@@ -221,7 +234,7 @@ class LinePivot:
         for lo, hi, a in stretches:
             run = self.run
             if run is None or (run.start != a and (turn_seg is None or a <= turn_seg)):
-                run = self.run = PivotRun(a, self.hold, self.arc_w)
+                run = self.run = PivotRun(a, self.hold, self.arc_w, self.every)
                 self._kept, self._kept_n = [], 0
             if run.complete:
                 continue

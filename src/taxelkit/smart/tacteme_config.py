@@ -208,6 +208,11 @@ class TactemeConfig:
         seed 11, 1257 -> 1250, wrong 12 -> 7. No change on the 16 x 16 array
         (cones and truncated cones of seeds 0 and 11, every cell), whose
         cones' and truncated cones' lines are 6-9 taxels long.
+    pivot_every_verdict : bool
+        Emit every pivot verdict sustained in a segment (a pivot read about
+        one end and later in an arc gives both, and the roll ends "unknown");
+        False: only the first (paper 001's pipeline), which names the object
+        after whichever reading came first.
     pivot_hold_s : float
         A pivot verdict must hold this long (at least as long as a motion), s:
         the running estimate settles as the line turns on. Measured on 12
@@ -289,6 +294,7 @@ class TactemeConfig:
     pivot_band: float = 1.10
     pivot_hold_s: float = 0.5
     pivot_min_line_taxels: float = 4.0
+    pivot_every_verdict: bool = True
     smooth_s: float = 0.15
     slip: SlipConfig | None = DEFAULT_SLIP
     face_shapes: bool = False
@@ -364,6 +370,7 @@ PAPER_LEVEL3 = TactemeConfig(
     pivot_arc_smooth=False,
     edge_angle_doubt_deg=0.0,
     pivot_min_line_taxels=0.0,
+    pivot_every_verdict=False,
     slip=None,
 )
 

@@ -311,7 +311,8 @@ def _pivots(
             if j >= 0:
                 verdicts_of[i].append((int(first[i]) + j, tac))
     for s, v in zip(together.tolist(), verdicts_of, strict=True):
-        out += [(s, jt) for jt in sorted(v, key=lambda found: found[0])]
+        found = sorted(v, key=lambda hit: hit[0])
+        out += [(s, jt) for jt in (found if config.pivot_every_verdict else found[:1])]
     return out
 
 
