@@ -358,13 +358,14 @@ class SegmentScanner(SegmentHead):
             elong.copy(),
             half.copy(),
         )
+        n0 = int(j[0])  # j counts on from n0
         for lo, hi, a, ref in pieces:
-            ok = j[lo:hi] >= a + w - 1
-            if np.any(ok):
+            first = max(lo, a + w - 1 - n0)  # the piece's rows from its reference on
+            if first < hi:
                 assert ref is not None
-                sel = np.arange(lo, hi)[ok]
-                valid[sel] = True
-                rc[sel], ra[sel], rarea[sel], relong[sel], rhalf[sel] = ref
+                valid[first:hi] = True
+                rc[first:hi], ra[first:hi], rarea[first:hi] = ref[0], ref[1], ref[2]
+                relong[first:hi], rhalf[first:hi] = ref[3], ref[4]
         return valid, (rc, ra, rarea, relong, rhalf)
 
     def _add(self, new: list[tuple[Tacteme, int]], tac: Tacteme, frame: int | None) -> None:
