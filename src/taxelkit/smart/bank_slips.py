@@ -64,8 +64,7 @@ def slip_inputs(
     for s, (scanner, rows) in enumerate(feeds):
         if scanner is None or scanner.reference or not rows.shape[0]:
             continue
-        ready = scanner.prime(rows[:, 8]) if scanner.n_seen == 0 else scanner.ready
-        if not ready:
+        if not scanner.prime(rows[:, 8]):  # a new segment's rate is fixed from these rows
             continue
         groups.setdefault((scanner.cls, scanner.cur, scanner.ref), []).append(s)
     for members in groups.values():

@@ -21,7 +21,7 @@ from taxelkit.smart.tactemes import SegmentTrack, frames_for_interval
 from taxelkit.smart.track_geometry import grid_wobble_deg
 from taxelkit.smart.track_stream import RunningSum, drawn_length_mm, mean_axis_deg
 
-__all__ = ["ROW_COLUMNS", "SegmentHead", "SlipInputs", "rows_from_track"]
+__all__ = ["ROW_COLUMNS", "SegmentHead", "SlipInputs", "rows_from_track", "track_from_rows"]
 
 #: A slip scanner's features of a chunk (and the last line axis they leave) and
 #: its first decisions (:meth:`~taxelkit.smart.slip_scan.SlipScanner.extend`).
@@ -49,6 +49,23 @@ def rows_from_track(track: SegmentTrack) -> NDArray[np.float64]:
             ext,
             track.t_s,
         ]
+    )
+
+
+def track_from_rows(
+    frames: NDArray[np.intp], rows: NDArray[np.float64], pitch_mm: float
+) -> SegmentTrack:
+    """The whole segment's track of frames ``(n,)`` and their rows ``(n, 9)`` (views of them)."""
+    return SegmentTrack(
+        frames,
+        rows[:, 0:2],
+        rows[:, 2],
+        rows[:, 3],
+        rows[:, 4],
+        rows[:, 5],
+        rows[:, 8],
+        rows[:, 6:8],
+        pitch_mm,
     )
 
 

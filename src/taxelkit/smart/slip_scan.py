@@ -85,16 +85,6 @@ class SlipScanner:
         self._open_i = 0  # segment index of the open slip's first frame
 
     @property
-    def ready(self) -> bool:
-        """Whether the frame rate is fixed (the window lengths known)."""
-        return self._ready
-
-    @property
-    def n_seen(self) -> int:
-        """Frames fed so far."""
-        return self._n
-
-    @property
     def kept_features(self) -> NDArray[np.float64]:
         """The features ``(n, 15)`` of the last frames kept for the next windows."""
         return self._buf

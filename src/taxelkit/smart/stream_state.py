@@ -7,7 +7,10 @@ rows (:meth:`ArrayStream.push_chunk`, one Python step per run of equal
 classes); either way the debounce is that of
 :func:`~taxelkit.smart.tactemes.accepted_runs`, the open segment goes to a
 :class:`~taxelkit.smart.segment_scan.SegmentScanner` and the events are those
-of :func:`~taxelkit.smart.recogniser.recognise`. Memory: the class history is
+of :func:`~taxelkit.smart.recogniser.recognise`. A bank splits a chunk in two
+(:meth:`ArrayStream.begin_chunk`, :meth:`ArrayStream.end_chunk`: the open
+segment's last feed) to compute the slip scanners' part of that feed for all
+its arrays at once. Memory: the class history is
 kept as runs (one entry per change of class), the open segment as the
 scanner's bounded state.
 """
@@ -25,7 +28,7 @@ from taxelkit.smart.class_history import ClassHistory, check_chunk
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Event
 from taxelkit.smart.levels34 import Levels34, Recognition, Segment, finish, track_segments
-from taxelkit.smart.segment_head import SlipInputs
+from taxelkit.smart.segment_head import SlipInputs, track_from_rows
 from taxelkit.smart.segment_scan import SegmentScanner
 from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, debounce_counts
@@ -322,17 +325,7 @@ class ArrayStream:
         pieces = [*zip(d.first_j, d.first_rows, strict=True), *d.later]
         frames = np.concatenate([p[0] for p in pieces])
         rows = np.concatenate([p[1] for p in pieces])
-        track = SegmentTrack(
-            frames,
-            rows[:, 0:2],
-            rows[:, 2],
-            rows[:, 3],
-            rows[:, 4],
-            rows[:, 5],
-            rows[:, 8],
-            rows[:, 6:8],
-            self.pitch_mm,
-        )
+        track = track_from_rows(frames, rows, self.pitch_mm)
         self._call(_Call(d.cls, d.accept, None, track, rows))
 
     def _call(self, call: _Call) -> None:
