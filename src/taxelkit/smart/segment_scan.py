@@ -30,10 +30,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
-from taxelkit.smart.face_shapes import face_masks, triangularity
+from taxelkit.smart.face_shapes import face_limits, face_masks, triangularity
 from taxelkit.smart.pivot_stream import LinePivot
 from taxelkit.smart.segment_head import ROW_COLUMNS, SegmentHead, SlipInputs, rows_from_track
-from taxelkit.smart.tacteme_config import TactemeConfig, face_limits
+from taxelkit.smart.tacteme_config import TactemeConfig
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import MOTION_MIN_FRAMES
 from taxelkit.smart.track_geometry import axis_angle_deg, axis_vectors
