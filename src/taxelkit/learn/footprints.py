@@ -29,10 +29,10 @@ from taxelkit.smart.contact_classes import (
     classify_contacts,
 )
 from taxelkit.smart.contact_limits import apply_limits
-from taxelkit.smart.face_shapes import face_masks, triangularity
+from taxelkit.smart.face_shapes import face_limits, face_masks, triangularity
 from taxelkit.smart.levels12 import DEFAULT_LIMITS, half_length
 from taxelkit.smart.moments import image_stats
-from taxelkit.smart.tacteme_config import TactemeConfig, face_limits
+from taxelkit.smart.tacteme_config import TactemeConfig
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.world.mesh_features import FlatFace
 from taxelkit.world.mesh_solid import MeshSolid

@@ -11,7 +11,9 @@ push, ``(N, rows, cols)``, buffers ``batch_frames`` of them and runs:
 * the debounce and Levels 3-4 per array
   (:class:`~taxelkit.smart.stream_state.ArrayStream`, one Python step per run
   of equal classes; an array with no contact in the chunk and none pending
-  costs a counter update).
+  costs a counter update), but for the slip scanners' features and window
+  motions of the open segments' new frames, computed for all the arrays at
+  once (:func:`~taxelkit.smart.bank_slips.slip_inputs`).
 
 Each array gets the events that a ``SmartSensor`` of its own, or
 :func:`~taxelkit.smart.recogniser.recognise` on its frames, gives (tested).
@@ -33,6 +35,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import InputError, check_positive, check_shape, check_threshold
 from taxelkit.frames import DEFAULT_FRAME_INTERVAL_S
+from taxelkit.smart.bank_slips import slip_inputs
 from taxelkit.smart.cleaning import CleaningConfig
 from taxelkit.smart.contact_classes import (
     DEFAULT_CONFIDENCE,
@@ -247,15 +250,26 @@ class SensorBank:
     def _levels34(
         self, classes: NDArray[np.int8], rows: NDArray[np.float64], t: NDArray[np.float64]
     ) -> list[tuple[int, Event]]:
-        """Debounce and Levels 3-4 of every array's chunk: classes, rows ``(N, T, 9)``, times."""
+        """Debounce and Levels 3-4 of every array's chunk: classes, rows ``(N, T, 9)``, times.
+
+        Every touched array is debounced and shown to Levels 3-4 up to its
+        open segment's last feed; the slip scanners' part of those feeds is
+        computed for all of them at once (:func:`~taxelkit.smart.bank_slips.slip_inputs`),
+        then each feed is made.
+        """
         quiet = (~np.any(classes != _NONE, axis=1)).tolist()
-        out: list[tuple[int, Event]] = []
+        touched: list[tuple[int, list[Event]]] = []
         for i, (stream, still) in enumerate(zip(self._streams, quiet, strict=True)):
             if still and stream.idle:
                 stream.push_quiet(t[i])
                 continue
-            out += [(i, e) for e in stream.push_chunk(classes[i], rows[i], t[i])]
-        return out
+            touched.append((i, stream.begin_chunk(classes[i], rows[i], t[i])))
+        fed = [k for k, (i, _) in enumerate(touched) if self._streams[i].tail_feed is not None]
+        inputs = slip_inputs([self._streams[touched[k][0]].tail_feed for k in fed])  # type: ignore[misc]
+        for k, slip in zip(fed, inputs, strict=True):
+            i, events = touched[k]
+            events += self._streams[i].end_chunk(slip)
+        return [(i, e) for i, events in touched for e in events]
 
     def forget_history(self, *, events_kept: int = 1024) -> None:
         """Bound memory on endless streams: drop the per-frame class runs, and old contacts' events.

@@ -55,12 +55,17 @@ unchanged.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.tacteme_table import Tacteme
 
-__all__ = ["face_masks", "triangularity"]
+if TYPE_CHECKING:
+    from taxelkit.smart.tacteme_config import TactemeConfig
+
+__all__ = ["face_limits", "face_masks", "triangularity"]
 
 
 def triangularity(
@@ -122,3 +127,14 @@ def face_masks(
         (Tacteme.AC_TRIANGULAR, ok & compact & tri),
         (Tacteme.AC_ELONGATED_TRIANGULAR, ok & long_ & tri),
     ]
+
+
+def face_limits(config: TactemeConfig) -> dict[str, float]:
+    """The keyword limits of :func:`~taxelkit.smart.face_shapes.face_masks` from ``config``."""
+    return {
+        "min_area_mm2": config.face_min_area_mm2,
+        "compact_max": config.face_compact_max,
+        "elongated_min": config.face_elongated_min,
+        "symmetric_max": config.face_symmetric_max,
+        "triangular_min": config.face_triangular_min,
+    }

@@ -247,8 +247,16 @@ class LinePivot:
                 self._feed(run)
 
     def _feed(self, run: PivotRun) -> None:
-        """The kept frames through the run's sums, then its verdicts (reference known)."""
-        for rows, angle, frames in self._kept:
+        """The kept frames through the run's sums, then its verdicts (reference known).
+
+        The kept pieces go through as one (the sums, the trailing means and
+        the verdicts' runs continue across pieces: the same floats).
+        """
+        kept = self._kept
+        if len(kept) > 1:
+            rows_k, angle_k, frames_k = (np.concatenate(p) for p in zip(*kept, strict=True))
+            kept = [(rows_k, angle_k, frames_k)]
+        for rows, angle, frames in kept:
             ratio, error, arc = run.ratios(rows)
             run.pending.append((ratio, error, arc, angle, frames, drawn_length_mm(rows)))
         self._kept, self._kept_n = [], 0

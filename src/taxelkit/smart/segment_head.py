@@ -21,7 +21,14 @@ from taxelkit.smart.tactemes import SegmentTrack, frames_for_interval
 from taxelkit.smart.track_geometry import grid_wobble_deg
 from taxelkit.smart.track_stream import RunningSum, drawn_length_mm, mean_axis_deg
 
-__all__ = ["ROW_COLUMNS", "SegmentHead", "rows_from_track"]
+__all__ = ["ROW_COLUMNS", "SegmentHead", "SlipInputs", "rows_from_track", "track_from_rows"]
+
+#: A slip scanner's features of a chunk (and the last line axis they leave) and
+#: its first decisions (:meth:`~taxelkit.smart.slip_scan.SlipScanner.extend`).
+SlipInputs = tuple[
+    tuple[NDArray[np.float64], NDArray[np.float64] | None],
+    tuple[NDArray[np.bool_], NDArray[np.bool_]],
+]
 
 #: Columns of the per-frame rows fed to :meth:`SegmentScanner.extend`:
 #: centre x, y (mm), orientation (deg), area (mm^2), elongation, half-length
@@ -42,6 +49,23 @@ def rows_from_track(track: SegmentTrack) -> NDArray[np.float64]:
             ext,
             track.t_s,
         ]
+    )
+
+
+def track_from_rows(
+    frames: NDArray[np.intp], rows: NDArray[np.float64], pitch_mm: float
+) -> SegmentTrack:
+    """The whole segment's track of frames ``(n,)`` and their rows ``(n, 9)`` (views of them)."""
+    return SegmentTrack(
+        frames,
+        rows[:, 0:2],
+        rows[:, 2],
+        rows[:, 3],
+        rows[:, 4],
+        rows[:, 5],
+        rows[:, 8],
+        rows[:, 6:8],
+        pitch_mm,
     )
 
 
@@ -66,11 +90,9 @@ class SegmentHead:
         self.first_frame = -1
         self.last_frame = -1
         self.found: list[tuple[Tacteme, int]] = []
-        self._head_frames: list[int] = []
-        self._head_t: list[float] = []
-        self._head_theta: list[float] = []
-        self._head_xy: list[list[float]] = []
-        self._head_len: list[float] = []
+        # the first frames kept: their numbers and rows, in pieces (joined when read)
+        self._head: list[tuple[NDArray[np.intp], NDArray[np.float64]]] = []
+        self._head_n = 0
         self._head_cap: int | None = None
         self._dt: dict[int, float] = {}  # frame interval of the first frames, per k
         self._axis_sum = RunningSum(2)
@@ -80,15 +102,33 @@ class SegmentHead:
             else SlipScanner(self.cls, config.slip, k=int(config.debounce_frames))
         )
 
+    @property
+    def slip_scanner(self) -> SlipScanner | None:
+        """The segment's slip scanner (None without slip detection)."""
+        return self._slip
+
     # -- what Level 3's transitions need ---------------------------------------------------
+    def _head_rows(self) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
+        """The first frames kept: numbers ``(n,)`` and rows ``(n, 9)``."""
+        if len(self._head) != 1:
+            if not self._head:
+                return np.zeros(0, np.intp), np.zeros((0, len(ROW_COLUMNS)))
+            self._head = [
+                (
+                    np.concatenate([f for f, _ in self._head]),
+                    np.concatenate([r for _, r in self._head]),
+                )
+            ]
+        return self._head[0]
+
     def _timing(self) -> SegmentTrack:
         empty = np.zeros(0)
-        t = np.asarray(self._head_t, dtype=np.float64)
+        t = np.ascontiguousarray(self._head_rows()[1][:, 8])
         return SegmentTrack(np.zeros(0, np.intp), empty, empty, empty, empty, empty, t)
 
     def frames_for(self, seconds: float, k: int, *, minimum: int | None = None) -> int:
         """As :meth:`SegmentTrack.frames_for <taxelkit.smart.tactemes.SegmentTrack.frames_for>`."""
-        if len(self._head_t) < max(2, k):  # the rate is not yet fixed
+        if self._head_n < max(2, k):  # the rate is not yet fixed
             return self._timing().frames_for(seconds, k, minimum=minimum)
         dt = self._dt.get(k)
         if dt is None:
@@ -97,7 +137,7 @@ class SegmentHead:
 
     def frame_at(self, i: int) -> int:
         """Frame number of the segment's ``i``-th frame (``i`` within the first frames kept)."""
-        return self._head_frames[i]
+        return int(self._head_rows()[0][i])
 
     def mean_axis_deg(self, stop: int | None = None) -> float:
         """Mean axis of the first ``stop`` frames (kept ones), or of all of them, deg."""
@@ -106,16 +146,16 @@ class SegmentHead:
                 return float("nan")
             s = self._axis_sum.total
             return float(0.5 * np.rad2deg(np.arctan2(s[1], s[0])))
-        return mean_axis_deg(np.asarray(self._head_theta[:stop], dtype=np.float64))
+        return mean_axis_deg(np.ascontiguousarray(self._head_rows()[1][:stop, 2]))
 
     def mean_centre_mm(self, stop: int) -> tuple[float, float]:
         """Mean centre of the first ``stop`` frames (kept ones), mm."""
-        c = np.asarray(self._head_xy[:stop], dtype=np.float64).mean(axis=0)
+        c = np.ascontiguousarray(self._head_rows()[1][:stop, 0:2]).mean(axis=0)
         return float(c[0]), float(c[1])
 
     def grid_wobble_deg(self, stop: int) -> float:
         """:func:`~taxelkit.smart.track_geometry.grid_wobble_deg` of the first ``stop`` frames."""
-        return grid_wobble_deg(np.asarray(self._head_len[:stop], dtype=np.float64), self.pitch_mm)
+        return grid_wobble_deg(drawn_length_mm(self._head_rows()[1][:stop]), self.pitch_mm)
 
     def tactemes(self) -> list[tuple[Tacteme, int]]:
         """The tactemes decided so far, in the order decided."""
@@ -133,11 +173,16 @@ class SegmentHead:
         self, frames: NDArray[np.intp], rows: NDArray[np.float64], cap: int, offset: int
     ) -> None:
         """Keep the segment's first ``cap`` frames: ``frames[offset:]`` come next."""
-        room = max(0, cap - len(self._head_frames))
+        room = max(0, cap - self._head_n)
         if room:
             stop = offset + room
-            self._head_frames += frames[offset:stop].tolist()
-            self._head_t += rows[offset:stop, 8].tolist()
-            self._head_theta += rows[offset:stop, 2].tolist()
-            self._head_xy += rows[offset:stop, 0:2].tolist()
-            self._head_len += drawn_length_mm(rows[offset:stop]).tolist()
+            kept = frames[offset:stop]
+            if kept.size:
+                self._head.append((np.array(kept, np.intp), np.array(rows[offset:stop])))
+                self._head_n += int(kept.size)
+
+    def _cut_head(self, cap: int) -> None:
+        """Keep no more than the first ``cap`` frames."""
+        if self._head_n > cap:
+            frames, rows = self._head_rows()
+            self._head, self._head_n = [(frames[:cap].copy(), rows[:cap].copy())], cap

@@ -30,10 +30,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
-from taxelkit.smart.face_shapes import face_masks, triangularity
+from taxelkit.smart.face_shapes import face_limits, face_masks, triangularity
 from taxelkit.smart.pivot_stream import LinePivot
-from taxelkit.smart.segment_head import ROW_COLUMNS, SegmentHead, rows_from_track
-from taxelkit.smart.tacteme_config import TactemeConfig, face_limits
+from taxelkit.smart.segment_head import ROW_COLUMNS, SegmentHead, SlipInputs, rows_from_track
+from taxelkit.smart.tacteme_config import TactemeConfig
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import MOTION_MIN_FRAMES
 from taxelkit.smart.track_geometry import axis_angle_deg, axis_vectors
@@ -85,9 +85,17 @@ class SegmentScanner(SegmentHead):
 
     # -- feeding --------------------------------------------------------------------------------
     def extend(
-        self, frames: NDArray[np.intp], rows: NDArray[np.float64]
+        self,
+        frames: NDArray[np.intp],
+        rows: NDArray[np.float64],
+        *,
+        slip: SlipInputs | None = None,
     ) -> list[tuple[Tacteme, int]]:
         """Add frames ``(m,)`` with their rows ``(m, 9)`` (:data:`ROW_COLUMNS`).
+
+        ``slip``: the slip scanner's features and first decisions of these
+        frames, computed already (for many segments at once,
+        :func:`~taxelkit.smart.bank_slips.slip_inputs`).
 
         Returns
         -------
@@ -101,7 +109,10 @@ class SegmentScanner(SegmentHead):
             self.first_frame = int(frames[0])
         self.last_frame = int(frames[-1])
         if self._slip is not None:
-            self._slip.extend(frames, rows)
+            if slip is None:
+                self._slip.extend(frames, rows)
+            else:
+                self._slip.extend(frames, rows, features=slip[0], decided=slip[1])
         axes = axis_vectors(rows[:, 2])  # (m, 2): for the mean axis and the smoothing
         self._axis_sum.push(axes)
         cap = self._head_cap
@@ -118,7 +129,7 @@ class SegmentScanner(SegmentHead):
             axes = np.concatenate([a for _, _, a in self._early])
             self._early = []
             assert self._head_cap is not None
-            self._keep_head(frames, rows, self._head_cap, len(self._head_frames))
+            self._keep_head(frames, rows, self._head_cap, self._head_n)
         return self._scan(frames, rows, axes, self.size - frames.size)
 
     @property
@@ -145,9 +156,7 @@ class SegmentScanner(SegmentHead):
         self.pivot_hold = self.frames_for(cfg.pivot_hold_s, k, minimum=self.hold)
         self._arc_w = self.w if cfg.pivot_arc_smooth else 1
         self._head_cap = max(k, self.frames_for(cfg.edge_hold_s, k))
-        del self._head_frames[self._head_cap :], self._head_t[self._head_cap :]
-        del self._head_theta[self._head_cap :]
-        del self._head_xy[self._head_cap :], self._head_len[self._head_cap :]
+        self._cut_head(self._head_cap)
         w = self.w
         self._smooth = RollingMean(w, 7)  # centre x, y, axis vector, area, elongation, half
         self._anchor = 0
@@ -244,21 +253,9 @@ class SegmentScanner(SegmentHead):
         half = smooth[:, 6] if cls == _LINE else rows[:, 5]
         self._last_angle = float(angle[-1])
         pieces = self._anchors(j, area, elong, centre, angle, half)
-        valid = np.zeros(j.size, bool)
-        rc, ra, rarea, relong, rhalf = (
-            centre.copy(),
-            angle.copy(),
-            area.copy(),
-            elong.copy(),
-            half.copy(),
+        valid, (rc, ra, rarea, relong, rhalf) = self._references(
+            pieces, j, centre, angle, area, elong, half
         )
-        for lo, hi, a, ref in pieces:
-            ok = j[lo:hi] >= a + w - 1
-            if np.any(ok):
-                assert ref is not None
-                sel = np.arange(lo, hi)[ok]
-                valid[sel] = True
-                rc[sel], ra[sel], rarea[sel], relong[sel], rhalf[sel] = ref
         shift = centre - rc
         new: list[tuple[Tacteme, int]] = []
         if cls == _POINT:
@@ -332,6 +329,44 @@ class SegmentScanner(SegmentHead):
         new.sort(key=lambda item: item[1])
         self.found += new
         return new
+
+    def _references(
+        self,
+        pieces: list[tuple[int, int, int, _Ref | None]],
+        j: NDArray[np.intp],
+        centre: NDArray[np.float64],
+        angle: NDArray[np.float64],
+        area: NDArray[np.float64],
+        elong: NDArray[np.float64],
+        half: NDArray[np.float64],
+    ) -> tuple[NDArray[np.bool_], tuple[Any, Any, Any, Any, Any]]:
+        """Rows past their anchor's reference, and each row's reference (its own values if not).
+
+        One piece past its reference (a chunk that does not re-anchor): the
+        reference's values, broadcast (the same floats in every expression).
+        """
+        w = self.w
+        if len(pieces) == 1:
+            _, _, a, ref = pieces[0]
+            if ref is not None and int(j[0]) >= a + w - 1:
+                return np.ones(j.size, bool), ref
+        valid = np.zeros(j.size, bool)
+        rc, ra, rarea, relong, rhalf = (
+            centre.copy(),
+            angle.copy(),
+            area.copy(),
+            elong.copy(),
+            half.copy(),
+        )
+        n0 = int(j[0])  # j counts on from n0
+        for lo, hi, a, ref in pieces:
+            first = max(lo, a + w - 1 - n0)  # the piece's rows from its reference on
+            if first < hi:
+                assert ref is not None
+                valid[first:hi] = True
+                rc[first:hi], ra[first:hi], rarea[first:hi] = ref[0], ref[1], ref[2]
+                relong[first:hi], rhalf[first:hi] = ref[3], ref[4]
+        return valid, (rc, ra, rarea, relong, rhalf)
 
     def _add(self, new: list[tuple[Tacteme, int]], tac: Tacteme, frame: int | None) -> None:
         if frame is not None and tac not in self._done:

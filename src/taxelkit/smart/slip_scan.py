@@ -84,6 +84,16 @@ class SlipScanner:
         self._open: Slip | None = None
         self._open_i = 0  # segment index of the open slip's first frame
 
+    @property
+    def kept_features(self) -> NDArray[np.float64]:
+        """The features ``(n, 15)`` of the last frames kept for the next windows."""
+        return self._buf
+
+    @property
+    def last_axis(self) -> NDArray[np.float64] | None:
+        """A line's last oriented axis ``(2,)`` (None before its first frame, or not a line)."""
+        return self._u_last
+
     # -- set-up ------------------------------------------------------------------------------
     def _start(self) -> None:
         steps = sorted(b - a for a, b in zip(self._t_head, self._t_head[1:], strict=False))

@@ -7,7 +7,10 @@ rows (:meth:`ArrayStream.push_chunk`, one Python step per run of equal
 classes); either way the debounce is that of
 :func:`~taxelkit.smart.tactemes.accepted_runs`, the open segment goes to a
 :class:`~taxelkit.smart.segment_scan.SegmentScanner` and the events are those
-of :func:`~taxelkit.smart.recogniser.recognise`. Memory: the class history is
+of :func:`~taxelkit.smart.recogniser.recognise`. A bank splits a chunk in two
+(:meth:`ArrayStream.begin_chunk`, :meth:`ArrayStream.end_chunk`: the open
+segment's last feed) to compute the slip scanners' part of that feed for all
+its arrays at once. Memory: the class history is
 kept as runs (one entry per change of class), the open segment as the
 scanner's bounded state.
 """
@@ -25,7 +28,9 @@ from taxelkit.smart.class_history import ClassHistory, check_chunk
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Event
 from taxelkit.smart.levels34 import Levels34, Recognition, Segment, finish, track_segments
+from taxelkit.smart.segment_head import SlipInputs, track_from_rows
 from taxelkit.smart.segment_scan import SegmentScanner
+from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, debounce_counts
 
 __all__ = ["ArrayStream", "ClassHistory", "check_chunk"]
@@ -104,6 +109,12 @@ class ArrayStream:
         # within push_chunk: the calls to Levels 3-4, replayed in order at the chunk's end
         # (the segments that ended within it computed together, by batch_tactemes)
         self._queue: list[_Call] | None = None
+        # between begin_chunk and end_chunk: the feed that ends the chunk (scanner, frames,
+        # rows, and the class and accepting frame of a segment opened by it)
+        self._tail: (
+            tuple[SegmentScanner, NDArray[np.intp], NDArray[np.float64], tuple[int, int] | None]
+            | None
+        ) = None
 
     @property
     def idle(self) -> bool:
@@ -152,11 +163,24 @@ class ArrayStream:
         self, classes: NDArray[np.int8], rows: NDArray[np.float64], t_s: NDArray[np.float64]
     ) -> list[Event]:
         """A chunk's classes ``(m,)``, rows ``(m, 9)`` and times ``(m,)``; the events caused."""
+        return self.begin_chunk(classes, rows, t_s) + self.end_chunk()
+
+    def begin_chunk(
+        self, classes: NDArray[np.int8], rows: NDArray[np.float64], t_s: NDArray[np.float64]
+    ) -> list[Event]:
+        """:meth:`push_chunk` up to the open segment's last feed; the events caused so far.
+
+        The feed that ends the chunk (its frames to the open segment's
+        scanner) waits in :attr:`tail_feed` for :meth:`end_chunk`, which must
+        come next: a bank computes the slip scanners' part of those feeds for
+        all its arrays at once in between.
+        """
+        assert self._tail is None, "end_chunk must follow begin_chunk"
         m = int(classes.size)
         if m == 0:
             return []
         if self.frame_index == 0 and m > 1:  # the first frame is debounced before dt is known
-            return self.push_chunk(classes[:1], rows[:1], t_s[:1]) + self.push_chunk(
+            return self.push_chunk(classes[:1], rows[:1], t_s[:1]) + self.begin_chunk(
                 classes[1:], rows[1:], t_s[1:]
             )
         j0 = self.frame_index
@@ -178,9 +202,33 @@ class ArrayStream:
         finally:
             self._defer = False
             self._replay()
-            self._undefer()
+            self._undefer(hold=True)
         if sum(j.size for j, _ in self._pend_chunks) >= self.chunk_every:
-            self._feed(final=False)
+            self._feed(final=False, hold=True)
+        return self.state.events[before:]
+
+    @property
+    def tail_feed(self) -> tuple[SlipScanner | None, NDArray[np.float64]] | None:
+        """The feed :meth:`end_chunk` makes: the segment's slip scanner and the rows ``(m, 9)``."""
+        if self._tail is None:
+            return None
+        return self._tail[0].slip_scanner, self._tail[2]
+
+    def end_chunk(self, slip: SlipInputs | None = None) -> list[Event]:
+        """Make the feed that ends a chunk (:meth:`begin_chunk`); the events it caused.
+
+        ``slip``: the slip scanner's inputs for it, computed already.
+        """
+        tail, self._tail = self._tail, None
+        if tail is None:
+            return []
+        seg, frames, rows, opened = tail
+        before = len(self.state.events)
+        seg.extend(frames, rows, slip=slip)
+        if opened is None:
+            self._call(_Call(0, 0, seg, update=True))
+        else:  # a segment accepted in this chunk, shown to Levels 3-4 with its first frames
+            self.state.open_run(opened[0], opened[1], seg)
         return self.state.events[before:]
 
     def _runs(
@@ -277,17 +325,7 @@ class ArrayStream:
         pieces = [*zip(d.first_j, d.first_rows, strict=True), *d.later]
         frames = np.concatenate([p[0] for p in pieces])
         rows = np.concatenate([p[1] for p in pieces])
-        track = SegmentTrack(
-            frames,
-            rows[:, 0:2],
-            rows[:, 2],
-            rows[:, 3],
-            rows[:, 4],
-            rows[:, 5],
-            rows[:, 8],
-            rows[:, 6:8],
-            self.pitch_mm,
-        )
+        track = track_from_rows(frames, rows, self.pitch_mm)
         self._call(_Call(d.cls, d.accept, None, track, rows))
 
     def _call(self, call: _Call) -> None:
@@ -313,8 +351,12 @@ class ArrayStream:
             else:
                 self.state.open_run(c.cls, c.accept, c.seg)
 
-    def _undefer(self) -> None:
-        """The chunk ended with a deferred segment open: it goes to a scanner after all."""
+    def _undefer(self, *, hold: bool = False) -> None:
+        """The chunk ended with a deferred segment open: it goes to a scanner after all.
+
+        ``hold``: its first feed waits for :meth:`end_chunk` when nothing else
+        would follow it in the chunk.
+        """
         d, self._deferred = self._deferred, None
         if d is None:
             return
@@ -324,12 +366,16 @@ class ArrayStream:
             first_j = [*first_j, *(j for j, _ in d.later)]
             first_rows = [*first_rows, *(r for _, r in d.later)]
             d.later = []
-        seg.extend(np.concatenate(first_j), np.concatenate(first_rows))
         self._seg = seg
         self._pend_chunks = d.later
+        frames, rows = np.concatenate(first_j), np.concatenate(first_rows)
+        if hold and not d.later:
+            self._tail = (seg, frames, rows, (d.cls, d.accept))
+            return
+        seg.extend(frames, rows)
         self.state.open_run(d.cls, d.accept, seg)
 
-    def _feed(self, *, final: bool) -> None:
+    def _feed(self, *, final: bool, hold: bool = False) -> None:
         seg = self._seg
         if self._pend_j:
             self._pend_chunks.append(
@@ -341,13 +387,16 @@ class ArrayStream:
             return
         grew = bool(self._pend_chunks)
         if len(self._pend_chunks) == 1:
-            seg.extend(*self._pend_chunks[0])
+            frames, rows = self._pend_chunks[0]
         elif self._pend_chunks:
-            seg.extend(
-                np.concatenate([j for j, _ in self._pend_chunks]),
-                np.concatenate([r for _, r in self._pend_chunks]),
-            )
+            frames = np.concatenate([j for j, _ in self._pend_chunks])
+            rows = np.concatenate([r for _, r in self._pend_chunks])
         self._pend_chunks = []
+        if hold and grew and not final:  # the chunk's last feed: end_chunk makes it
+            self._tail = (seg, frames, rows, None)
+            return
+        if grew:
+            seg.extend(frames, rows)
         if final:
             grew |= bool(seg.close())
         if grew or final:

@@ -16,7 +16,7 @@ from taxelkit.smart.slip import DEFAULT_SLIP, SlipConfig
 if TYPE_CHECKING:
     from taxelkit.smart.object_table import ObjectTable
 
-__all__ = ["PAPER_LEVEL3", "TactemeConfig", "debounce_counts", "face_limits"]
+__all__ = ["PAPER_LEVEL3", "TactemeConfig", "debounce_counts"]
 
 
 @dataclass(frozen=True)
@@ -373,17 +373,6 @@ PAPER_LEVEL3 = TactemeConfig(
     pivot_every_verdict=False,
     slip=None,
 )
-
-
-def face_limits(config: TactemeConfig) -> dict[str, float]:
-    """The keyword limits of :func:`~taxelkit.smart.face_shapes.face_masks` from ``config``."""
-    return {
-        "min_area_mm2": config.face_min_area_mm2,
-        "compact_max": config.face_compact_max,
-        "elongated_min": config.face_elongated_min,
-        "symmetric_max": config.face_symmetric_max,
-        "triangular_min": config.face_triangular_min,
-    }
 
 
 def debounce_counts(config: TactemeConfig, dt_s: float | None) -> tuple[int, int]:

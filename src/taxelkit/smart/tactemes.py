@@ -65,13 +65,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
-from taxelkit.smart.face_shapes import face_masks, triangularity
+from taxelkit.smart.face_shapes import face_limits, face_masks, triangularity
 from taxelkit.smart.pivot_rules import pivot_tacteme
 from taxelkit.smart.tacteme_config import (
     PAPER_LEVEL3,
     TactemeConfig,
     debounce_counts,
-    face_limits,
 )
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_geometry import (
