@@ -34,6 +34,7 @@ from taxelkit.smart.cleaning import (
     release_frames_for,
     stuck_frames_for,
 )
+from taxelkit.smart.cleaning_runs import RUNS_WORTH, clean_runs, run_starts
 from taxelkit.smart.packed_rows import PackedRows
 
 __all__ = ["GROUP_FRAMES", "ChunkCleaner"]
@@ -229,10 +230,17 @@ class ChunkCleaner:
             f3 = frames.reshape(n, t, *word)
             return np.concatenate([first[:, None], f3[:, :-1]], axis=1).reshape(frames.shape)
 
-        out, passed = _clean(ops, a, self._prev[sel], self._prev_passed[sel], cfg, after)
+        new = run_starts(a, t) if cfg.persistence else None
+        if new is not None and np.count_nonzero(new) <= RUNS_WORTH * new.size:
+            out, last_passed = clean_runs(
+                ops, a, new, t, self._prev[sel], self._prev_passed[sel], cfg
+            )
+        else:
+            out, passed = _clean(ops, a, self._prev[sel], self._prev_passed[sel], cfg, after)
+            last_passed = passed.reshape(n, t, *word)[:, -1]
         last = a3[:, -1]
         self._prev[sel] = last
-        self._prev_passed[sel] = passed.reshape(n, t, *word)[:, -1]
+        self._prev_passed[sel] = last_passed
         armed = np.zeros(self.n, bool)  # after _stuck: this chunk's armed taxels
         armed[self._armed[0]] = True
         flat = self._iso_hist[sel].reshape(n, -1)
