@@ -57,7 +57,8 @@ def test_runs_give_the_frame_by_frame_images(
             assert (a.shape[1] * a.itemsize) % 8
             continue
         assert new[::t].all()
-        got = clean_runs(ops, a, new, t, prev, prev_passed, cfg)
+        first, run = np.flatnonzero(new), np.cumsum(new) - 1
+        got = clean_runs(ops, take_rows(a, first), first, run, t, prev, prev_passed, cfg)
         want = per_frame(ops, a, prev, prev_passed, cfg, m, t)
         np.testing.assert_array_equal(got[0], want[0])
         np.testing.assert_array_equal(got[1], want[1])
@@ -66,7 +67,10 @@ def test_runs_give_the_frame_by_frame_images(
 def test_the_chunk_cleaner_goes_by_runs_and_cleans_as_before() -> None:
     rng = np.random.default_rng(5)
     img = held_frames(rng, 2, 300, (16, 16))
-    t = np.broadcast_to(np.arange(300) / 240.0, (2, 300))
+    img[:, :, :4, :4] = img[:, :, 12:, 12:] = False
+    img[:, 40:250, 1, 1] = True  # isolated for more than stuck_s: masked, then released
+    img[:, :100, 14, 14] = True  # on from the start: masked until it reads off
+    t = np.broadcast_to(np.arange(300) / 20.0, (2, 300))
     cfg = CleaningConfig()
     by_runs = ChunkCleaner(2, (16, 16), config=cfg)
     chunks = [by_runs.push(img[:, a : a + 70], t[:, a : a + 70]) for a in range(0, 300, 70)]

@@ -35,6 +35,7 @@ from taxelkit.smart.cleaning import (
     stuck_frames_for,
 )
 from taxelkit.smart.cleaning_runs import RUNS_WORTH, clean_runs, run_starts
+from taxelkit.smart.gather import take_rows
 from taxelkit.smart.packed_rows import PackedRows
 
 __all__ = ["GROUP_FRAMES", "ChunkCleaner"]
@@ -221,24 +222,37 @@ class ChunkCleaner:
             on = ops.pack(img.reshape(n * t, *self.shape))
         word = on.shape[1:]
         on3 = on.reshape(n, t, *word)
-        stuck = self._stuck(on3, on, sel, longest) if cfg.stuck else np.zeros_like(on)
-        a = _bridged(ops, on, stuck, cfg)
-        out = a
-        a3 = a.reshape(n, t, *word)
-
-        def after(first: NDArray[Any], frames: NDArray[Any]) -> NDArray[Any]:
-            f3 = frames.reshape(n, t, *word)
-            return np.concatenate([first[:, None], f3[:, :-1]], axis=1).reshape(frames.shape)
-
-        new = run_starts(a, t) if cfg.persistence else None
+        # runs of equal raw frames: a frame's isolated taxels and bridging depend on it alone
+        new = run_starts(on, t) if cfg.persistence else None
+        first = run = per_run = None
         if new is not None and np.count_nonzero(new) <= RUNS_WORTH * new.size:
-            out, last_passed = clean_runs(
-                ops, a, new, t, self._prev[sel], self._prev_passed[sel], cfg
-            )
+            first, run = np.flatnonzero(new), np.cumsum(new) - 1
+            per_run = take_rows(on, first)
+        stuck = self._stuck(on3, on, sel, longest, per_run, run) if cfg.stuck else None
+        prev, prev_passed = self._prev[sel], self._prev_passed[sel]
+        if per_run is not None and (stuck is None or not np.any(stuck)):
+            assert first is not None and run is not None
+            frames = _bridged(ops, per_run, np.zeros((), per_run.dtype), cfg)
+            out, last_passed = clean_runs(ops, frames, first, run, t, prev, prev_passed, cfg)
+            last = take_rows(frames, run[t - 1 :: t])
         else:
-            out, passed = _clean(ops, a, self._prev[sel], self._prev_passed[sel], cfg, after)
-            last_passed = passed.reshape(n, t, *word)[:, -1]
-        last = a3[:, -1]
+            a = _bridged(ops, on, np.zeros_like(on) if stuck is None else stuck, cfg)
+            last = a.reshape(n, t, *word)[:, -1]
+            new = run_starts(a, t) if cfg.persistence else None
+            if new is not None and np.count_nonzero(new) <= RUNS_WORTH * new.size:
+                first, run = np.flatnonzero(new), np.cumsum(new) - 1
+                out, last_passed = clean_runs(
+                    ops, take_rows(a, first), first, run, t, prev, prev_passed, cfg
+                )
+            else:
+
+                def after(start: NDArray[Any], frames: NDArray[Any]) -> NDArray[Any]:
+                    f3 = frames.reshape(n, t, *word)
+                    joined = np.concatenate([start[:, None], f3[:, :-1]], axis=1)
+                    return joined.reshape(frames.shape)
+
+                out, passed = _clean(ops, a, prev, prev_passed, cfg, after)
+                last_passed = passed.reshape(n, t, *word)[:, -1]
         self._prev[sel] = last
         self._prev_passed[sel] = last_passed
         armed = np.zeros(self.n, bool)  # after _stuck: this chunk's armed taxels
@@ -264,8 +278,19 @@ class ChunkCleaner:
             self._n_release[i] = release_frames_for(dt, self.config)
 
     def _stuck(
-        self, on3: NDArray[Any], on: NDArray[Any], sel: NDArray[np.intp], longest: int
+        self,
+        on3: NDArray[Any],
+        on: NDArray[Any],
+        sel: NDArray[np.intp],
+        longest: int,
+        per_run: NDArray[Any] | None = None,
+        run: NDArray[np.intp] | None = None,
     ) -> NDArray[Any]:
+        """Rule 1's masked bits of frames ``on`` ``(m * T, ...)`` (``on3``: ``(m, T, ...)``).
+
+        ``per_run``, ``run``: the frame of each run of equal frames and each
+        frame's run, if at hand (a frame's isolated taxels are then found once a run).
+        """
         ops = self._ops
         n, t = on3.shape[:2]
         prior = self._since[sel]
@@ -276,7 +301,10 @@ class ChunkCleaner:
             self._since[sel] = since[:, -1]
         else:
             since = np.zeros_like(on3)
-        iso = (on & ~_neighbours8(ops, on)).reshape(on3.shape)
+        if per_run is None or run is None:
+            iso = (on & ~_neighbours8(ops, on)).reshape(on3.shape)
+        else:
+            iso = take_rows(per_run & ~_neighbours8(ops, per_run), run).reshape(on3.shape)
         n_stuck = self._n_stuck[sel]
         self._resize_hist(longest)
         hist = np.concatenate([self._iso_hist[sel], iso], axis=1)
@@ -310,6 +338,9 @@ class ChunkCleaner:
         inside = li >= 0  # all of them: an armed array is busy, hence in sel
         outside = tuple(a[~inside] for a in self._armed)
         arm_i, arm_j, arm_b, arm_off = li[inside], *(a[inside] for a in self._armed[1:])
+        if arm_i.size == 0 and not np.any(seed_f):  # nothing armed, nothing seeded
+            self._armed = outside
+            return out.reshape(on3.shape)
         # the taxels seeded in this chunk, one (array, word, bit) each
         any_seed = np.bitwise_or.reduce(seed_f, axis=1)  # (n, words)
         si, sj = np.nonzero(any_seed)

@@ -51,23 +51,27 @@ def run_starts(a: NDArray[Any], t: int) -> NDArray[np.bool_] | None:
 
 def clean_runs(
     ops: Any,
-    a: NDArray[Any],
-    new: NDArray[np.bool_],
+    frames: NDArray[Any],
+    first: NDArray[np.intp],
+    run: NDArray[np.intp],
     t: int,
     prev: NDArray[Any],
     prev_passed: NDArray[Any],
     config: CleaningConfig,
 ) -> tuple[NDArray[Any], NDArray[Any]]:
-    """Rules 3-4 on bridged packed frames ``a``, once per run of equal frames.
+    """Rules 3-4 on bridged packed frames, once per run of equal frames.
 
     Parameters
     ----------
     ops : PackedRows
-        The packed rows of ``a``.
-    a : (m * t, ...) unsigned int
-        Bridged frames of ``m`` arrays, ``t`` each, laid end to end.
-    new : (m * t,) bool
-        :func:`run_starts` of ``a``.
+        The packed rows of ``frames``.
+    frames : (u, ...) unsigned int
+        The bridged frame of each run: ``m`` arrays of ``t`` frames each, laid
+        end to end, are ``u`` runs of equal frames (none across two arrays).
+    first : (u,) int
+        Each run's first frame (``flatnonzero`` of :func:`run_starts`).
+    run : (m * t,) int
+        Each frame's run (``cumsum`` of :func:`run_starts`, less 1).
     t : int
         Frames per array.
     prev, prev_passed : (m, ...) unsigned int
@@ -83,15 +87,11 @@ def clean_runs(
     last_passed : (m, ...) unsigned int
         The one-frame test of each array's last frame (the next ``prev_passed``).
     """
-    n = a.shape[0]
-    first = np.flatnonzero(new)  # each run's first frame
-    u = first.size
-    run = np.cumsum(new) - 1  # each frame's run
+    n, u = run.size, first.size
     length = np.diff(first, append=n)
     arr = first // t  # each run's array
     lead = (first % t) == 0  # runs that begin an array
-    shape = (-1,) + (1,) * (a.ndim - 1)  # a per-run flag against the runs' frames
-    frames = take_rows(a, first)
+    shape = (-1,) + (1,) * (frames.ndim - 1)  # a per-run flag against the runs' frames
     # the frame before each run's first, and its one-frame test
     before = np.empty_like(frames)
     before[1:] = frames[:-1]
@@ -116,5 +116,5 @@ def clean_runs(
     pick = run + u
     pick[first] -= u
     out = take_rows(table, pick)
-    ends = np.flatnonzero(np.diff(arr, append=-1))  # each array's last run
+    ends = run[t - 1 :: t]  # each array's last run
     return out, last_passed[ends]
