@@ -238,7 +238,7 @@ class ChunkCleaner:
         else:
             a = _bridged(ops, on, np.zeros_like(on) if stuck is None else stuck, cfg)
             last = a.reshape(n, t, *word)[:, -1]
-            new = run_starts(a, t) if cfg.persistence else None
+            new = None if per_run is None else run_starts(a, t)  # masking splits runs
             if new is not None and np.count_nonzero(new) <= RUNS_WORTH * new.size:
                 first, run = np.flatnonzero(new), np.cumsum(new) - 1
                 out, last_passed = clean_runs(

@@ -15,6 +15,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit.smart.gather import take_rows
+
 __all__ = ["Runs"]
 
 
@@ -66,18 +68,20 @@ class Runs:
         out = c.copy()
         out[w:] -= c[:-w]  # rows less than w into their segment are put back below
         head = np.flatnonzero(self.local < w)
-        out[head] = c[head]
+        out[head] = take_rows(c, head)
         n = np.minimum(self.local + 1, w).reshape((-1,) + (1,) * (x.ndim - 1))
         result: NDArray[np.float64] = out / n
         return result
 
     def sustained(self, mask: NDArray[np.bool_], k: int) -> NDArray[np.bool_]:
         """:func:`~taxelkit.smart.track_geometry.sustained` of every segment of ``mask``."""
-        c = np.cumsum(mask.astype(np.int64))  # integers: exact whatever came before
+        c = np.cumsum(mask, dtype=np.int64)  # integers: exact whatever came before
         base = np.zeros(self.lengths.size, np.int64)
-        base[1:] = c[self.starts[1:] - 1]
-        back = np.maximum(np.arange(self.size) - k, 0)
-        before = np.where(self.local >= k, c[back], base[self.seg])
+        base[1:] = c.take(self.starts[1:] - 1)
+        back = np.zeros_like(c)  # the count k rows back (0 before the first row)
+        if k < c.size:
+            back[k:] = c[: c.size - k]
+        before = np.where(self.local >= k, back, base.take(self.seg))
         out: NDArray[np.bool_] = (c - before) >= k
         return out
 

@@ -220,13 +220,12 @@ def _line_hits(
     """
     starts, lengths, seg, local = runs.starts, runs.lengths, runs.seg, runs.local
     move = config.move_mm
-    t_ref = np.deg2rad(angle[ref_g])
-    along = np.abs(shift[:, 0] * np.cos(t_ref) + shift[:, 1] * np.sin(t_ref))
+    t_ref = np.deg2rad(angle.take(ref_g))
+    cos_ref, sin_ref = np.cos(t_ref), np.sin(t_ref)
+    along = np.abs(shift[:, 0] * cos_ref + shift[:, 1] * sin_ref)
     half = smooth[:, 6]
-    ends = along - np.abs(half - half[ref_g])
-    across = np.where(
-        valid, np.abs(-shift[:, 0] * np.sin(t_ref) + shift[:, 1] * np.cos(t_ref)), 0.0
-    )
+    ends = along - np.abs(half - half.take(ref_g))
+    across = np.where(valid, np.abs(-shift[:, 0] * sin_ref + shift[:, 1] * cos_ref), 0.0)
     j_lcm = runs.first_sustained(across > move, hold)
     slid = valid & (ends > move) & (across < 0.5 * move)
     j_slide = runs.first_sustained(slid, hold)
@@ -234,9 +233,9 @@ def _line_hits(
     first_ref = np.minimum(w - 1, lengths - 1)  # a line's turn counts from its first reference
     first_g = starts + first_ref
     turned_all = np.where(local >= first_ref[seg], _turn(angle, first_g[seg]), 0.0)
-    t0 = np.deg2rad(angle[first_g])[seg]
+    t0 = np.deg2rad(angle.take(first_g))  # each segment's (sine and cosine gathered per row)
     rolled = _carried_shift(runs, np.ascontiguousarray(smooth[:, 0:2]), shift, anchor, ref_g)
-    across_all = np.abs(-rolled[:, 0] * np.sin(t0) + rolled[:, 1] * np.cos(t0))
+    across_all = np.abs(-rolled[:, 0] * np.sin(t0).take(seg) + rolled[:, 1] * np.cos(t0).take(seg))
     parallel = (across_all >= config.parallel_move_mm) & (turned_all <= config.parallel_tol_deg)
     j_par = runs.first_sustained(parallel, hold)
     j_turn = runs.first_sustained(turned_all > config.turn_deg, hold)
