@@ -54,10 +54,9 @@ def _held_along_time(a: NDArray[Any], n: int) -> NDArray[Any]:
     span = 1
     while span < n and np.any(out):
         step = min(span, n - span)
-        shifted = np.zeros_like(out)
-        if step < out.shape[1]:
-            shifted[:, step:] = out[:, :-step]
-        out &= shifted
+        if step < out.shape[1]:  # each frame AND the one step before (NumPy buffers the overlap)
+            out[:, step:] &= out[:, :-step]
+        out[:, :step] = 0
         span += step
     return out
 
@@ -310,7 +309,8 @@ class ChunkCleaner:
         hist = np.concatenate([self._iso_hist[sel], iso], axis=1)
         held = np.zeros_like(iso)
         if np.any(hist):  # no isolated taxel in the window: nothing held
-            for k in np.unique(n_stuck).tolist():
+            one = n_stuck.size and n_stuck.min() == n_stuck.max()
+            for k in [int(n_stuck[0])] if one else np.unique(n_stuck).tolist():
                 rows = np.flatnonzero(n_stuck == k)
                 part = hist[rows] if rows.size < n else hist
                 if part.shape[1] > t + k - 1:

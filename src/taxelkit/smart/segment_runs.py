@@ -65,7 +65,7 @@ class Runs:
     def rolling_mean(self, x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
         """:func:`~taxelkit.smart.track_geometry.rolling_mean` of every segment of ``x``."""
         c = self.cumsum(x)
-        out = c.copy()
+        out = c.copy(order="K")  # as laid out (columns contiguous stay so)
         out[w:] -= c[:-w]  # rows less than w into their segment are put back below
         head = np.flatnonzero(self.local < w)
         out[head] = take_rows(c, head)

@@ -103,23 +103,25 @@ def _group(
     frames = np.concatenate([t.frames for t in tracks])
     theta = np.concatenate([t.orientation_deg for t in tracks])
     # columns: centre x, y, axis vector, area, elongation, half-length; each class
-    # smooths those its rules read (a point: its centre; a line: not its elongation)
-    raw = np.zeros((runs.size, 7))
-    raw[:, 0:2] = np.concatenate([t.centre_mm for t in tracks])
+    # smooths those its rules read (a point: its centre; a line: not its elongation).
+    # Kept column by column (rows of the transpose): filled and smoothed contiguously.
+    raw_t = np.zeros((7, runs.size))
+    raw_t[0:2] = np.concatenate([t.centre_mm for t in tracks]).T
     used = [0, 1] if cls == _POINT else [0, 1, 2, 3, 4, 6 if cls == _LINE else 5]
     ext = None
     if cls != _POINT:
         t2 = np.deg2rad(2.0 * theta)  # axis_vectors, column by column
-        raw[:, 2], raw[:, 3] = np.cos(t2), np.sin(t2)
-        raw[:, 4] = np.concatenate([t.area_mm2 for t in tracks])
+        raw_t[2], raw_t[3] = np.cos(t2), np.sin(t2)
+        raw_t[4] = np.concatenate([t.area_mm2 for t in tracks])
     if cls == _AREA:
-        raw[:, 5] = np.concatenate([t.elongation for t in tracks])
+        raw_t[5] = np.concatenate([t.elongation for t in tracks])
     if cls == _LINE:
-        raw[:, 6] = np.concatenate([t.half_length_mm for t in tracks])
+        raw_t[6] = np.concatenate([t.half_length_mm for t in tracks])
         if all(t.extent_mm is not None for t in tracks):
             ext = np.concatenate([t.extent_mm for t in tracks if t.extent_mm is not None])
-    smooth = np.zeros_like(raw)
-    smooth[:, used] = runs.rolling_mean(raw[:, used], w)
+    smooth_t = np.zeros_like(raw_t)
+    smooth_t[used] = runs.rolling_mean(raw_t[used].T, w).T
+    raw, smooth = raw_t.T, smooth_t.T  # (N, 7)
     centre = np.ascontiguousarray(smooth[:, 0:2])  # contiguous: its rows gathered fast
     angle = axis_angle_deg(smooth[:, 2:4])
     area, elong = smooth[:, 4], smooth[:, 5]
