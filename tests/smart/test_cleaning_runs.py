@@ -5,9 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from taxelkit.smart.cleaning import CleaningConfig, _clean
+from taxelkit.smart.cleaning import CleaningConfig, _clean, clean_images
 from taxelkit.smart.cleaning_chunks import ChunkCleaner
-from taxelkit.smart.cleaning_runs import clean_runs, run_starts
+from taxelkit.smart.cleaning_runs import clean_runs, clean_runs_if_worth, run_starts
+from taxelkit.smart.cleaning_stream import ImageCleaner
 from taxelkit.smart.gather import take_rows
 from taxelkit.smart.packed_rows import backend_for
 from taxelkit.smart.segment_runs import Runs, run_anchors
@@ -106,3 +107,20 @@ def test_run_anchors_are_each_segments_anchors(k: int, tolerance: float) -> None
     for a, n in zip(runs.starts.tolist(), lengths.tolist(), strict=True):
         want = anchors(area[a : a + n], elong[a : a + n], k, tolerance)
         np.testing.assert_array_equal(got[a : a + n], want)
+
+
+@pytest.mark.parametrize("depth", [1, 2])
+def test_batch_cleaning_by_runs_is_the_streamed_cleaning(depth: int) -> None:
+    rng = np.random.default_rng(depth)
+    img = held_frames(rng, 1, 400, (16, 16))[0]
+    img[:, :4, :4] = img[:, 12:, 12:] = False
+    img[30:300, 1, 1] = True  # isolated for more than stuck_s: masked, then released
+    img[:120, 14, 14] = True  # on from the start
+    t = np.arange(400) / 20.0
+    cfg = CleaningConfig(persistence_depth=depth)
+    ops = backend_for(16)
+    a = ops.pack(img)
+    assert clean_runs_if_worth(ops, a, 400, a[:1] * 0, a[:1] * 0, cfg) is not None  # by runs
+    cleaner = ImageCleaner((16, 16), config=cfg)
+    stream = np.stack([cleaner.push(f, ts) for f, ts in zip(img, t, strict=True)])
+    np.testing.assert_array_equal(clean_images(img, t, config=cfg), stream)

@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 from taxelkit.smart.cleaning import CleaningConfig, _crowded, _dilate3, _stray
 from taxelkit.smart.gather import take_rows
 
-__all__ = ["RUNS_WORTH", "clean_runs", "run_starts"]
+__all__ = ["RUNS_WORTH", "clean_runs", "clean_runs_if_worth", "run_starts"]
 
 #: Rules 3-4 go by runs when at most this share of the frames starts a run
 #: (beyond, gathering the runs costs more than it saves).
@@ -118,3 +118,25 @@ def clean_runs(
     out = take_rows(table, pick)
     ends = run[t - 1 :: t]  # each array's last run
     return out, last_passed[ends]
+
+
+def clean_runs_if_worth(
+    ops: Any,
+    a: NDArray[Any],
+    t: int,
+    prev: NDArray[Any],
+    prev_passed: NDArray[Any],
+    config: CleaningConfig,
+) -> NDArray[Any] | None:
+    """:func:`clean_runs` of bridged frames ``a`` ``(m * t, ...)``, or None if not worth it.
+
+    None when persistence is off, when the frames do not fill whole 64-bit
+    words, or when more than :data:`RUNS_WORTH` of them start a run: the
+    frame-by-frame rules then serve.
+    """
+    new = run_starts(a, t) if config.persistence else None
+    if new is None or np.count_nonzero(new) > RUNS_WORTH * new.size:
+        return None
+    first, run = np.flatnonzero(new), np.cumsum(new) - 1
+    out, _ = clean_runs(ops, take_rows(a, first), first, run, t, prev, prev_passed, config)
+    return out
