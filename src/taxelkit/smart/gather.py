@@ -16,8 +16,12 @@ from numpy.typing import NDArray
 __all__ = ["take_rows"]
 
 
-def take_rows(x: NDArray[Any], idx: NDArray[np.intp]) -> NDArray[Any]:
+def take_rows(
+    x: NDArray[Any], idx: NDArray[np.intp], out: NDArray[Any] | None = None
+) -> NDArray[Any]:
     """``x[idx]``: the rows ``idx`` ``(k,)`` (integers) of ``x`` ``(n, ...)``, ``(k, ...)``.
+
+    ``out``: a C-contiguous array of that shape and dtype to write them to (returned).
 
     Examples
     --------
@@ -26,13 +30,14 @@ def take_rows(x: NDArray[Any], idx: NDArray[np.intp]) -> NDArray[Any]:
     [[9.0, 10.0, 11.0], [0.0, 1.0, 2.0], [9.0, 10.0, 11.0]]
     """
     if x.ndim == 1:
-        out: NDArray[Any] = x.take(idx)
-        return out
-    if not x.flags.c_contiguous or x.size == 0:
-        out = x.take(idx, axis=0)
-        return out
+        got: NDArray[Any] = x.take(idx, out=out)
+        return got
+    if not x.flags.c_contiguous or x.size == 0 or (out is not None and not out.flags.c_contiguous):
+        got = x.take(idx, axis=0, out=out)
+        return got
     rows = x.shape[0]
     item = np.dtype((np.void, x.itemsize * (x.size // rows)))
-    picked = x.reshape(rows, -1).view(item).reshape(rows).take(idx)
-    out = picked.view(x.dtype).reshape(np.shape(idx) + x.shape[1:])
-    return out
+    into = None if out is None else out.reshape(np.size(idx), -1).view(item).reshape(-1)
+    picked = x.reshape(rows, -1).view(item).reshape(rows).take(idx, out=into)
+    got = picked.view(x.dtype).reshape(np.shape(idx) + x.shape[1:]) if out is None else out
+    return got

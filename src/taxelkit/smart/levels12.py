@@ -151,8 +151,11 @@ class ChunkLevels12:
         t_s: NDArray[np.float64],
         sel: NDArray[np.intp],
         words: NDArray[Any] | None = None,
+        dest: NDArray[np.float64] | None = None,
     ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
         """Classes ``(m, T)`` and rows ``(m, T, 9)`` of the cleaned frames of arrays ``sel``.
+
+        ``dest``: the ``(m, T, 9)`` array the rows are written to (returned), if given.
 
         ``words``: the same frames packed one word per row ``(m, T, rows)``, if at hand
         (``images`` may then be None: the frames computed are unpacked from them).
@@ -219,7 +222,14 @@ class ChunkLevels12:
                 self.pitch_mm,
                 row_words=None if u_packed is None else take_rows(u_packed, at),
             )
-        out = full(table)
+        if dest is None:
+            out = full(table)
+        else:
+            out = dest.reshape(n, 9)  # the caller's rows (a view: contiguous frames)
+            if inv is None:
+                out[...] = table
+            else:
+                take_rows(table, inv, out=out)
         out[:, 8] = np.asarray(t_s, dtype=np.float64)[sel].reshape(-1)
         if lines.size and inv is not None and lines.size < n:
             # a computed frame that is a line here and not there (the limits' hysteresis)
@@ -329,8 +339,12 @@ class ChunkLevels12:
         for a in range(0, t, step):
             b = min(t, a + step)
             part = images[a:b] if time_major else images[:, a:b]
-            classes[:, a:b], rows[:, a:b] = self._process_slice(
-                part, t_s[:, a:b], time_major=time_major, packed=packed
+            self._process_slice(
+                part,
+                t_s[:, a:b],
+                time_major=time_major,
+                packed=packed,
+                out=(classes[:, a:b], rows[:, a:b]),
             )
         return classes, rows
 
@@ -341,12 +355,20 @@ class ChunkLevels12:
         *,
         time_major: bool,
         packed: bool = False,
+        out: tuple[NDArray[np.int8], NDArray[np.float64]] | None = None,
     ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
-        """Levels 1-2 of one slice of frames (or packed rows), a group of arrays at a time."""
+        """Levels 1-2 of one slice of frames (or packed rows), a group of arrays at a time.
+
+        ``out``: the classes ``(N, T)`` and rows ``(N, T, 9)`` to write to (returned).
+        """
         n = self.n
         t = images.shape[0] if time_major else images.shape[1]
-        classes = np.zeros((n, t), dtype=np.int8)  # NONE
-        rows = np.empty((n, t, 9))  # read only where there is contact
+        if out is None:
+            classes = np.zeros((n, t), dtype=np.int8)  # NONE
+            rows = np.empty((n, t, 9))  # read only where there is contact
+        else:
+            classes, rows = out
+            classes[...] = 0
         taxels = self.shape[0] * self.shape[1]
         if packed and n == 1:
             hit = np.array([np.any(images)])
@@ -387,12 +409,18 @@ class ChunkLevels12:
             gt = g[on]
             if gt.size:
                 every = gt.size == g.size
-                classes[gt], rows[gt] = self._levels(
+                dest: NDArray[np.float64] | None = rows[int(gt[0]) : int(gt[-1]) + 1]
+                if dest is not None and (dest.shape[0] != gt.size or not dest.flags.c_contiguous):
+                    dest = None  # written through a view of the rows only
+                classes[gt], found = self._levels(
                     img if every or img is None else img[on],
                     t_s,
                     gt,
                     words if every or words is None else words[on],
+                    dest=dest,
                 )
+                if dest is None:
+                    rows[gt] = found
                 touched.append(gt)
         quiet = np.ones(n, bool)
         for gt in touched:
