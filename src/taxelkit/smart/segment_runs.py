@@ -15,8 +15,6 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from taxelkit.smart.gather import take_rows
-
 __all__ = ["Runs"]
 
 
@@ -64,12 +62,14 @@ class Runs:
 
     def rolling_mean(self, x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
         """:func:`~taxelkit.smart.track_geometry.rolling_mean` of every segment of ``x``."""
-        c = self.cumsum(x)
-        out = c.copy(order="K")  # as laid out (columns contiguous stay so)
-        out[w:] -= c[:-w]  # rows less than w into their segment are put back below
-        head = np.flatnonzero(self.local < w)
-        out[head] = take_rows(c, head)
-        n = np.minimum(self.local + 1, w).reshape((-1,) + (1,) * (x.ndim - 1))
+        c = self.cumsum(x)  # laid out as x (columns contiguous stay so)
+        shape = (-1,) + (1,) * (x.ndim - 1)
+        back = np.zeros_like(c)  # the sum w rows back
+        if w < c.shape[0]:
+            back[w:] = c[: c.shape[0] - w]
+        # rows less than w into their segment keep their sum (less 0.0: the same float)
+        out = c - np.where((self.local >= w).reshape(shape), back, 0.0)
+        n = np.minimum(self.local + 1, w).reshape(shape)
         result: NDArray[np.float64] = out / n
         return result
 
