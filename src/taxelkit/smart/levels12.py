@@ -20,13 +20,13 @@ from numpy.typing import NDArray
 from taxelkit.smart.cleaning import CleaningConfig
 from taxelkit.smart.cleaning_chunks import GROUP_FRAMES, ChunkCleaner
 from taxelkit.smart.contact_classes import (
-    AREA_MIN_AREA_MM2,
     ContactClass,
     ContactNetwork,
     classify_contacts,
 )
-from taxelkit.smart.contact_limits import ContactLimits, _length_thresholds, held_high_rows
+from taxelkit.smart.contact_limits import ContactLimits
 from taxelkit.smart.gather import take_rows
+from taxelkit.smart.limits_rows import limits_rows
 from taxelkit.smart.line_extents import line_extents
 from taxelkit.smart.moments import ImageStats, image_stats
 from taxelkit.smart.packed_rows import PACK_MAX_COLS, backend_for, repeats
@@ -39,8 +39,6 @@ __all__ = [
     "half_length",
 ]
 
-_LINE, _AREA = int(ContactClass.LINE), int(ContactClass.AREA)
-_POINT, _INDET = int(ContactClass.POINT), int(ContactClass.INDETERMINATE)
 
 #: Default contact threshold, mm: the Bonneville preset's fixed threshold.
 DEFAULT_THRESHOLD_MM = 0.03
@@ -53,17 +51,6 @@ _MIN_SLICE_FRAMES = 4096
 #: Levels 1-2 are computed once per run of equal frames when at most this share is new
 #: (gathering them costs about a quarter of computing them).
 _REPEATS_WORTH = 0.75
-
-
-def _schmitt_rows(
-    on: NDArray[np.bool_], off: NDArray[np.bool_], start: NDArray[np.bool_]
-) -> NDArray[np.bool_]:
-    """:func:`~taxelkit.smart.contact_limits.schmitt_masks` along each row, from its own state."""
-    decisive = on | off
-    idx = np.maximum.accumulate(np.where(decisive, np.arange(on.shape[1]), -1), axis=1)
-    last = np.take_along_axis(on, np.maximum(idx, 0), axis=1)
-    out: NDArray[np.bool_] = np.where(idx >= 0, last, start[:, None])
-    return out
 
 
 def _touched(images: NDArray[np.bool_], time_major: bool) -> NDArray[np.bool_]:
@@ -250,24 +237,9 @@ class ChunkLevels12:
         """:func:`~taxelkit.smart.contact_limits.apply_limits` on the arrays ``sel``, ``(m, T)``:
         their classes, taxels, areas, elongations and half-lengths, taken at ``t_s``."""
         assert self.limits is not None
-        length = np.where(taxels > 0, 2.0 * half, 0.0)
-        high, low = _length_thresholds(self.limits)
-        long = _schmitt_rows(length >= high, length < low, self._long[sel])
-        enter = AREA_MIN_AREA_MM2 * (1.0 + self.limits.area_hysteresis)
-        held, self._run[sel], self._t_prev[sel] = held_high_rows(
-            area, enter, t_s, self.limits.area_enter_s, self._run[sel], self._t_prev[sel]
-        )
-        big = _schmitt_rows(held, area < AREA_MIN_AREA_MM2, self._big[sel])
-        self._long[sel], self._big[sel] = long[:, -1], big[:, -1]
-        out = classes.copy()
-        out[(out == _LINE) & ~long] = _INDET
-        out[(out == _AREA) & ~big] = _INDET
-        cap = self.limits.point_max_area_mm2
-        if cap is not None:
-            compact = (taxels > 0) & (elong <= 2.0) & (area <= cap)
-            out[compact & (out == _INDET)] = _POINT
-        few = (taxels > 0) & (taxels <= self.limits.point_max_taxels) & (elong <= 2.0)
-        out[few & (out != _LINE)] = _POINT
+        state = (self._long[sel], self._big[sel], self._run[sel], self._t_prev[sel])
+        out, after = limits_rows(classes, taxels, area, elong, half, t_s, self.limits, state)
+        self._long[sel], self._big[sel], self._run[sel], self._t_prev[sel] = after
         return out
 
     def process(
