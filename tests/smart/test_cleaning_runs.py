@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from taxelkit.smart.cleaning import CleaningConfig, _clean, clean_images
-from taxelkit.smart.cleaning_chunks import ChunkCleaner
+from taxelkit.smart.cleaning_chunks import ChunkCleaner, _held_along_time
 from taxelkit.smart.cleaning_runs import clean_runs, clean_runs_if_worth, run_starts
 from taxelkit.smart.cleaning_stream import ImageCleaner
 from taxelkit.smart.gather import take_rows
@@ -124,3 +124,16 @@ def test_batch_cleaning_by_runs_is_the_streamed_cleaning(depth: int) -> None:
     cleaner = ImageCleaner((16, 16), config=cfg)
     stream = np.stack([cleaner.push(f, ts) for f, ts in zip(img, t, strict=True)])
     np.testing.assert_array_equal(clean_images(img, t, config=cfg), stream)
+
+
+def test_held_along_time_is_the_and_over_each_window() -> None:
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        m, t = int(rng.integers(1, 3)), int(rng.integers(1, 60))
+        a = (rng.random((m, t, 2)) < rng.choice([0.5, 0.95, 1.0])).astype(np.uint16)
+        a |= (rng.random((m, t, 2)) < 0.9).astype(np.uint16) << np.uint16(5)
+        for n in [1, 2, 5, 17, 80]:
+            want = np.zeros_like(a)
+            for j in range(n - 1, t):
+                want[:, j] = np.bitwise_and.reduce(a[:, j - n + 1 : j + 1], axis=1)
+            np.testing.assert_array_equal(_held_along_time(a, n), want)

@@ -48,8 +48,16 @@ GROUP_FRAMES = 16_384
 def _held_along_time(a: NDArray[Any], n: int) -> NDArray[Any]:
     """Taxels on in each of the frames ``t - n + 1 .. t`` of ``a`` ``(N, T, ...)`` (axis 1).
 
-    The doubling stops once no taxel is left on (the further ANDs keep it clear).
+    The doubling stops once no taxel is left on (the further ANDs keep it clear); it is
+    skipped when no taxel is on at both ends and midway of any window (none is held).
     """
+    frames = a.shape[1]
+    if 1 < n <= frames:
+        mid = (n - 1) // 2
+        ends = a[:, n - 1 :] & a[:, : frames - n + 1]
+        ends &= a[:, mid : mid + ends.shape[1]]
+        if not np.any(ends):
+            return np.zeros_like(a)
     out = a.copy()
     span = 1
     while span < n and np.any(out):
