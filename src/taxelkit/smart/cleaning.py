@@ -317,5 +317,10 @@ def clean_images(
         else np.zeros_like(on)
     )
     blank = np.zeros_like(on[0])
-    out, _ = _clean(ops, _bridged(ops, on, stuck, cfg), blank, blank, cfg)
+    a = _bridged(ops, on, stuck, cfg)
+    from taxelkit.smart.cleaning_runs import clean_runs_if_worth  # it builds on this module
+
+    out = clean_runs_if_worth(ops, a, a.shape[0], blank[None], blank[None], cfg)
+    if out is None:
+        out, _ = _clean(ops, a, blank, blank, cfg)
     return ops.unpack(out, img.shape[2])

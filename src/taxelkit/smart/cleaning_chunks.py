@@ -34,6 +34,8 @@ from taxelkit.smart.cleaning import (
     release_frames_for,
     stuck_frames_for,
 )
+from taxelkit.smart.cleaning_runs import RUNS_WORTH, clean_runs, run_starts
+from taxelkit.smart.gather import take_rows
 from taxelkit.smart.packed_rows import PackedRows
 
 __all__ = ["GROUP_FRAMES", "ChunkCleaner"]
@@ -46,16 +48,23 @@ GROUP_FRAMES = 16_384
 def _held_along_time(a: NDArray[Any], n: int) -> NDArray[Any]:
     """Taxels on in each of the frames ``t - n + 1 .. t`` of ``a`` ``(N, T, ...)`` (axis 1).
 
-    The doubling stops once no taxel is left on (the further ANDs keep it clear).
+    The doubling stops once no taxel is left on (the further ANDs keep it clear); it is
+    skipped when no taxel is on at both ends and midway of any window (none is held).
     """
+    frames = a.shape[1]
+    if 1 < n <= frames:
+        mid = (n - 1) // 2
+        ends = a[:, n - 1 :] & a[:, : frames - n + 1]
+        ends &= a[:, mid : mid + ends.shape[1]]
+        if not np.any(ends):
+            return np.zeros_like(a)
     out = a.copy()
     span = 1
     while span < n and np.any(out):
         step = min(span, n - span)
-        shifted = np.zeros_like(out)
-        if step < out.shape[1]:
-            shifted[:, step:] = out[:, :-step]
-        out &= shifted
+        if step < out.shape[1]:  # each frame AND the one step before (NumPy buffers the overlap)
+            out[:, step:] &= out[:, :-step]
+        out[:, :step] = 0
         span += step
     return out
 
@@ -220,19 +229,39 @@ class ChunkCleaner:
             on = ops.pack(img.reshape(n * t, *self.shape))
         word = on.shape[1:]
         on3 = on.reshape(n, t, *word)
-        stuck = self._stuck(on3, on, sel, longest) if cfg.stuck else np.zeros_like(on)
-        a = _bridged(ops, on, stuck, cfg)
-        out = a
-        a3 = a.reshape(n, t, *word)
+        # runs of equal raw frames: a frame's isolated taxels and bridging depend on it alone
+        new = run_starts(on, t) if cfg.persistence else None
+        first = run = per_run = None
+        if new is not None and np.count_nonzero(new) <= RUNS_WORTH * new.size:
+            first, run = np.flatnonzero(new), np.cumsum(new) - 1
+            per_run = take_rows(on, first)
+        stuck = self._stuck(on3, on, sel, longest, per_run, run) if cfg.stuck else None
+        prev, prev_passed = self._prev[sel], self._prev_passed[sel]
+        if per_run is not None and (stuck is None or not np.any(stuck)):
+            assert first is not None and run is not None
+            frames = _bridged(ops, per_run, np.zeros((), per_run.dtype), cfg)
+            out, last_passed = clean_runs(ops, frames, first, run, t, prev, prev_passed, cfg)
+            last = take_rows(frames, run[t - 1 :: t])
+        else:
+            a = _bridged(ops, on, np.zeros_like(on) if stuck is None else stuck, cfg)
+            last = a.reshape(n, t, *word)[:, -1]
+            new = None if per_run is None else run_starts(a, t)  # masking splits runs
+            if new is not None and np.count_nonzero(new) <= RUNS_WORTH * new.size:
+                first, run = np.flatnonzero(new), np.cumsum(new) - 1
+                out, last_passed = clean_runs(
+                    ops, take_rows(a, first), first, run, t, prev, prev_passed, cfg
+                )
+            else:
 
-        def after(first: NDArray[Any], frames: NDArray[Any]) -> NDArray[Any]:
-            f3 = frames.reshape(n, t, *word)
-            return np.concatenate([first[:, None], f3[:, :-1]], axis=1).reshape(frames.shape)
+                def after(start: NDArray[Any], frames: NDArray[Any]) -> NDArray[Any]:
+                    f3 = frames.reshape(n, t, *word)
+                    joined = np.concatenate([start[:, None], f3[:, :-1]], axis=1)
+                    return joined.reshape(frames.shape)
 
-        out, passed = _clean(ops, a, self._prev[sel], self._prev_passed[sel], cfg, after)
-        last = a3[:, -1]
+                out, passed = _clean(ops, a, prev, prev_passed, cfg, after)
+                last_passed = passed.reshape(n, t, *word)[:, -1]
         self._prev[sel] = last
-        self._prev_passed[sel] = passed.reshape(n, t, *word)[:, -1]
+        self._prev_passed[sel] = last_passed
         armed = np.zeros(self.n, bool)  # after _stuck: this chunk's armed taxels
         armed[self._armed[0]] = True
         flat = self._iso_hist[sel].reshape(n, -1)
@@ -256,8 +285,19 @@ class ChunkCleaner:
             self._n_release[i] = release_frames_for(dt, self.config)
 
     def _stuck(
-        self, on3: NDArray[Any], on: NDArray[Any], sel: NDArray[np.intp], longest: int
+        self,
+        on3: NDArray[Any],
+        on: NDArray[Any],
+        sel: NDArray[np.intp],
+        longest: int,
+        per_run: NDArray[Any] | None = None,
+        run: NDArray[np.intp] | None = None,
     ) -> NDArray[Any]:
+        """Rule 1's masked bits of frames ``on`` ``(m * T, ...)`` (``on3``: ``(m, T, ...)``).
+
+        ``per_run``, ``run``: the frame of each run of equal frames and each
+        frame's run, if at hand (a frame's isolated taxels are then found once a run).
+        """
         ops = self._ops
         n, t = on3.shape[:2]
         prior = self._since[sel]
@@ -268,13 +308,17 @@ class ChunkCleaner:
             self._since[sel] = since[:, -1]
         else:
             since = np.zeros_like(on3)
-        iso = (on & ~_neighbours8(ops, on)).reshape(on3.shape)
+        if per_run is None or run is None:
+            iso = (on & ~_neighbours8(ops, on)).reshape(on3.shape)
+        else:
+            iso = take_rows(per_run & ~_neighbours8(ops, per_run), run).reshape(on3.shape)
         n_stuck = self._n_stuck[sel]
         self._resize_hist(longest)
         hist = np.concatenate([self._iso_hist[sel], iso], axis=1)
         held = np.zeros_like(iso)
         if np.any(hist):  # no isolated taxel in the window: nothing held
-            for k in np.unique(n_stuck).tolist():
+            one = n_stuck.size and n_stuck.min() == n_stuck.max()
+            for k in [int(n_stuck[0])] if one else np.unique(n_stuck).tolist():
                 rows = np.flatnonzero(n_stuck == k)
                 part = hist[rows] if rows.size < n else hist
                 if part.shape[1] > t + k - 1:
@@ -302,6 +346,9 @@ class ChunkCleaner:
         inside = li >= 0  # all of them: an armed array is busy, hence in sel
         outside = tuple(a[~inside] for a in self._armed)
         arm_i, arm_j, arm_b, arm_off = li[inside], *(a[inside] for a in self._armed[1:])
+        if arm_i.size == 0 and not np.any(seed_f):  # nothing armed, nothing seeded
+            self._armed = outside
+            return out.reshape(on3.shape)
         # the taxels seeded in this chunk, one (array, word, bit) each
         any_seed = np.bitwise_or.reduce(seed_f, axis=1)  # (n, words)
         si, sj = np.nonzero(any_seed)

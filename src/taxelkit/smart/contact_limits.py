@@ -222,13 +222,18 @@ def held_high_rows(
     time; returns the held samples ``(m, T)`` and the new run and last time.
     """
     on = value >= high
-    m, t = on.shape
-    idx = np.broadcast_to(np.arange(t), (m, t))
-    last_off = np.maximum.accumulate(np.where(on, -1, idx), axis=1)
-    runs = np.where(last_off >= 0, idx - last_off, idx + 1 + run[:, None])
+    t = on.shape[1]
+    # a mark needs 2 frames in a row where the frames are close (enter_frames), else 1:
+    # held where on, and on the frame before too (or in the run carried) if it needs 2
+    before = np.empty_like(on)
+    before[:, 0] = run > 0
+    before[:, 1:] = on[:, :-1]
     dt = np.diff(t_s, axis=1, prepend=t_prev[:, None])
-    held: NDArray[np.bool_] = on & (runs >= enter_frames(dt, enter_s))
-    run_end: NDArray[np.int64] = np.where(on[:, -1], runs[:, -1], 0)
+    held: NDArray[np.bool_] = on & (before | (enter_frames(dt, enter_s) < 2))
+    # the run at the end: frames since the last off one (or all, plus the run carried)
+    off_back = np.argmax(~on[:, ::-1], axis=1)  # frames on at the end
+    any_off = np.any(~on, axis=1)
+    run_end: NDArray[np.int64] = np.where(any_off, off_back, t + run).astype(np.int64)
     return held, run_end, t_s[:, -1].copy()
 
 

@@ -20,12 +20,13 @@ from numpy.typing import NDArray
 from taxelkit.smart.cleaning import CleaningConfig
 from taxelkit.smart.cleaning_chunks import GROUP_FRAMES, ChunkCleaner
 from taxelkit.smart.contact_classes import (
-    AREA_MIN_AREA_MM2,
     ContactClass,
     ContactNetwork,
     classify_contacts,
 )
-from taxelkit.smart.contact_limits import ContactLimits, _length_thresholds, held_high_rows
+from taxelkit.smart.contact_limits import ContactLimits
+from taxelkit.smart.gather import take_rows
+from taxelkit.smart.limits_rows import limits_rows
 from taxelkit.smart.line_extents import line_extents
 from taxelkit.smart.moments import ImageStats, image_stats
 from taxelkit.smart.packed_rows import PACK_MAX_COLS, backend_for, repeats
@@ -38,8 +39,6 @@ __all__ = [
     "half_length",
 ]
 
-_LINE, _AREA = int(ContactClass.LINE), int(ContactClass.AREA)
-_POINT, _INDET = int(ContactClass.POINT), int(ContactClass.INDETERMINATE)
 
 #: Default contact threshold, mm: the Bonneville preset's fixed threshold.
 DEFAULT_THRESHOLD_MM = 0.03
@@ -52,17 +51,6 @@ _MIN_SLICE_FRAMES = 4096
 #: Levels 1-2 are computed once per run of equal frames when at most this share is new
 #: (gathering them costs about a quarter of computing them).
 _REPEATS_WORTH = 0.75
-
-
-def _schmitt_rows(
-    on: NDArray[np.bool_], off: NDArray[np.bool_], start: NDArray[np.bool_]
-) -> NDArray[np.bool_]:
-    """:func:`~taxelkit.smart.contact_limits.schmitt_masks` along each row, from its own state."""
-    decisive = on | off
-    idx = np.maximum.accumulate(np.where(decisive, np.arange(on.shape[1]), -1), axis=1)
-    last = np.take_along_axis(on, np.maximum(idx, 0), axis=1)
-    out: NDArray[np.bool_] = np.where(idx >= 0, last, start[:, None])
-    return out
 
 
 def _touched(images: NDArray[np.bool_], time_major: bool) -> NDArray[np.bool_]:
@@ -146,76 +134,94 @@ class ChunkLevels12:
 
     def _levels(
         self,
-        images: NDArray[np.bool_],
+        images: NDArray[np.bool_] | None,
         t_s: NDArray[np.float64],
         sel: NDArray[np.intp],
         words: NDArray[Any] | None = None,
+        dest: NDArray[np.float64] | None = None,
     ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
         """Classes ``(m, T)`` and rows ``(m, T, 9)`` of the cleaned frames of arrays ``sel``.
 
-        ``words``: the same frames packed one word per row ``(m, T, rows)``, if at hand.
+        ``dest``: the ``(m, T, 9)`` array the rows are written to (returned), if given.
+
+        ``words``: the same frames packed one word per row ``(m, T, rows)``, if at hand
+        (``images`` may then be None: the frames computed are unpacked from them).
         A frame's statistics, class before the limits and line extent depend on
         its image alone: a frame equal to the one before it (a contact held
         still) takes that frame's, computed once.
         """
-        m, t = images.shape[:2]
+        given = images if images is not None else words
+        assert given is not None
+        m, t = given.shape[:2]
         n = m * t
-        flat = images.reshape(n, *self.shape)
+        flat = None if images is None else images.reshape(n, *self.shape)
         packed = None if words is None else words.reshape(n, -1)
-        new = repeats(flat, packed, _REPEATS_WORTH)
+        new = repeats(given.reshape(n, -1), packed, _REPEATS_WORTH)
         idx = inv = None
         if new is not None:
             idx = np.flatnonzero(new)
             inv = np.cumsum(new) - 1  # each frame's computed frame
-        u_flat = flat if idx is None else flat[idx]
-        u_packed = None if packed is None or idx is None else packed[idx]
+        u_packed = None if packed is None or idx is None else take_rows(packed, idx)
+        if flat is None:  # unpacked for the frames computed only
+            assert packed is not None
+            rows_of = packed if u_packed is None else u_packed
+            u_flat = self.ops.unpack(rows_of, self.shape[1]).reshape(-1, *self.shape)
+            u_packed = rows_of
+        else:
+            u_flat = flat if idx is None else take_rows(flat, idx)
 
         def full(x: NDArray[Any]) -> NDArray[Any]:
-            return x if inv is None else x[inv]
+            return x if inv is None else take_rows(x, inv)
 
         stats = image_stats(u_flat, pitch_mm=self.pitch_mm)
-        cls = full(classify_contacts(stats, self.network, confidence=self.confidence))
-        half = full(half_length(stats))
-        area, elong = full(stats.area_mm2), full(stats.elongation)
+        u_cls = classify_contacts(stats, self.network, confidence=self.confidence)
+        u_half = half_length(stats)
+        cls = full(u_cls)
         if self.limits is not None:
-            times = np.asarray(t_s, dtype=np.float64)[sel]
-            taxels = full(stats.n_taxels)
             cls = self._limited(
                 cls.reshape(m, t),
-                taxels.reshape(m, t),
-                area.reshape(m, t),
-                elong.reshape(m, t),
-                half.reshape(m, t),
+                full(stats.n_taxels).reshape(m, t),
+                full(stats.area_mm2).reshape(m, t),
+                full(stats.elongation).reshape(m, t),
+                full(u_half).reshape(m, t),
                 sel,
-                times,
+                np.asarray(t_s, dtype=np.float64)[sel],
             ).reshape(-1)
-        out = np.empty((n, 9))
-        out[:, 0:2] = full(stats.centre_mm)
-        out[:, 2] = full(stats.orientation_deg)
-        out[:, 3] = area
-        out[:, 4] = elong
-        out[:, 5] = half
-        out[:, 6:8] = np.nan
-        out[:, 8] = np.asarray(t_s, dtype=np.float64)[sel].reshape(-1)
+        # the computed frames' rows, then laid out frame by frame in one gather
+        table = np.empty((u_flat.shape[0], 9))
+        table[:, 0:2] = stats.centre_mm
+        table[:, 2] = stats.orientation_deg
+        table[:, 3] = stats.area_mm2
+        table[:, 4] = stats.elongation
+        table[:, 5] = u_half
+        table[:, 6:8] = np.nan
         lines = np.flatnonzero(cls == ContactClass.LINE)
+        at = lines  # the computed frames whose extents are read
         if lines.size:
-            at = lines  # the computed frames whose extents are read
             if inv is not None:
                 need = np.zeros(u_flat.shape[0], bool)
-                need[inv[lines]] = True
+                need[inv.take(lines)] = True
                 at = np.flatnonzero(need)
-            ext = line_extents(
-                u_flat[at],
-                stats.centre_mm[at],
-                stats.orientation_deg[at],
+            table[at, 6:8] = line_extents(
+                take_rows(u_flat, at),
+                take_rows(stats.centre_mm, at),
+                stats.orientation_deg.take(at),
                 self.pitch_mm,
-                row_words=None if u_packed is None else u_packed[at],
+                row_words=None if u_packed is None else take_rows(u_packed, at),
             )
-            if inv is not None:
-                table = np.empty((u_flat.shape[0], 2))
-                table[at] = ext
-                ext = table[inv[lines]]
-            out[lines, 6:8] = ext
+        if dest is None:
+            out = full(table)
+        else:
+            out = dest.reshape(n, 9)  # the caller's rows (a view: contiguous frames)
+            if inv is None:
+                out[...] = table
+            else:
+                take_rows(table, inv, out=out)
+        out[:, 8] = np.asarray(t_s, dtype=np.float64)[sel].reshape(-1)
+        if lines.size and inv is not None and lines.size < n:
+            # a computed frame that is a line here and not there (the limits' hysteresis)
+            other = np.flatnonzero(need.take(inv) & (cls != ContactClass.LINE))
+            out[other, 6:8] = np.nan
         return cls.reshape(m, t), out.reshape(m, t, 9)
 
     def _limited(
@@ -231,24 +237,9 @@ class ChunkLevels12:
         """:func:`~taxelkit.smart.contact_limits.apply_limits` on the arrays ``sel``, ``(m, T)``:
         their classes, taxels, areas, elongations and half-lengths, taken at ``t_s``."""
         assert self.limits is not None
-        length = np.where(taxels > 0, 2.0 * half, 0.0)
-        high, low = _length_thresholds(self.limits)
-        long = _schmitt_rows(length >= high, length < low, self._long[sel])
-        enter = AREA_MIN_AREA_MM2 * (1.0 + self.limits.area_hysteresis)
-        held, self._run[sel], self._t_prev[sel] = held_high_rows(
-            area, enter, t_s, self.limits.area_enter_s, self._run[sel], self._t_prev[sel]
-        )
-        big = _schmitt_rows(held, area < AREA_MIN_AREA_MM2, self._big[sel])
-        self._long[sel], self._big[sel] = long[:, -1], big[:, -1]
-        out = classes.copy()
-        out[(out == _LINE) & ~long] = _INDET
-        out[(out == _AREA) & ~big] = _INDET
-        cap = self.limits.point_max_area_mm2
-        if cap is not None:
-            compact = (taxels > 0) & (elong <= 2.0) & (area <= cap)
-            out[compact & (out == _INDET)] = _POINT
-        few = (taxels > 0) & (taxels <= self.limits.point_max_taxels) & (elong <= 2.0)
-        out[few & (out != _LINE)] = _POINT
+        state = (self._long[sel], self._big[sel], self._run[sel], self._t_prev[sel])
+        out, after = limits_rows(classes, taxels, area, elong, half, t_s, self.limits, state)
+        self._long[sel], self._big[sel], self._run[sel], self._t_prev[sel] = after
         return out
 
     def process(
@@ -320,8 +311,12 @@ class ChunkLevels12:
         for a in range(0, t, step):
             b = min(t, a + step)
             part = images[a:b] if time_major else images[:, a:b]
-            classes[:, a:b], rows[:, a:b] = self._process_slice(
-                part, t_s[:, a:b], time_major=time_major, packed=packed
+            self._process_slice(
+                part,
+                t_s[:, a:b],
+                time_major=time_major,
+                packed=packed,
+                out=(classes[:, a:b], rows[:, a:b]),
             )
         return classes, rows
 
@@ -332,14 +327,24 @@ class ChunkLevels12:
         *,
         time_major: bool,
         packed: bool = False,
+        out: tuple[NDArray[np.int8], NDArray[np.float64]] | None = None,
     ) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
-        """Levels 1-2 of one slice of frames (or packed rows), a group of arrays at a time."""
+        """Levels 1-2 of one slice of frames (or packed rows), a group of arrays at a time.
+
+        ``out``: the classes ``(N, T)`` and rows ``(N, T, 9)`` to write to (returned).
+        """
         n = self.n
         t = images.shape[0] if time_major else images.shape[1]
-        classes = np.zeros((n, t), dtype=np.int8)  # NONE
-        rows = np.empty((n, t, 9))  # read only where there is contact
+        if out is None:
+            classes = np.zeros((n, t), dtype=np.int8)  # NONE
+            rows = np.empty((n, t, 9))  # read only where there is contact
+        else:
+            classes, rows = out
+            classes[...] = 0
         taxels = self.shape[0] * self.shape[1]
-        if packed:  # (T, N, rows) words: any word on, over time, then over rows
+        if packed and n == 1:
+            hit = np.array([np.any(images)])
+        elif packed:  # (T, N, rows) words: any word on, over time, then over rows
             hit = np.any(np.bitwise_or.reduce(images, axis=0), axis=1)
         else:
             hit = _touched(images, time_major)
@@ -350,6 +355,7 @@ class ChunkLevels12:
             sel = np.flatnonzero(hit)
         group = max(1, GROUP_FRAMES // max(t, 1))  # arrays per pass: the data stay in cache
         touched = []
+        img: NDArray[Any] | None
         for a in range(0, sel.size, group):
             g = sel[a : a + group]
             span = slice(int(g[0]), int(g[-1]) + 1) if g[-1] - g[0] == g.size - 1 else g
@@ -361,21 +367,32 @@ class ChunkLevels12:
             words = None
             if self._cleaner is not None:
                 cleaned = self._cleaner.clean_packed(img, g, longest, packed=packed)
-                words = cleaned.reshape(g.size, t, -1) if cleaned.ndim == 2 else None
-                img = self.ops.unpack(cleaned, self.shape[1]).reshape(g.size, t, *self.shape)
+                if cleaned.ndim == 2:  # one word a row: unpacked by _levels, as needed
+                    words, img = cleaned.reshape(g.size, t, -1), None
+                else:
+                    img = self.ops.unpack(cleaned, self.shape[1]).reshape(g.size, t, *self.shape)
             elif packed:
-                words, flat = img, img.reshape(g.size * t, -1)
-                img = self.ops.unpack(flat, self.shape[1]).reshape(g.size, t, *self.shape)
-            on = img.reshape(g.size, t * taxels).any(axis=1)
+                words, img = img, None  # unpacked by _levels, as needed
+            if img is None:
+                assert words is not None
+                on = np.any(words.reshape(g.size, -1), axis=1)
+            else:
+                on = img.reshape(g.size, t * taxels).any(axis=1)
             gt = g[on]
             if gt.size:
                 every = gt.size == g.size
-                classes[gt], rows[gt] = self._levels(
-                    img if every else img[on],
+                dest: NDArray[np.float64] | None = rows[int(gt[0]) : int(gt[-1]) + 1]
+                if dest is not None and (dest.shape[0] != gt.size or not dest.flags.c_contiguous):
+                    dest = None  # written through a view of the rows only
+                classes[gt], found = self._levels(
+                    img if every or img is None else img[on],
                     t_s,
                     gt,
                     words if every or words is None else words[on],
+                    dest=dest,
                 )
+                if dest is None:
+                    rows[gt] = found
                 touched.append(gt)
         quiet = np.ones(n, bool)
         for gt in touched:

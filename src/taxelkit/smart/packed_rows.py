@@ -158,7 +158,7 @@ def backend_for(cols: int) -> PackedRows:
 
 
 def repeats(
-    flat: NDArray[np.bool_], packed: NDArray[Any] | None, worth: float
+    flat: NDArray[Any], packed: NDArray[Any] | None, worth: float
 ) -> NDArray[np.bool_] | None:
     """``(n,)``: frames unlike the frame before them (the first is new).
 

@@ -62,22 +62,26 @@ class Runs:
 
     def rolling_mean(self, x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
         """:func:`~taxelkit.smart.track_geometry.rolling_mean` of every segment of ``x``."""
-        c = self.cumsum(x)
-        out = c.copy()
-        out[w:] -= c[:-w]  # rows less than w into their segment are put back below
-        head = np.flatnonzero(self.local < w)
-        out[head] = c[head]
-        n = np.minimum(self.local + 1, w).reshape((-1,) + (1,) * (x.ndim - 1))
+        c = self.cumsum(x)  # laid out as x (columns contiguous stay so)
+        shape = (-1,) + (1,) * (x.ndim - 1)
+        back = np.zeros_like(c)  # the sum w rows back
+        if w < c.shape[0]:
+            back[w:] = c[: c.shape[0] - w]
+        # rows less than w into their segment keep their sum (less 0.0: the same float)
+        out = c - np.where((self.local >= w).reshape(shape), back, 0.0)
+        n = np.minimum(self.local + 1, w).reshape(shape)
         result: NDArray[np.float64] = out / n
         return result
 
     def sustained(self, mask: NDArray[np.bool_], k: int) -> NDArray[np.bool_]:
         """:func:`~taxelkit.smart.track_geometry.sustained` of every segment of ``mask``."""
-        c = np.cumsum(mask.astype(np.int64))  # integers: exact whatever came before
+        c = np.cumsum(mask, dtype=np.int64)  # integers: exact whatever came before
         base = np.zeros(self.lengths.size, np.int64)
-        base[1:] = c[self.starts[1:] - 1]
-        back = np.maximum(np.arange(self.size) - k, 0)
-        before = np.where(self.local >= k, c[back], base[self.seg])
+        base[1:] = c.take(self.starts[1:] - 1)
+        back = np.zeros_like(c)  # the count k rows back (0 before the first row)
+        if k < c.size:
+            back[k:] = c[: c.size - k]
+        before = np.where(self.local >= k, back, base.take(self.seg))
         out: NDArray[np.bool_] = (c - before) >= k
         return out
 
@@ -95,3 +99,51 @@ class Runs:
     def first_sustained(self, mask: NDArray[np.bool_], k: int) -> NDArray[np.intp]:
         """``first(sustained(mask, k), 0)`` of every segment (-1 for None)."""
         return self.first(self.sustained(mask, k))
+
+
+def _spans(lengths: NDArray[np.intp]) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """Segment and index within it of each row of spans ``lengths`` ``(S,)`` (0 allowed)."""
+    seg = np.repeat(np.arange(lengths.size), lengths)
+    first = np.cumsum(lengths) - lengths
+    return seg, np.arange(seg.size) - first[seg]
+
+
+def run_anchors(
+    runs: Runs,
+    area: NDArray[np.float64],
+    elongation: NDArray[np.float64],
+    k: int,
+    tolerance: float,
+) -> NDArray[np.intp]:
+    """:func:`~taxelkit.smart.track_geometry.anchors` of every segment, ``(N,)`` local indices.
+
+    The per-segment search, one anchor of every segment at a time: a round
+    compares the rows after each segment's reference with it (the same
+    divisions as the per-segment form) and moves its anchor to the first
+    that departs; segments hold a few anchors, so the rounds are few.
+    """
+    starts, lengths = runs.starts, runs.lengths
+    out = np.empty(runs.size, np.intp)
+    active = np.arange(lengths.size)
+    a = np.zeros(lengths.size, np.intp)  # each active segment's anchor
+    while active.size:
+        st, n = starts[active], lengths[active]
+        r = np.minimum(a + k - 1, n - 1)  # the anchor's reference
+        seg, local = _spans(n - r - 1)  # the rows after it
+        rows = (st + r + 1)[seg] + local
+        ref = (st + r)[seg]
+        dev = (np.abs(area.take(rows) / area.take(ref) - 1.0) > tolerance) | (
+            np.abs(elongation.take(rows) / elongation.take(ref) - 1.0) > tolerance
+        )
+        hits = np.flatnonzero(dev)
+        nxt = n.copy()
+        if hits.size:
+            lead = np.ones(hits.size, bool)
+            lead[1:] = seg[hits[1:]] != seg[hits[:-1]]
+            first = hits[lead]
+            nxt[seg[first]] = r[seg[first]] + 1 + local[first]
+        fill_seg, fill_local = _spans(nxt - a)
+        out[(st + a)[fill_seg] + fill_local] = a[fill_seg]
+        more = nxt < n
+        active, a = active[more], nxt[more]
+    return out

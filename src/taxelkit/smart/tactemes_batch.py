@@ -21,9 +21,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
+from taxelkit.smart.gather import take_rows
 from taxelkit.smart.pivot_rules import pivot_tacteme, pivot_verdicts
 from taxelkit.smart.pivots import drawn_pivot_fit
-from taxelkit.smart.segment_runs import Runs
+from taxelkit.smart.segment_runs import Runs, run_anchors
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import (
     MOTION_MIN_FRAMES,
@@ -33,7 +34,7 @@ from taxelkit.smart.tactemes import (
     _point_turn,
     frames_for_interval,
 )
-from taxelkit.smart.track_geometry import anchors, axis_angle_deg, drawn_half_mm
+from taxelkit.smart.track_geometry import axis_angle_deg, drawn_half_mm
 
 __all__ = ["batch_tactemes"]
 
@@ -102,38 +103,38 @@ def _group(
     frames = np.concatenate([t.frames for t in tracks])
     theta = np.concatenate([t.orientation_deg for t in tracks])
     # columns: centre x, y, axis vector, area, elongation, half-length; each class
-    # smooths those its rules read (a point: its centre; a line: not its elongation)
-    raw = np.zeros((runs.size, 7))
-    raw[:, 0:2] = np.concatenate([t.centre_mm for t in tracks])
+    # smooths those its rules read (a point: its centre; a line: not its elongation).
+    # Kept column by column (rows of the transpose): filled and smoothed contiguously.
+    raw_t = np.zeros((7, runs.size))
+    raw_t[0:2] = np.concatenate([t.centre_mm for t in tracks]).T
     used = [0, 1] if cls == _POINT else [0, 1, 2, 3, 4, 6 if cls == _LINE else 5]
     ext = None
     if cls != _POINT:
         t2 = np.deg2rad(2.0 * theta)  # axis_vectors, column by column
-        raw[:, 2], raw[:, 3] = np.cos(t2), np.sin(t2)
-        raw[:, 4] = np.concatenate([t.area_mm2 for t in tracks])
+        raw_t[2], raw_t[3] = np.cos(t2), np.sin(t2)
+        raw_t[4] = np.concatenate([t.area_mm2 for t in tracks])
     if cls == _AREA:
-        raw[:, 5] = np.concatenate([t.elongation for t in tracks])
+        raw_t[5] = np.concatenate([t.elongation for t in tracks])
     if cls == _LINE:
-        raw[:, 6] = np.concatenate([t.half_length_mm for t in tracks])
+        raw_t[6] = np.concatenate([t.half_length_mm for t in tracks])
         if all(t.extent_mm is not None for t in tracks):
             ext = np.concatenate([t.extent_mm for t in tracks if t.extent_mm is not None])
-    smooth = np.zeros_like(raw)
-    smooth[:, used] = runs.rolling_mean(raw[:, used], w)
-    centre = smooth[:, 0:2]
+    smooth_t = np.zeros_like(raw_t)
+    smooth_t[used] = runs.rolling_mean(raw_t[used].T, w).T
+    raw, smooth = raw_t.T, smooth_t.T  # (N, 7)
+    centre = np.ascontiguousarray(smooth[:, 0:2])  # contiguous: its rows gathered fast
     angle = axis_angle_deg(smooth[:, 2:4])
     area, elong = smooth[:, 4], smooth[:, 5]
     if cls == _POINT:
         anchor = np.zeros(runs.size, np.intp)
     else:
         shape = elong if cls == _AREA else np.ones_like(elong)
-        anchor = np.empty(runs.size, np.intp)
-        for a, b in zip(starts.tolist(), (starts + lengths).tolist(), strict=True):
-            anchor[a:b] = anchors(area[a:b], shape[a:b], w, config.area_step)
+        anchor = run_anchors(runs, area, shape, w, config.area_step)
     n_row = lengths[seg]
     ref = np.minimum(anchor + w - 1, n_row - 1)  # within the segment
     ref_g = starts[seg] + ref
     valid = local >= anchor + w - 1
-    shift = centre - centre[ref_g]
+    shift = centre - take_rows(centre, ref_g)
     moved = np.where(valid, np.hypot(*shift.T), 0.0)
     out: list[Found] = [[] for _ in range(s_n)]
     hits: list[tuple[Tacteme, NDArray[np.intp]]] = []
@@ -149,7 +150,21 @@ def _group(
         hits.append((Tacteme.PC_ORTHOGONAL_TURN, corner))
     elif cls == _LINE:
         hits += _line_hits(
-            runs, tracks, config, smooth, angle, anchor, ref, ref_g, valid, w, hold, raw, theta, ext
+            runs,
+            tracks,
+            config,
+            smooth,
+            shift,
+            angle,
+            anchor,
+            ref,
+            ref_g,
+            valid,
+            w,
+            hold,
+            raw,
+            theta,
+            ext,
         )
     else:
         turned = np.where(valid, _turn(angle, ref_g), 0.0)
@@ -188,6 +203,7 @@ def _line_hits(
     tracks: list[SegmentTrack],
     config: TactemeConfig,
     smooth: NDArray[np.float64],
+    shift: NDArray[np.float64],
     angle: NDArray[np.float64],
     anchor: NDArray[np.intp],
     ref: NDArray[np.intp],
@@ -202,18 +218,16 @@ def _line_hits(
     """The line rules of ``segment_tactemes``: each tacteme's index per segment (-1: none).
 
     In the order the per-segment form emits them (ties in frame keep it).
+    ``shift``: each row's smoothed centre less its reference's ``(N, 2)``, mm.
     """
     starts, lengths, seg, local = runs.starts, runs.lengths, runs.seg, runs.local
     move = config.move_mm
-    centre = smooth[:, 0:2]
-    shift = centre - centre[ref_g]
-    t_ref = np.deg2rad(angle[ref_g])
-    along = np.abs(shift[:, 0] * np.cos(t_ref) + shift[:, 1] * np.sin(t_ref))
+    t_ref = np.deg2rad(angle.take(ref_g))
+    cos_ref, sin_ref = np.cos(t_ref), np.sin(t_ref)
+    along = np.abs(shift[:, 0] * cos_ref + shift[:, 1] * sin_ref)
     half = smooth[:, 6]
-    ends = along - np.abs(half - half[ref_g])
-    across = np.where(
-        valid, np.abs(-shift[:, 0] * np.sin(t_ref) + shift[:, 1] * np.cos(t_ref)), 0.0
-    )
+    ends = along - np.abs(half - half.take(ref_g))
+    across = np.where(valid, np.abs(-shift[:, 0] * sin_ref + shift[:, 1] * cos_ref), 0.0)
     j_lcm = runs.first_sustained(across > move, hold)
     slid = valid & (ends > move) & (across < 0.5 * move)
     j_slide = runs.first_sustained(slid, hold)
@@ -221,9 +235,9 @@ def _line_hits(
     first_ref = np.minimum(w - 1, lengths - 1)  # a line's turn counts from its first reference
     first_g = starts + first_ref
     turned_all = np.where(local >= first_ref[seg], _turn(angle, first_g[seg]), 0.0)
-    t0 = np.deg2rad(angle[first_g])[seg]
-    rolled = _carried_shift(runs, centre, anchor, ref_g)
-    across_all = np.abs(-rolled[:, 0] * np.sin(t0) + rolled[:, 1] * np.cos(t0))
+    t0 = np.deg2rad(angle.take(first_g))  # each segment's (sine and cosine gathered per row)
+    rolled = _carried_shift(runs, np.ascontiguousarray(smooth[:, 0:2]), shift, anchor, ref_g)
+    across_all = np.abs(-rolled[:, 0] * np.sin(t0).take(seg) + rolled[:, 1] * np.cos(t0).take(seg))
     parallel = (across_all >= config.parallel_move_mm) & (turned_all <= config.parallel_tol_deg)
     j_par = runs.first_sustained(parallel, hold)
     j_turn = runs.first_sustained(turned_all > config.turn_deg, hold)
@@ -317,9 +331,16 @@ def _pivots(
 
 
 def _carried_shift(
-    runs: Runs, centre: NDArray[np.float64], anchor: NDArray[np.intp], ref_g: NDArray[np.intp]
+    runs: Runs,
+    centre: NDArray[np.float64],
+    shift: NDArray[np.float64],
+    anchor: NDArray[np.intp],
+    ref_g: NDArray[np.intp],
 ) -> NDArray[np.float64]:
-    """:func:`~taxelkit.smart.track_geometry.carried_shift` of every segment (global rows)."""
+    """:func:`~taxelkit.smart.track_geometry.carried_shift` of every segment (global rows).
+
+    ``shift``: ``centre - centre[ref_g]`` ``(N, 2)``, mm.
+    """
     n = runs.size
     anchor_g = runs.starts[runs.seg] + anchor
     new = np.ones(n, bool)
@@ -327,15 +348,15 @@ def _carried_shift(
     first = np.flatnonzero(new)  # first row of each stretch
     last = np.append(first[1:] - 1, n - 1)
     refs = ref_g[first]
-    done = np.where((last >= refs)[:, None], centre[last] - centre[refs], 0.0)
+    done = np.where((last >= refs)[:, None], take_rows(centre, last) - take_rows(centre, refs), 0.0)
     per_seg = np.bincount(runs.seg[first], minlength=runs.lengths.size)
     summed = Runs(per_seg).cumsum(done)  # what each segment's stretches rolled, in order
     before = np.zeros_like(done)
     lead = np.zeros(first.size, bool)  # each segment's first stretch: nothing before
     lead[np.cumsum(per_seg) - per_seg] = True
     later = np.flatnonzero(~lead)
-    before[later] = summed[later - 1]
+    before[later] = take_rows(summed, later - 1)
     stretch = np.cumsum(new) - 1
-    current = np.where((np.arange(n) >= ref_g)[:, None], centre - centre[ref_g], 0.0)
-    out: NDArray[np.float64] = before[stretch] + current
+    current = np.where((np.arange(n) >= ref_g)[:, None], shift, 0.0)
+    out: NDArray[np.float64] = take_rows(before, stretch) + current
     return out
