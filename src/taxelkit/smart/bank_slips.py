@@ -97,7 +97,7 @@ def _together(scanners: list[SlipScanner], rows: list[NDArray[np.float64]]) -> l
     count = x.shape[0] - c - r + 1
     changed = above = np.zeros(0, bool)
     if count > 0:
-        changed, above = first._decisions(
+        changed, above = first.decisions(
             x, 0, r, r, c, count, first._limit_mm, piece=DECISION_PIECE
         )
     out: list[SlipInputs] = []

@@ -91,7 +91,7 @@ def _scan_together(
     count = n - cur - ref + 1
     changed = above = np.zeros(0, bool)
     if count > 0:
-        changed, above = first._decisions(
+        changed, above = first.decisions(
             feats, 0, ref, ref, cur, count, first._limit_mm, piece=DECISION_PIECE
         )
     for s, (scanner, (_, frames, seg_rows)) in enumerate(zip(scanners, items, strict=True)):

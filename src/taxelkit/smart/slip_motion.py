@@ -27,6 +27,9 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit.smart.slip import SlipConfig
+from taxelkit.smart.slip_features import motion_mm
+
 __all__ = [
     "AXIS_MIN_NORM",
     "ENDS",
@@ -35,6 +38,7 @@ __all__ = [
     "exact_means",
     "motions_mm",
     "row_window_means",
+    "window_decisions",
     "window_means",
 ]
 
@@ -313,3 +317,68 @@ def motions_mm(
     unsure |= ~changed & (np.abs(motion - limit_mm) <= tol)
     out: NDArray[np.float64] = np.where(changed, np.nan, motion)
     return out, unsure
+
+
+def window_decisions(
+    x: NDArray[np.float64],
+    a0: int,
+    wa: int,
+    b0: int,
+    wb: int,
+    count: int,
+    limit: float,
+    *,
+    line: bool,
+    config: SlipConfig,
+    piece: int = 512,
+) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """Motions from the windows of ``wa`` rows at ``a0 + k`` to those of ``wb`` at ``b0 + k``.
+
+    Parameters
+    ----------
+    x : (n, 15) float
+        Slip features of the frames (:func:`~taxelkit.smart.slip_features.slip_features`).
+    a0, wa, b0, wb : int
+        First row and length of the first reference and current windows.
+    count : int
+        Window pairs, ``k < count``.
+    limit : float
+        Motion limit, mm.
+    line : bool
+        The features are a line's.
+    config : SlipConfig
+    piece : int
+        Frames computed together (the window sums of a piece stay small).
+
+    Returns
+    -------
+    changed, above : (count,) bool
+        Whether the area changed (the rule's NaN) and whether the motion
+        exceeds ``limit``: those of :func:`~taxelkit.smart.slip_features.motion_mm`
+        (frames the vectorised measure cannot vouch for are recomputed by it).
+    """
+    changed, above = np.empty(count, bool), np.empty(count, bool)
+    for k0 in range(0, count, piece):
+        m = min(piece, count - k0)
+        lo = min(a0, b0) + k0
+        sums = WindowSums(x[lo : max(a0 + wa, b0 + wb) + k0 + m - 1], ENDS)
+        ma, bad_a = sums.means(a0 + k0 - lo, wa, m)
+        mb, bad_b = sums.means(b0 + k0 - lo, wb, m)
+        motion, unsure = motions_mm(
+            ma,
+            mb,
+            line=line,
+            area_step=config.area_step,
+            min_elongation=config.min_elongation,
+            limit_mm=limit,
+            bound=sums.error_bound(min(wa, wb)),
+            line_across_mm=config.line_across_mm,
+        )
+        changed[k0 : k0 + m], above[k0 : k0 + m] = np.isnan(motion), motion > limit
+        redo = np.flatnonzero(unsure | bad_a | bad_b) + k0
+        if redo.size:
+            ra, rb = exact_means(x, a0 + redo, wa), exact_means(x, b0 + redo, wb)
+            for k, u, v in zip(redo.tolist(), ra, rb, strict=True):
+                mm = motion_mm(u, v, line=line, config=config)
+                changed[k], above[k] = math.isnan(mm), mm > limit
+    return changed, above

@@ -10,13 +10,7 @@ from numpy.typing import NDArray
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.slip import SLIP_KINDS, Slip, SlipConfig
 from taxelkit.smart.slip_features import N_FEATURES, motion_mm, slip_features
-from taxelkit.smart.slip_motion import (
-    ENDS,
-    WindowSums,
-    exact_means,
-    motions_mm,
-    row_window_means,
-)
+from taxelkit.smart.slip_motion import row_window_means, window_decisions
 
 __all__ = ["SlipScanner"]
 
@@ -176,7 +170,7 @@ class SlipScanner:
         """Add frames ``(m,)`` with their rows ``(m, 9)``; the slips opened or closed by them.
 
         ``features`` (:meth:`features` of the rows, and the last line axis it
-        leaves) and ``decided`` (:meth:`_decisions` of the first scan of a
+        leaves) and ``decided`` (:meth:`decisions` of the first scan of a
         primed segment) may come computed, for many segments at once
         (:mod:`taxelkit.smart.slip_batch`).
 
@@ -260,7 +254,7 @@ class SlipScanner:
         return out
 
     # -- the vectorised scan ------------------------------------------------------------------
-    def _decisions(
+    def decisions(
         self,
         x: NDArray[np.float64],
         a0: int,
@@ -271,39 +265,10 @@ class SlipScanner:
         limit: float,
         piece: int = _PIECE,
     ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
-        """Motions from the windows of ``wa`` rows at ``a0 + k`` to those of ``wb`` at ``b0 + k``.
-
-        Returns, for ``k < count``, whether the area changed (the rule's NaN)
-        and whether the motion exceeds ``limit``: those of :meth:`motion_mm`
-        (frames the vectorised measure cannot vouch for are recomputed by it).
-        Computed ``piece`` frames at a time.
-        """
-        changed, above = np.empty(count, bool), np.empty(count, bool)
-        cfg = self.config
-        for k0 in range(0, count, piece):
-            m = min(piece, count - k0)
-            lo = min(a0, b0) + k0
-            sums = WindowSums(x[lo : max(a0 + wa, b0 + wb) + k0 + m - 1], ENDS)
-            ma, bad_a = sums.means(a0 + k0 - lo, wa, m)
-            mb, bad_b = sums.means(b0 + k0 - lo, wb, m)
-            motion, unsure = motions_mm(
-                ma,
-                mb,
-                line=self.cls == _LINE,
-                area_step=cfg.area_step,
-                min_elongation=cfg.min_elongation,
-                limit_mm=limit,
-                bound=sums.error_bound(min(wa, wb)),
-                line_across_mm=cfg.line_across_mm,
-            )
-            changed[k0 : k0 + m], above[k0 : k0 + m] = np.isnan(motion), motion > limit
-            redo = np.flatnonzero(unsure | bad_a | bad_b) + k0
-            if redo.size:
-                ra, rb = exact_means(x, a0 + redo, wa), exact_means(x, b0 + redo, wb)
-                for k, u, v in zip(redo.tolist(), ra, rb, strict=True):
-                    mm = self.motion_mm(u, v)
-                    changed[k], above[k] = math.isnan(mm), mm > limit
-        return changed, above
+        """:func:`~taxelkit.smart.slip_motion.window_decisions` for this scanner's class."""
+        return window_decisions(
+            x, a0, wa, b0, wb, count, limit, line=self.cls == _LINE, config=self.config, piece=piece
+        )
 
     def _onset(self, flags: NDArray[np.bool_]) -> int | None:
         """First of a run of decided frames ``flags`` (motion above the limit) that opens a slip.
@@ -336,7 +301,7 @@ class SlipScanner:
     ) -> list[Slip]:
         """:meth:`_scan_frames`, jumping from decision to decision over vectorised motions.
 
-        ``decided``: the first :meth:`_decisions` below, computed already.
+        ``decided``: the first :meth:`decisions` below, computed already.
         """
         c, r, e = self.cur, self.ref, self.end
         n = x.shape[0]
@@ -345,7 +310,7 @@ class SlipScanner:
         if decided is not None:
             changed, above = decided
         elif p0 < n:
-            changed, above = self._decisions(
+            changed, above = self.decisions(
                 x, p0 - c - r + 1, r, p0 - c + 1, c, n - p0, self._limit_mm
             )
         re_anchor = np.flatnonzero(changed) + p0
@@ -376,7 +341,7 @@ class SlipScanner:
                 s = max(p, 2 * e - 1, self._open_i - base + e - 1)  # the last window: all slip
                 if s >= n:
                     break
-                changed_end, moving = self._decisions(
+                changed_end, moving = self.decisions(
                     x, s - 2 * e + 1, e, s - e + 1, e, n - s, self.config.still_mm
                 )
                 ended = np.flatnonzero(changed_end | ~moving)  # still (or the contact changed)
