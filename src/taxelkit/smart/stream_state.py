@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import copy
 import itertools
-from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,39 +26,17 @@ from numpy.typing import NDArray
 from taxelkit.smart.class_history import ClassHistory, check_chunk
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Event
-from taxelkit.smart.levels34 import Levels34, Recognition, Segment, finish, track_segments
+from taxelkit.smart.levels34 import Levels34, Recognition, finish, track_segments
 from taxelkit.smart.segment_head import SlipInputs, track_from_rows
 from taxelkit.smart.segment_scan import SegmentScanner
 from taxelkit.smart.slip_scan import SlipScanner
-from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, debounce_counts
+from taxelkit.smart.stream_calls import DeferredSegment, LevelsCall
+from taxelkit.smart.tactemes import TactemeConfig, debounce_counts
 
 __all__ = ["ArrayStream", "ClassHistory", "check_chunk"]
 
 _NONE = int(ContactClass.NONE)
 _INDET = int(ContactClass.INDETERMINATE)
-
-
-@dataclass
-class _Deferred:
-    """A segment accepted within a chunk: its class, accepting frame and frames so far."""
-
-    cls: int
-    accept: int
-    first_j: list[NDArray[np.intp]]  # the candidate's frames (a scanner's first feed)
-    first_rows: list[NDArray[np.float64]]
-    later: list[tuple[NDArray[np.intp], NDArray[np.float64]]] = field(default_factory=list)
-
-
-@dataclass
-class _Call:
-    """A call to Levels 3-4: a run opened (a whole segment's track, or a segment), or updated."""
-
-    cls: int
-    accept: int
-    seg: Segment | None
-    track: SegmentTrack | None = None
-    rows: NDArray[np.float64] | None = None  # the track's, as fed (ROW_COLUMNS)
-    update: bool = False
 
 
 class ArrayStream:
@@ -105,10 +82,10 @@ class ArrayStream:
         self._dt: float | None = None
         # within push_chunk: a segment accepted in this chunk, not yet shown to Levels 3-4
         self._defer = False
-        self._deferred: _Deferred | None = None
+        self._deferred: DeferredSegment | None = None
         # within push_chunk: the calls to Levels 3-4, replayed in order at the chunk's end
         # (the segments that ended within it computed together, by batch_tactemes)
-        self._queue: list[_Call] | None = None
+        self._queue: list[LevelsCall] | None = None
         # between begin_chunk and end_chunk: the feed that ends the chunk (scanner, frames,
         # rows, and the class and accepting frame of a segment opened by it)
         self._tail: (
@@ -226,7 +203,7 @@ class ArrayStream:
         before = len(self.state.events)
         seg.extend(frames, rows, slip=slip)
         if opened is None:
-            self._call(_Call(0, 0, seg, update=True))
+            self._call(LevelsCall(0, 0, seg, update=True))
         else:  # a segment accepted in this chunk, shown to Levels 3-4 with its first frames
             self.state.open_run(opened[0], opened[1], seg)
         return self.state.events[before:]
@@ -300,7 +277,7 @@ class ArrayStream:
         self._close_deferred()
         self._accepted = cls
         if cls != _NONE and self._defer:  # it may end within this chunk: wait and see
-            self._deferred = _Deferred(cls, j, self._cand_j, self._cand_rows)
+            self._deferred = DeferredSegment(cls, j, self._cand_j, self._cand_rows)
             self._seg = None
             self._drop_candidate()
             return
@@ -310,7 +287,7 @@ class ArrayStream:
             seg.extend(np.concatenate(self._cand_j), np.concatenate(self._cand_rows))
         self._seg = seg
         self._drop_candidate()
-        self._call(_Call(cls, j, seg))
+        self._call(LevelsCall(cls, j, seg))
 
     def _close_deferred(self) -> None:
         """A segment accepted and ended within one chunk: Levels 3-4 on it whole (batch).
@@ -326,16 +303,16 @@ class ArrayStream:
         frames = np.concatenate([p[0] for p in pieces])
         rows = np.concatenate([p[1] for p in pieces])
         track = track_from_rows(frames, rows, self.pitch_mm)
-        self._call(_Call(d.cls, d.accept, None, track, rows))
+        self._call(LevelsCall(d.cls, d.accept, None, track, rows))
 
-    def _call(self, call: _Call) -> None:
+    def _call(self, call: LevelsCall) -> None:
         """A call to Levels 3-4: now, or queued while a chunk is debounced."""
         if self._queue is None:
             self._replay([call])
         else:
             self._queue.append(call)
 
-    def _replay(self, calls: list[_Call] | None = None) -> None:
+    def _replay(self, calls: list[LevelsCall] | None = None) -> None:
         """Make the queued calls to Levels 3-4 in order (the whole segments' tactemes at once)."""
         if calls is None:
             calls, self._queue = self._queue or [], None
@@ -400,7 +377,7 @@ class ArrayStream:
         if final:
             grew |= bool(seg.close())
         if grew or final:
-            self._call(_Call(0, 0, seg, update=True))
+            self._call(LevelsCall(0, 0, seg, update=True))
 
     def result(self) -> Recognition:
         """Everything so far (detections waiting for later frames decided as if none came)."""
