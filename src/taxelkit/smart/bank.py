@@ -264,9 +264,10 @@ class SensorBank:
                 stream.push_quiet(t[i])
                 continue
             touched.append((i, stream.begin_chunk(classes[i], rows[i], t[i])))
-        fed = [k for k, (i, _) in enumerate(touched) if self._streams[i].tail_feed is not None]
-        inputs = slip_inputs([self._streams[touched[k][0]].tail_feed for k in fed])  # type: ignore[misc]
-        for k, slip in zip(fed, inputs, strict=True):
+        feeds = [(k, self._streams[i].tail_feed) for k, (i, _) in enumerate(touched)]
+        fed = [(k, f) for k, f in feeds if f is not None]
+        inputs = slip_inputs([f for _, f in fed])
+        for (k, _), slip in zip(fed, inputs, strict=True):
             i, events = touched[k]
             events += self._streams[i].end_chunk(slip)
         return [(i, e) for i, events in touched for e in events]
