@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from taxelkit.cli import run
@@ -150,3 +151,29 @@ def test_the_misses_block_names_the_failing_rolls_and_the_wrong_names() -> None:
     assert "| mujoco | cone | 4 of 4 | 1 (4) | none |" in text
     assert "| mujoco | truncated-cone | 0 of 1 | none | cone (5 frames/s, none, roll 4) |" in text
     assert "Seed 11 (held out)" in text
+
+
+def test_the_sampling_line_tells_established_misses_from_chance() -> None:
+    from taxelkit.experiments.report_robustness import _sampling, cell_interval
+
+    low, high = cell_interval(48, 50)
+    assert low < 0.96 < high and high > 0.98  # 2 misses of 50: not established
+    assert cell_interval(45, 50)[1] < 0.98  # 5 misses of 50: established
+    assert cell_interval(50, 50)[1] == pytest.approx(1.0)
+
+    def cell(correct: int) -> dict[str, float]:
+        return {"n": 50, "correct": correct, "accuracy": correct / 50}
+
+    cells = [cell(50), cell(48), cell(45), cell(49)]
+    text = _sampling(cells)
+    assert "Of the 2 cells below 0.98" in text and ", 1 lies below it" in text
+    # the count chance alone gives, against a seeded simulation of cells at the pooled accuracy
+    pooled = (50 + 48 + 45 + 49) / 200
+    draws = np.random.default_rng(0).binomial(50, pooled, size=(20000, 4))
+    simulated = float((draws < 49).sum(axis=1).mean())
+    stated = float(text.split("about ")[1].split(" of the")[0])
+    assert abs(stated - simulated) < 0.5 + 1e-9
+    assert _sampling([cell(50)] * 3).startswith("- Of the 0 cells") and "about 0 of the 3" in (
+        _sampling([cell(50)] * 3)
+    )
+    assert _sampling([]) == ""
