@@ -124,3 +124,81 @@ def test_one_reading_does_not_rule_out_an_object_inside_another() -> None:
     for j, tac in enumerate([T.PC, T.LC]):
         six.apply(tac, j)
     assert six.candidates == six.strict
+
+
+def _capsule(*rare: Tacteme) -> ObjectRow:
+    """A learnt capsule: a cylinder's roll with a point at each end; ``rare`` added, rare."""
+    tactemes = {T.PC, T.LC, T.PC_MOVES, T.PC_ORTHOGONAL_TURN, T.LCM, T.LCMP, *rare}
+    return ObjectRow("capsule", frozenset(tactemes), rare=frozenset(rare))
+
+
+def test_an_object_left_only_through_its_rare_readings_is_not_named() -> None:
+    """A truncated cone's stray LCMP rules it out; the capsule is left only through its rare
+    "LCMT in an arc": not named ("doubt"), in the live eliminator and in ``explain`` alike."""
+    table = PAPER_OBJECTS.plus([_capsule(T.LCMT, T.LCMT_ARC)])
+    frustum = [T.LC, T.LCM, T.LCMT, T.LCMT_ARC, T.LCMP]
+    elim = Eliminator.for_table(table)
+    events = [e for j, t in enumerate(frustum) for e in elim.apply(t, j)]
+    assert elim.candidates == ("capsule",) and elim.outcome is None
+    assert not [e for e in events if e.kind == "identified"]
+    assert [(e.kind, e.frame, e.value) for e in events if e.kind == "doubt"] == [
+        ("doubt", 4, "capsule")
+    ]
+    v = explain([(t.value, j) for j, t in enumerate(frustum)], table=table)
+    assert v.outcome is None and v.candidates == ("capsule",) and v.reason == "undecided"
+    assert v.rare == ("LCMT", "LCMT in an arc")
+    assert "only through LCMT, LCMT in an arc, which it produces only rarely" in v.sentence()
+    assert v.to_json()["rare"] == ["LCMT", "LCMT in an arc"]
+    # named first, then a rare reading: the name is withdrawn
+    late = Eliminator.for_table(table)
+    seq = [T.LC, T.LCM, T.LCMP, T.PC_MOVES, T.PC_ORTHOGONAL_TURN, T.LCMT]
+    kinds = [(e.kind, e.value) for j, t in enumerate(seq) for e in late.apply(t, j)]
+    assert ("identified", "capsule") in kinds and kinds[-1] == ("doubt", "capsule")
+    assert late.outcome is None and late.identified is None
+    late.reset()
+    assert late.doubted is None and not late.kinds
+    # the capsule's own roll without its rare readings is named; the six alone are unchanged
+    own = Eliminator.for_table(table)
+    for j, t in enumerate([T.LC, T.LCM, T.LCMP, T.PC_MOVES, T.PC_ORTHOGONAL_TURN]):
+        own.apply(t, j)
+    assert own.outcome == "capsule"
+    six = Eliminator.for_table(PAPER_OBJECTS)
+    for j, t in enumerate([T.LC, T.LCM, T.LCMP]):
+        six.apply(t, j)
+    assert six.outcome == "cylinder" and explain([("LC", 0), ("LCMP", 1)]).rare == ()
+
+
+def test_rare_tactemes_round_trip_and_must_be_in_the_row(tmp_path: Path) -> None:
+    assert "rare" not in PAPER_OBJECTS.to_json()["objects"][0]  # the six: none
+    table = ObjectTable((_row("egg", T.PC), _capsule(T.LCMT)))
+    doc = table.to_json()
+    assert doc["objects"][-1]["rare"] == ["LCMT"] and "rare" not in doc["objects"][0]
+    back = table_from_json(json.loads(dumps(table)))
+    assert back.row("capsule").rare == frozenset({T.LCMT})
+    assert back.rare_seen("capsule", {T.LCMT, T.LC}) == (T.LCMT,)
+    assert back.rare_seen("egg", {T.LCMT}) == ()
+    old = json.loads(dumps(table))
+    del old["objects"][-1]["rare"]  # a file written before rare: ordinary members
+    assert table_from_json(old).row("capsule").rare == frozenset()
+    bad = json.loads(dumps(table))
+    bad["objects"][-1]["rare"] = ["LCMP in an arc"]
+    with pytest.raises(InputError, match="rare must be a list of tactemes of the row"):
+        table_from_json(bad)
+    with pytest.raises(InputError, match="rare tactemes must be in its row"):
+        ObjectRow("pill", frozenset({T.PC}), rare=frozenset({T.LC}))
+
+
+def test_the_recognition_summary_follows_the_doubt() -> None:
+    import numpy as np
+
+    from taxelkit.smart.elimination import Event
+    from taxelkit.smart.levels34 import finish
+
+    table = PAPER_OBJECTS.plus([_capsule(T.LCMT, T.LCMT_ARC)])
+    elim = Eliminator.for_table(table)
+    events = [Event("contact", 0, "line")]
+    for j, t in enumerate([T.LC, T.LCM, T.LCMT, T.LCMT_ARC, T.LCMP], start=1):
+        events += elim.apply(t, j)
+    rec = finish(np.zeros(8, np.int8), events, objects=table)
+    assert rec.identified is None and rec.candidates == ("capsule",)
+    assert rec.verdict.rare == ("LCMT", "LCMT in an arc") and rec.verdict.outcome is None

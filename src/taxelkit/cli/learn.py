@@ -97,7 +97,11 @@ def learn_object(
         never = [t.value for t in learnt.row.tactemes if t not in learnt.seen]
         click.echo(f"check: {checks} simulated rolls; never seen: {', '.join(never) or 'none'}")
         for t in learnt.outside:
-            click.echo(f"warning: {t.value} was seen but not derived; added to the row")
+            kind = "as rare (it never names the object alone)" if t in learnt.rare else "to the row"
+            click.echo(
+                f"warning: {t.value} was seen in {learnt.seen[t]} roll(s) but not derived; "
+                f"added {kind}"
+            )
         for t in learnt.left_out:
             click.echo(
                 f"warning: {t.value} was seen in {learnt.seen[t]} roll(s) but no object can "

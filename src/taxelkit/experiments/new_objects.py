@@ -331,6 +331,7 @@ def _learn(seed: int) -> tuple[ObjectTable, dict[str, Any]]:
         checks[name] = {
             "rolls": learnt.rolls,
             "added": [t.value for t in learnt.outside],
+            "rare": [t.value for t in learnt.rare],
             "left_out": [t.value for t in learnt.left_out],
         }
     return PAPER_OBJECTS.plus(rows), checks

@@ -229,7 +229,25 @@ def new_objects_heldout_markdown(docs: dict[str, dict[str, Any]]) -> str:
         f"until decided; wrong names {s1['wrong']} and {s2['wrong']}. Learnt rows that differ "
         f"from seed {held['tuned_on_seed']}'s: {'; '.join(changed) if changed else 'none'}.",
     ]
+    added = [
+        f"{name}: {_added(tuned['checks'].get(name, {}))} / {_added(held['checks'].get(name, {}))}"
+        for name in held["objects"]
+        if tuned["checks"].get(name, {}).get("added") or held["checks"].get(name, {}).get("added")
+    ]
+    if added:
+        lines.append(
+            f"Tactemes the learning check added beyond the geometry, seed {held['tuned_on_seed']}"
+            f" / seed {held['held_out_seed']} (*rare*: seen in one or two rolls, never names "
+            f"the object alone): {'; '.join(added)}."
+        )
     return "\n".join(lines)
+
+
+def _added(check: dict[str, Any]) -> str:
+    """The tactemes a learning check added, the rare ones marked (``"none"`` if none)."""
+    rare = set(check.get("rare", ()))
+    names = [f"{t} (rare)" if t in rare else t for t in check.get("added", ())]
+    return ", ".join(names) or "none"
 
 
 def _explore_lines(ex: dict[str, Any]) -> list[str]:

@@ -11,7 +11,12 @@ result with the number of rolls it came from, and:
 
 * added to the row if another object of the table can produce it: otherwise
   seeing it could rule the learnt object out and leave that other one, a
-  wrong name;
+  wrong name. Seen in only a few rolls (at most :data:`RARE_SHARE` of them,
+  at least one), it is added as *rare* (:attr:`ObjectRow.rare
+  <taxelkit.smart.object_table.ObjectRow.rare>`): it does not rule the
+  object out, but the object is not named on its strength either, since the
+  same reading from another object (a truncated cone's stray "LCMP", say)
+  would otherwise leave the learnt object alone and name it;
 * left out if no object of the table can produce it (the tactemes of
   sliding: AC moves, AC rotates, LC slides, LC spins): seeing it then rules
   every object out and the roll ends "unknown", never a wrong name; adding
@@ -42,10 +47,16 @@ from taxelkit.smart.tactemes import TactemeConfig
 from taxelkit.world.mesh_features import MeshFeatures, mesh_features
 from taxelkit.world.mesh_solid import MeshSolid
 
-__all__ = ["DEFAULT_CHECK_ROLLS", "Learnt", "learn_solid"]
+__all__ = ["DEFAULT_CHECK_ROLLS", "RARE_SHARE", "Learnt", "learn_solid"]
 
 #: Rolls of the simulation check.
 DEFAULT_CHECK_ROLLS = 24
+#: A tacteme the check added from at most this share of its rolls (at least one) is rare.
+#: Every tacteme the checks of the four shipped examples added, on seeds 0, 3 and 11,
+#: came from a single roll of 24 (a capsule's "LCMT" and "LCMT in an arc", a hexagonal
+#: prism's "LCMT about one end"): with them as ordinary members, a truncated cone whose
+#: roll read "LCMP" once was named capsule, and cones were never named beside the prism.
+RARE_SHARE = 0.05
 
 
 @dataclass(frozen=True)
@@ -64,6 +75,9 @@ class Learnt:
         Rolls of the check.
     outside : tuple of Tacteme
         Seen in the check but not derived (added to :attr:`row`).
+    rare : tuple of Tacteme
+        Those of ``outside`` seen in few rolls (:data:`RARE_SHARE`): the
+        row's :attr:`~taxelkit.smart.object_table.ObjectRow.rare`.
     overlaps : tuple of Overlap
         Pairs of the table it joins (the six and ``beside``) that involve it.
     features : MeshFeatures
@@ -77,6 +91,7 @@ class Learnt:
     overlaps: tuple[Overlap, ...]
     features: MeshFeatures
     left_out: tuple[Tacteme, ...] = ()
+    rare: tuple[Tacteme, ...] = ()
 
 
 def check_rolls(
@@ -146,10 +161,12 @@ def learn_solid(
     missed = [t for t in Tacteme if t in seen and t not in derived.tactemes]
     outside = tuple(t for t in missed if t in produced)
     left_out = tuple(t for t in missed if t not in produced)
+    rare = tuple(t for t in outside if seen[t] <= max(1.0, RARE_SHARE * n_check))
     reasons = dict(derived.reasons)
     for t in outside:
         reasons[t] = (
-            f"seen in {seen[t]} of {n_check} simulated rolls (not derived from the geometry)"
+            f"seen in {seen[t]} of {n_check} simulated rolls (not derived from the geometry"
+            + ("; rare: never names the object alone)" if t in rare else ")")
         )
     order = [t for t in Tacteme if t in reasons]
     checked = {
@@ -158,7 +175,10 @@ def learn_solid(
         "outside_row": [t.value for t in outside],
         "left_out": [t.value for t in left_out],
     }
-    row = ObjectRow(name, frozenset(order), tuple((t, reasons[t]) for t in order), source, checked)
+    row = ObjectRow(
+        name, frozenset(order), tuple((t, reasons[t]) for t in order), source, checked,
+        frozenset(rare),
+    )  # fmt: skip
     table = PAPER_OBJECTS.plus([*others, row])
     overlaps = tuple(o for o in table.overlaps() if name in (o.first, o.second))
-    return Learnt(row, derived, dict(seen), n_check, outside, overlaps, features, left_out)
+    return Learnt(row, derived, dict(seen), n_check, outside, overlaps, features, left_out, rare)

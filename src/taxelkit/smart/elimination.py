@@ -4,7 +4,9 @@ Before first contact every object is possible; each tacteme removes the
 objects that cannot produce it (:data:`~taxelkit.smart.tacteme_table.TABLE`).
 One candidate left: identified. None left: "unknown" (sliding, or a shape
 outside the set). Lifted off before that: the candidates left. The state
-resets when the object is lifted off, ready for the next one.
+resets when the object is lifted off, ready for the next one. A learnt object
+left alone only through tactemes it produces rarely
+(:attr:`~taxelkit.smart.object_table.ObjectRow.rare`) is not named: "doubt".
 """
 
 from __future__ import annotations
@@ -34,6 +36,9 @@ class Event:
     kind : str
         ``"contact"`` (a contact class accepted), ``"tacteme"``,
         ``"candidates"`` (the candidate list changed), ``"identified"``,
+        ``"doubt"`` (the only candidate left explains the tactemes only
+        through ones it produces rarely: not named, an earlier name of it
+        withdrawn; value: the object),
         ``"unknown"``, ``"lifted"`` (contact ended), ``"slip"`` and
         ``"slip-end"`` (a slip phase began, ended; value: what slipped, see
         :mod:`taxelkit.smart.slip`) or ``"withheld"`` (a tacteme seen while
@@ -68,6 +73,9 @@ class Eliminator:
     #: Candidates of plain elimination, and how often each tacteme was seen.
     strict: tuple[str, ...] = field(default=OBJECTS)
     seen: dict[Tacteme, int] = field(default_factory=dict)
+    #: Tactemes of the contact, and the only candidate not named for its rare ones.
+    kinds: set[Tacteme] = field(default_factory=set)
+    doubted: str | None = None
 
     @classmethod
     def for_table(cls, table: ObjectTable | None) -> Eliminator:
@@ -81,6 +89,8 @@ class Eliminator:
         self.candidates = self.strict = tuple(self.objects)
         self.identified = None
         self.seen = {}
+        self.kinds = set()
+        self.doubted = None
 
     def apply(self, tacteme: Tacteme, frame: int) -> list[Event]:
         """Eliminate what ``tacteme`` rules out; report what changed."""
@@ -92,22 +102,33 @@ class Eliminator:
             self.seen[tacteme] = self.seen.get(tacteme, 0) + 1
             doubt = self.table.doubtful(left, self.seen)
             left = tuple(c for c in self.objects if c in left or c in doubt)
+        self.kinds.add(tacteme)
+        rare = len(left) == 1 and self._rare(left[0])
         if left != self.candidates:
             self.candidates = left
             events.append(Event("candidates", frame, left))
-            if len(left) == 1 and self.identified != left[0]:
+            if len(left) == 1 and self.identified != left[0] and not rare:
                 self.identified = left[0]
                 events.append(Event("identified", frame, left[0]))
             elif not left and self.identified != UNKNOWN:
                 self.identified = UNKNOWN
                 events.append(Event("unknown", frame, UNKNOWN))
+        if rare and self.doubted != left[0]:
+            self.doubted = left[0]
+            if self.identified == left[0]:
+                self.identified = None
+            events.append(Event("doubt", frame, left[0]))
         return events
+
+    def _rare(self, name: str) -> bool:
+        """Tactemes ``name`` produces only rarely were seen in this contact."""
+        return self.table is not None and bool(self.table.rare_seen(name, self.kinds))
 
     @property
     def outcome(self) -> str | None:
         """The identity, ``"unknown"``, or None while undecided."""
         if len(self.candidates) == 1:
-            return self.candidates[0]
+            return None if self.doubted == self.candidates[0] else self.candidates[0]
         if not self.candidates:
             return UNKNOWN
         return None
@@ -132,6 +153,10 @@ class Verdict:
     slid : bool
         The contact slipped (:mod:`taxelkit.smart.slip`): when no object is
         identified, the reason is the slip.
+    rare : tuple of str
+        Tactemes seen that the only candidate left produces only rarely
+        (:attr:`~taxelkit.smart.object_table.ObjectRow.rare`): it is not
+        named (empty otherwise).
     """
 
     outcome: str | None
@@ -139,6 +164,7 @@ class Verdict:
     eliminated: tuple[tuple[str, str, int, str], ...]
     deciders: tuple[tuple[str, tuple[str, ...], str], ...]
     slid: bool = False
+    rare: tuple[str, ...] = ()
 
     @property
     def reason(self) -> str | None:
@@ -164,6 +190,11 @@ class Verdict:
             return "unknown: every object was ruled out" + tail
         if self.outcome is not None:
             return f"{self.outcome}: the only object that can produce every tacteme seen"
+        if self.rare:
+            return (
+                f"undecided: {self.candidates[0]} is the only object left, but only through "
+                f"{', '.join(self.rare)}, which it produces only rarely (not named)"
+            )
         options = "; ".join(f"{t} would leave {', '.join(left)}" for t, left, _ in self.deciders)
         return f"undecided between {', '.join(self.candidates)}" + (
             f"; {options}" if options else ""
@@ -184,6 +215,7 @@ class Verdict:
             "deciders": [
                 {"tacteme": t, "leaves": list(left), "reason": r} for t, left, r in self.deciders
             ],
+            "rare": list(self.rare),
         }
 
 
@@ -233,10 +265,14 @@ def explain(
         left = [o for o in objects if o in left or o in doubt]
         eliminated = [e for e in eliminated if e[0] not in doubt]
     outcome = left[0] if len(left) == 1 else (UNKNOWN if not left else None)
+    rare: tuple[str, ...] = ()
+    if table is not None and outcome not in (None, UNKNOWN):  # as Eliminator.apply
+        rare = tuple(t.value for t in table.rare_seen(left[0], {Tacteme(n) for n, _ in tactemes}))
+        outcome = None if rare else outcome
     deciders: list[tuple[str, tuple[str, ...], str]] = []
     if outcome is None:
         for row in rows:
             keep = tuple(o for o in left if o not in row.eliminates)
             if keep and len(keep) < len(left):
                 deciders.append((row.tacteme.value, keep, row.reason))
-    return Verdict(outcome, tuple(left), tuple(eliminated), tuple(deciders), bool(slid))
+    return Verdict(outcome, tuple(left), tuple(eliminated), tuple(deciders), bool(slid), rare)

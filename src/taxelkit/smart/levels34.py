@@ -311,7 +311,7 @@ def finish(
         classes,
         tactemes,
         tuple(events),
-        state.outcome,
+        verdict.outcome,  # state.outcome, unless a rare reading withheld the name
         state.candidates,
         verdict,
         tuple(slips or ()),

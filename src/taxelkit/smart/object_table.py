@@ -19,14 +19,16 @@ User object table file (JSON, UTF-8)
      "objects": [{"name": "hex-prism",
                   "tactemes": ["PC", "LC", "AC", "LC -> AC", "..."],
                   "reasons": {"LC": "the prism's edges", "...": "..."},
+                  "rare": ["LCMT"],
                   "source": "hex_prism.stl",
                   "checked": {"trials": 12, "seen": ["PC", "..."], "outside_row": []}}]}
 
 ``name``: lowercase letters, digits and ``-``, not one of the six;
 ``tactemes``: names of :class:`~taxelkit.smart.tacteme_table.Tacteme`;
-``reasons``: optional, by tacteme; ``source`` and ``checked``: optional
-free records (where the row came from, what the simulation check saw).
-Unknown keys are ignored; a newer ``version`` is refused.
+``reasons``: optional, by tacteme; ``rare``: optional (:attr:`ObjectRow.rare`);
+``source`` and ``checked``: optional free records (where the row came from,
+what the simulation check saw). Unknown keys are ignored (a reader older than
+``rare`` treats those as ordinary); a newer ``version`` is refused.
 """
 
 from __future__ import annotations
@@ -77,6 +79,17 @@ class ObjectRow:
         Where the row came from (``"paper 001, Table 1"``, a mesh file).
     checked : dict
         What a simulation check saw (free record; empty if none).
+    rare : frozenset of Tacteme
+        Tactemes of ``tactemes`` the object produced only rarely (its learning
+        check saw them in a roll or two; not from its geometry). Seeing one
+        does not rule it out, but it is never named on their strength
+        (:meth:`ObjectTable.rare_seen`): the reading is as likely another
+        object's stray tacteme. Empty for the six of paper 001.
+
+    Raises
+    ------
+    InputError
+        If ``rare`` is not part of ``tactemes``.
     """
 
     name: str
@@ -84,21 +97,30 @@ class ObjectRow:
     reasons: tuple[tuple[Tacteme, str], ...] = ()
     source: str = ""
     checked: Mapping[str, Any] = field(default_factory=dict, compare=False, hash=False)
+    rare: frozenset[Tacteme] = frozenset()
+
+    def __post_init__(self) -> None:
+        if not self.rare <= self.tactemes:
+            extra = sorted(t.value for t in self.rare - self.tactemes)
+            raise InputError(f"{self.name}: rare tactemes must be in its row; not: {extra}")
 
     def reason(self, tacteme: Tacteme) -> str:
         """The reason recorded for ``tacteme`` (empty if none)."""
         return dict(self.reasons).get(tacteme, "")
 
     def to_json(self) -> dict[str, Any]:
-        """Plain JSON types (tactemes in :class:`Tacteme` order)."""
+        """Plain JSON types (tactemes in :class:`Tacteme` order; ``rare`` only if any)."""
         order = [t for t in Tacteme if t in self.tactemes]
-        return {
+        out: dict[str, Any] = {
             "name": self.name,
             "tactemes": [t.value for t in order],
             "reasons": {t.value: r for t, r in self.reasons},
             "source": self.source,
             "checked": dict(self.checked),
         }
+        if self.rare:
+            out["rare"] = [t.value for t in Tacteme if t in self.rare]
+        return out
 
 
 @dataclass(frozen=True)
@@ -201,6 +223,14 @@ class ObjectTable:
         parts = [f"{r.name} ({r.reason(tacteme)})" if r.reason(tacteme) else r.name for r in makers]
         return "only " + "; ".join(parts) + " can produce it"
 
+    def rare_seen(self, name: str, seen: Collection[Tacteme]) -> tuple[Tacteme, ...]:
+        """The tactemes of ``seen`` that ``name`` produces only rarely (:attr:`ObjectRow.rare`).
+
+        Non-empty: ``name`` is not named when it is the only candidate left.
+        """
+        rare = self.row(name).rare
+        return tuple(t for t in Tacteme if t in rare and t in seen)
+
     def plus(self, extra: Iterable[ObjectRow]) -> ObjectTable:
         """This table with ``extra`` rows appended."""
         return ObjectTable((*self.rows, *extra), self.superset_evidence)
@@ -293,12 +323,16 @@ def _row_from_json(item: object, where: str) -> ObjectRow:
     ):
         raise InputError(f"{where} ({name}): reasons must map tacteme names to text")
     checked = item.get("checked", {})
+    rare = item.get("rare", [])
+    if not isinstance(rare, list) or not all(isinstance(n, str) and n in names for n in rare):
+        raise InputError(f"{where} ({name}): rare must be a list of tactemes of the row")
     return ObjectRow(
         name,
         frozenset(known[n] for n in names),
         tuple((known[k], v) for k, v in reasons.items()),
         str(item.get("source", "")),
         checked if isinstance(checked, dict) else {},
+        frozenset(known[n] for n in rare),
     )
 
 
