@@ -20,7 +20,7 @@ from taxelkit.smart.contact_limits import (
     schmitt,
 )
 from taxelkit.smart.recogniser import SmartSensor, recognise
-from taxelkit.smart.tacteme_table import OBJECTS
+from taxelkit.smart.tacteme_table import OBJECTS, Tacteme
 from taxelkit.smart.tactemes import PAPER_LEVEL3, TactemeConfig, debounce_counts
 
 PITCH = 1.7625
@@ -473,3 +473,35 @@ def test_the_arc_reads_the_mean_middle_of_the_recent_lines() -> None:
             sensor.push_many(rec.frames[chunk], rec.t_s[chunk])
         assert list(sensor.result().events) == list(res.events)
     assert not PAPER_LEVEL3.pivot_arc_smooth
+
+
+def test_a_rare_reading_withdraws_a_name_alike_in_batch_and_streaming() -> None:
+    """A learnt "pin" whose row is the cone's, with "about one end" rare: a line turning about
+    its end leaves the pin alone, named at first, then doubted (not named), in every path."""
+    from taxelkit.smart.object_table import PAPER_OBJECTS, ObjectRow, ObjectTable
+
+    cone = PAPER_OBJECTS.row("cone").tactemes
+    pin = ObjectRow("pin", cone, rare=frozenset({Tacteme.LCMT_ABOUT_END}))
+    cfg = TactemeConfig(objects=ObjectTable((PAPER_OBJECTS.row("sphere"), pin)))
+    turns = np.concatenate([np.zeros(10), np.linspace(0.0, 40.0, 60), np.full(30, 40.0)])
+    rec = TactileFrames(end_frames(turns), t_s=np.arange(turns.size) / 20.0, pitch_mm=PITCH)
+    res = recognise(rec, cleaning=None, config=cfg)
+    kinds = [(e.kind, e.value) for e in res.events if e.kind in ("identified", "doubt")]
+    assert kinds == [("identified", "pin"), ("doubt", "pin")]
+    assert res.identified is None and res.candidates == ("pin",)
+    assert res.verdict.rare == ("LCMT about one end",)
+    for batch_frames in (1, 7):
+        sensor = SmartSensor(
+            (16, 16), pitch_mm=PITCH, cleaning=None, config=cfg, batch_frames=batch_frames
+        )
+        for f, t in zip(rec.frames, rec.t_s, strict=True):
+            sensor.push(f, t)
+        out = sensor.result()
+        assert list(out.events) == list(res.events) and out.identified is None
+    from taxelkit.smart.bank import SensorBank
+
+    bank = SensorBank(2, (16, 16), pitch_mm=PITCH, cleaning=None, config=cfg, batch_frames=5)
+    for f, t in zip(rec.frames, rec.t_s, strict=True):
+        bank.push(np.stack([f, np.zeros_like(f)]), t)
+    bank.flush()
+    assert list(bank.result(0).events) == list(res.events) and bank.result(0).identified is None
