@@ -198,11 +198,16 @@ def robustness_heldout_markdown(docs: dict[str, dict[str, Any]]) -> str:
     for name, doc in (("thresholds' seed", tuned), ("held-out seed", held)):
         o = doc["overall"]
         worst = max((c["wrong"] / c["n"] for c in doc["cells"] if c["n"]), default=0.0)
+        fast = [c for c in doc["cells"] if c["object"] != "sliding" and c["rate_hz"] >= 20.0]
+        low = [c for c in fast if c["accuracy"] < TARGET_ACCURACY]
+        sure = sum(cell_interval(c["correct"], c["n"])[1] < TARGET_ACCURACY for c in low)
         out.append(
             f"- {name}: {_pct(o['accuracy'])} % of {o['n']} in-set trials identified, "
             f"{_wrong(o['wrong'])} (worst cell {100 * worst:.1f} %), "
             f"{o['undecided']} undecided, {o['unknown']} unknown; sliding "
-            f"{doc['sliding']['identified']} of {doc['sliding']['n']} identified.{_named(o)}"
+            f"{doc['sliding']['identified']} of {doc['sliding']['n']} identified; cells at "
+            f"20 frames/s and above below {TARGET_ACCURACY:g}: {len(low)} of {len(fast)}, "
+            f"{sure} of them beyond sampling doubt (95 % Wilson interval).{_named(o)}"
         )
     return "\n".join(
         [
