@@ -110,20 +110,22 @@ def test_tacteme_table_cube_row_equals_the_committed_row() -> None:
 # --- multi-object and trace-robustness keep every trial: the slice equals them ---
 
 
-def _scene(engine: str, n_objects: int, trial: int, seed: int) -> Any:
+def _scene(engine: str, n_objects: int, trial: int, seed: int, imperfections: list[str]) -> Any:
     from taxelkit.experiments import multi_object as mo
 
     e_key = int.from_bytes(engine.encode()[:8], "little")
     ent = np.random.SeedSequence([seed, e_key, n_objects, trial]).generate_state(1)
-    return mo._run_unit(mo._Unit(engine, n_objects, trial, int(ent[0])))
+    return mo._run_unit(mo._Unit(engine, n_objects, trial, int(ent[0]), tuple(imperfections)))
 
 
 @pytest.mark.parametrize("n_objects", [2, 3])
 def test_multi_object_scenes_equal_the_committed_scenes(n_objects: int) -> None:
     doc = committed("multi-object")
+    imperfections = doc.get("imperfections", ["none"])
     want = [s for s in doc["scenes"] if s["engine"] == "kinematic" and s["n_objects"] == n_objects]
-    for scene in want[:6]:
-        got = _scene("kinematic", n_objects, scene["trial"], doc["seed"])
+    for scene in want[: 6 * len(imperfections)]:
+        views = _scene("kinematic", n_objects, scene["trial"], doc["seed"], imperfections)
+        got = views[imperfections.index(scene.get("imperfection", "none"))]
         now = {
             "names": list(got.names),
             "outcomes": list(got.outcomes),

@@ -47,10 +47,13 @@ def test_a_tiny_run_is_reproducible_and_the_same_on_dask() -> None:
     here = run_multi_object(seed=1, n_trials=2, engines=["kinematic"], workers=1)
     again = run_multi_object(seed=1, n_trials=2, engines=["kinematic"], workers=2)
     assert here.scenes == again.scenes
-    assert [s.n_objects for s in here.scenes] == [2, 2, 3, 3]
+    # each scene as the sensor gives it, then through every imperfection at once
+    assert [(s.n_objects, s.trial, s.imperfection) for s in here.scenes] == [
+        (n, t, f) for n in (2, 3) for t in (0, 1) for f in ("none", "all")
+    ]
     doc = here.to_json()
     assert doc["summaries"][0]["objects"] == 4 and doc["summaries"][1]["objects"] == 6
-    assert "| kinematic | 2 |" in render_block("multi-object", {"multi-object": doc})
+    assert "| kinematic | none | 2 |" in render_block("multi-object", {"multi-object": doc})
     # the figure: per engine and count, the outcome shares stack to the whole
     fig = plot_experiment("multi-object", here)
     left = fig.axes[0]
@@ -70,6 +73,25 @@ def test_a_tiny_run_is_reproducible_and_the_same_on_dask() -> None:
     assert there.scenes == here.scenes
 
 
+def test_the_imperfect_views_leave_the_clean_scenes_as_they_were() -> None:
+    both = run_multi_object(seed=2, n_trials=3, engines=["kinematic"], counts=[2], workers=1)
+    clean = run_multi_object(
+        seed=2, n_trials=3, engines=["kinematic"], counts=[2], workers=1, imperfections=["none"]
+    )
+    assert clean.imperfections == ("none",)
+    assert [s for s in both.scenes if s.imperfection == "none"] == list(clean.scenes)
+    imperfect = [s for s in both.scenes if s.imperfection == "all"]
+    assert [s.names for s in imperfect] == [s.names for s in clean.scenes]  # the same motion
+    doc = both.to_json()
+    assert [(s["imperfection"], s["n_objects"]) for s in doc["summaries"]] == [
+        ("none", 2),
+        ("all", 2),
+    ]
+    assert set(doc["acceptance_imperfect"]) == {"all"}
+    text = render_block("multi-object", {"multi-object": doc})
+    assert "| kinematic | all | 2 |" in text and "imperfection all" in text
+
+
 def test_bad_settings_are_refused() -> None:
     with pytest.raises(InputError, match="n_trials"):
         run_multi_object(n_trials=0)
@@ -77,6 +99,8 @@ def test_bad_settings_are_refused() -> None:
         run_multi_object(engines=["bullet"], n_trials=1)
     with pytest.raises(InputError, match="counts"):
         run_multi_object(counts=[7], n_trials=1)
+    with pytest.raises(InputError, match="unknown imperfection"):
+        run_multi_object(imperfections=["rust"], n_trials=1)
 
 
 @pytest.mark.slow

@@ -3,7 +3,11 @@
 One *unit* is one scene (:func:`~taxelkit.motion.multi_scenes.multi_scene`):
 ``n`` distinct objects drawn at random from the six, each moved by the
 chosen engine in its own tile of a ``16 x 16 n`` array, each after a random
-delay, composed and seen with the sensor's noise. The recogniser
+delay, composed and seen with the sensor's noise. Each scene is recognised as
+the sensor gives it and again through each of ``imperfections`` (named fault
+models of :func:`~taxelkit.sensors.faults.fault_model`, by default every
+imperfection at once, ``"all"``, with a seed of its own): the same motion,
+a real array's faults on top. The recogniser
 (:func:`~taxelkit.smart.objects.recognise_objects`, default robust pipeline)
 sees only the frames; the ground truth (which object pressed each taxel) is
 used here, to score, and nowhere else.
@@ -39,10 +43,13 @@ from taxelkit.errors import InputError
 from taxelkit.experiments.work_units import run_units
 from taxelkit.motion.engines import engines_to_run
 from taxelkit.motion.multi_scenes import frames_from_multi_scene, multi_scene
+from taxelkit.sensors.faults import FAULT_PRESETS, fault_model
+from taxelkit.smart.levels12 import DEFAULT_THRESHOLD_MM
 from taxelkit.smart.objects import ObjectRecognition, recognise_objects
 from taxelkit.smart.tacteme_table import OBJECTS
 
 __all__ = [
+    "IMPERFECTIONS",
     "OBJECT_COUNTS",
     "MultiObjectResult",
     "SceneOutcome",
@@ -52,6 +59,9 @@ __all__ = [
 
 #: Objects per scene.
 OBJECT_COUNTS: tuple[int, ...] = (2, 3)
+#: How each scene is seen: as the sensor gives it (its noise), then through these
+#: fault models (:data:`~taxelkit.sensors.faults.FAULT_PRESETS`).
+IMPERFECTIONS: tuple[str, ...] = ("none", "all")
 #: Frame rate of the scenes, Hz (the robustness matrix's default rate).
 RATE_HZ = 20.0
 #: Outcomes of an object.
@@ -78,6 +88,9 @@ class SceneOutcome:
         Accepted tracks.
     merges, splits : int
         Tracker events.
+    imperfection : str
+        The fault model the frames were seen through (``"none"``: the
+        sensor's noise only).
     """
 
     engine: str
@@ -90,6 +103,7 @@ class SceneOutcome:
     n_tracks: int
     merges: int
     splits: int
+    imperfection: str = "none"
 
 
 def score_scene(
@@ -160,28 +174,43 @@ class _Unit:
     n_objects: int
     trial: int
     entropy: int
+    imperfections: tuple[str, ...] = IMPERFECTIONS
 
 
-def _run_unit(unit: _Unit) -> SceneOutcome:
+def _run_unit(unit: _Unit) -> tuple[SceneOutcome, ...]:
+    """One scene, scored as the sensor gives it and through each imperfection."""
     rng = np.random.default_rng(np.random.SeedSequence(unit.entropy))
     names = tuple(str(x) for x in rng.choice(OBJECTS, size=unit.n_objects, replace=False))
     scene = multi_scene(names, engine=unit.engine, rng=rng, rate_hz=RATE_HZ)
     frames = frames_from_multi_scene(scene, rng=rng)
-    result = recognise_objects(frames.recording, keep_map=True)
-    outcomes, purities, mixed = score_scene(result, frames.owner, names)
-    kinds = [e.kind for e in result.events]
-    return SceneOutcome(
-        engine=unit.engine,
-        n_objects=unit.n_objects,
-        trial=unit.trial,
-        names=names,
-        outcomes=outcomes,
-        purities=purities,
-        mixed_wrong=mixed,
-        n_tracks=len(purities),
-        merges=kinds.count("merge"),
-        splits=kinds.count("split"),
-    )
+    # each imperfection's own seed, apart from the scene's stream (its results unchanged)
+    seeds = np.random.SeedSequence(unit.entropy).spawn(len(unit.imperfections))
+    out = []
+    for name, fseed in zip(unit.imperfections, seeds, strict=True):
+        recording = frames.recording
+        if name != "none":
+            recording = fault_model(name).apply(
+                recording, threshold=DEFAULT_THRESHOLD_MM, rng=np.random.default_rng(fseed)
+            )
+        result = recognise_objects(recording, keep_map=True)
+        outcomes, purities, mixed = score_scene(result, frames.owner, names)
+        kinds = [e.kind for e in result.events]
+        out.append(
+            SceneOutcome(
+                engine=unit.engine,
+                n_objects=unit.n_objects,
+                trial=unit.trial,
+                names=names,
+                outcomes=outcomes,
+                purities=purities,
+                mixed_wrong=mixed,
+                n_tracks=len(purities),
+                merges=kinds.count("merge"),
+                splits=kinds.count("split"),
+                imperfection=name,
+            )
+        )
+    return tuple(out)
 
 
 @dataclass(frozen=True, eq=False)
@@ -191,9 +220,12 @@ class MultiObjectResult:
     Attributes
     ----------
     scenes : tuple of SceneOutcome
-        Sorted by engine, object count, trial.
+        Sorted by engine, object count, trial, then imperfection (in the
+        order of ``imperfections``).
     engines : tuple of str
     counts : tuple of int
+    imperfections : tuple of str
+        The fault models each scene was seen through (``"none"`` first).
     n_trials : int
         Scenes per object count with the kinematic engine.
     mujoco_trials : int
@@ -208,16 +240,22 @@ class MultiObjectResult:
     n_trials: int
     mujoco_trials: int
     skipped: dict[str, str]
+    imperfections: tuple[str, ...] = IMPERFECTIONS
 
-    def summary(self, engine: str, n_objects: int) -> dict[str, Any]:
-        """Figures of one engine and object count."""
-        rows = [s for s in self.scenes if s.engine == engine and s.n_objects == n_objects]
+    def summary(self, engine: str, n_objects: int, imperfection: str = "none") -> dict[str, Any]:
+        """Figures of one engine, object count and imperfection."""
+        rows = [
+            s
+            for s in self.scenes
+            if s.engine == engine and s.n_objects == n_objects and s.imperfection == imperfection
+        ]
         outcomes = [o for s in rows for o in s.outcomes]
         purities = [p for s in rows for p in s.purities]
         n_obj = len(outcomes)
         counts = {k: outcomes.count(k) for k in OUTCOMES}
         return {
             "engine": engine,
+            "imperfection": imperfection,
             "n_objects": n_objects,
             "scenes": len(rows),
             "objects": n_obj,
@@ -234,25 +272,44 @@ class MultiObjectResult:
         }
 
     def to_json(self) -> dict[str, Any]:
-        """Summaries per engine and count, the acceptance checks, and every scene."""
-        summaries = [self.summary(e, n) for e in self.engines for n in self.counts]
-        two = [s for s in summaries if s["n_objects"] == 2]
+        """Summaries per engine, imperfection and count, the acceptance checks, every scene.
+
+        The acceptance is judged on the scenes as the sensor gives them
+        (``"none"``); ``acceptance_imperfect`` applies the same checks to
+        each other imperfection.
+        """
+        summaries = [
+            self.summary(e, n, f)
+            for e in self.engines
+            for f in self.imperfections
+            for n in self.counts
+        ]
+
+        def checks(imperfection: str) -> dict[str, bool]:
+            two = [
+                s for s in summaries if s["n_objects"] == 2 and s["imperfection"] == imperfection
+            ]
+            return {
+                "two_objects_identified_ge_95": bool(two)
+                and all(s["identified_rate"] >= 0.95 for s in two),
+                "two_objects_no_mixed_wrong": all(s["mixed_wrong"] == 0 for s in two),
+            }
+
         return {
             "experiment": "multi-object",
             "n_trials": self.n_trials,
             "mujoco_trials": self.mujoco_trials,
             "rate_hz": RATE_HZ,
             "engines": list(self.engines),
+            "imperfections": list(self.imperfections),
             "skipped": dict(self.skipped),
             "summaries": summaries,
-            "acceptance": {
-                "two_objects_identified_ge_95": bool(two)
-                and all(s["identified_rate"] >= 0.95 for s in two),
-                "two_objects_no_mixed_wrong": all(s["mixed_wrong"] == 0 for s in two),
-            },
+            "acceptance": checks("none"),
+            "acceptance_imperfect": {f: checks(f) for f in self.imperfections if f != "none"},
             "scenes": [
                 {
                     "engine": s.engine,
+                    "imperfection": s.imperfection,
                     "n_objects": s.n_objects,
                     "trial": s.trial,
                     "names": list(s.names),
@@ -274,6 +331,7 @@ def run_multi_object(
     engines: Sequence[str] | None = None,
     mujoco_trials: int | None = None,
     counts: Sequence[int] = OBJECT_COUNTS,
+    imperfections: Sequence[str] = IMPERFECTIONS,
     workers: int | None = None,
     scheduler: str | None = None,
     progress: Callable[[int, int], None] | None = None,
@@ -295,6 +353,10 @@ def run_multi_object(
         Default: both, MuJoCo skipped (and listed) when not installed.
     counts : sequence of int
         Objects per scene (2 to 6).
+    imperfections : sequence of str
+        Fault models each scene is also seen through (names of
+        :data:`~taxelkit.sensors.faults.FAULT_PRESETS`); ``"none"`` (the
+        sensor's noise only) is always first.
     workers : int, optional
         Local worker processes (default: the CPU count).
     scheduler : str, optional
@@ -311,6 +373,10 @@ def run_multi_object(
     for c in counts:
         if not 1 <= int(c) <= len(OBJECTS):
             raise InputError(f"counts must lie in 1..{len(OBJECTS)}, got {c!r}")
+    for name in imperfections:
+        if name not in FAULT_PRESETS:
+            raise InputError(f"unknown imperfection {name!r}; known: {', '.join(FAULT_PRESETS)}")
+    imps = ("none", *dict.fromkeys(str(f) for f in imperfections if f != "none"))
     chosen, skipped = engines_to_run(engines)
     n_mujoco = max(1, int(n_trials) // 5) if mujoco_trials is None else int(mujoco_trials)
     units = []
@@ -319,19 +385,20 @@ def run_multi_object(
         for n in counts:
             for trial in range(n_mujoco if engine == "mujoco" else int(n_trials)):
                 ent = np.random.SeedSequence([int(seed), e_key, int(n), trial]).generate_state(1)
-                units.append(_Unit(engine, int(n), trial, int(ent[0])))
+                units.append(_Unit(engine, int(n), trial, int(ent[0]), imps))
     n_workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
     stream = run_units(_run_unit, units, workers=n_workers, scheduler=scheduler)
-    results: list[SceneOutcome | None] = [None] * len(units)
+    results: list[tuple[SceneOutcome, ...] | None] = [None] * len(units)
     for done, (i, res) in enumerate(stream, start=1):
         results[i] = res
         if progress is not None:
             progress(done, len(units))
     return MultiObjectResult(
-        scenes=tuple(r for r in results if r is not None),
+        scenes=tuple(s for r in results if r is not None for s in r),
         engines=tuple(chosen),
         counts=tuple(int(c) for c in counts),
         n_trials=int(n_trials),
         mujoco_trials=n_mujoco,
         skipped=skipped,
+        imperfections=imps,
     )
