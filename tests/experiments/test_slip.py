@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import json
+
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
+from taxelkit.errors import InputError
 from taxelkit.experiments.registry import get_experiment
 from taxelkit.experiments.report import render_block
 from taxelkit.experiments.slip import pitch_reached_s, run_slip, score_trial, slip_phases
@@ -39,7 +42,10 @@ def test_smoke_run_and_readme_block() -> None:
     assert get_experiment("slip").trials == 30
     res = run_slip(seed=5, n_trials=1, engines=["kinematic"], workers=1)
     doc = res.to_json()
-    assert len(res.trials) == 3 * 6 * 2  # kinds x objects x rates
+    assert len(res.trials) == 3 * 6 * 2 * 2  # kinds x objects x rates x imperfections
+    assert res.imperfections == ("none", "all")
+    assert set(doc["overall_imperfect"]) == {"all"}
+    assert doc["overall_imperfect"]["all"]["20"]["sliding_identified"] == 0
     assert {s["kind"] for s in doc["summaries"]} == {"roll", "partial", "slide"}
     assert set(doc["overall"]) == {"20", "100"}
     for o in doc["overall"].values():
@@ -51,7 +57,10 @@ def test_smoke_run_and_readme_block() -> None:
     speeds = [p["speed_mm_s"] for t in doc["trials"] if t["kind"] == "slide" for p in t["phases"]]
     assert speeds and all(2.5 < v < 12.0 for v in speeds)  # the scripts slide at 3-6 mm/s
     block = render_block("slip", {"slip": doc})
-    assert "| kinematic | 20 | partial | 6 |" in block and "Acceptance:" in block
+    assert (
+        "| kinematic | 20 | partial | 6 |" in block and "Acceptance (imperfection none):" in block
+    )
+    assert "| 20 frames/s | all |" in block and "with imperfection all:" in block
     assert "below 4 mm/s, 4-5 mm/s, from 5 mm/s" in block
     for o in doc["overall"].values():
         p = o["detectable_from_pitch"]
@@ -60,7 +69,12 @@ def test_smoke_run_and_readme_block() -> None:
     # the figure draws these numbers: one latency curve per rate, the partial rolls' bars
     fig = plot_experiment("slip", res)
     left, right = fig.axes
-    assert [t.get_text() for t in left.get_legend().get_texts()] == ["20 frames/s", "100 frames/s"]
+    assert [t.get_text() for t in left.get_legend().get_texts()] == [
+        "20 frames/s",
+        "20 frames/s, all",
+        "100 frames/s",
+        "100 frames/s, all",
+    ]
     for curve in left.get_lines()[:2]:
         y = np.asarray(curve.get_ydata())
         assert np.all(np.diff(y) >= 0) and 0.0 <= y[0] <= y[-1] <= 1.0  # a share found by then
@@ -70,6 +84,21 @@ def test_smoke_run_and_readme_block() -> None:
     want += [b["identified"] / sum(p.values()) for b, p in zip(bare, parts, strict=True)]
     assert [bar.get_height() for bar in right.patches] == pytest.approx(want)
     plt.close(fig)
+
+
+def test_the_imperfect_view_leaves_the_trials_as_they_were() -> None:
+    both = run_slip(seed=4, n_trials=1, engines=["kinematic"], workers=1)
+    clean = run_slip(seed=4, n_trials=1, engines=["kinematic"], workers=1, imperfections=["none"])
+    assert [t for t in both.trials if t.imperfection == "none"] == list(clean.trials)
+    doc, doc_clean = both.to_json(), clean.to_json()
+    for key in ("summaries", "overall", "acceptance"):  # NaN latencies: compared as JSON
+        assert json.dumps(doc[key]) == json.dumps(doc_clean[key])
+    seen = [t for t in both.trials if t.imperfection == "all"]
+    assert [(t.kind, t.obj, t.rate_hz) for t in seen] == [
+        (t.kind, t.obj, t.rate_hz) for t in clean.trials
+    ]
+    with pytest.raises(InputError, match="unknown imperfection"):
+        run_slip(n_trials=1, imperfections=["rust"])
 
 
 def test_pitch_reached_by_a_dragged_face() -> None:

@@ -5,6 +5,8 @@ from __future__ import annotations
 import itertools
 from typing import Any
 
+from taxelkit.experiments.slip_result import acceptance_checks
+
 __all__ = ["slip_markdown"]
 
 
@@ -34,7 +36,7 @@ def slip_markdown(doc: dict[str, Any]) -> str:
         "slide moves it less than a taxel pitch in 0.2 s. In time from one pitch: decided "
         f"within {doc['latency_s']:g} s of the phase's slip having reached one pitch (the "
         "contact points' slip summed from its start); phases that slid less than a pitch in "
-        "all are counted apart.",
+        "all are counted apart." + _imperfect_intro(doc),
         "",
         "| engine | rate | kind | trials | faces and lines in time (found) | median latency "
         "| other slip found | false alarms (trials, per s) | identified / wrong / not "
@@ -62,30 +64,57 @@ def slip_markdown(doc: dict[str, Any]) -> str:
         f"from {lo:g} mm/s" if hi is None else f"{lo:g}-{hi:g} mm/s" if lo else f"below {hi:g} mm/s"
         for lo, hi in itertools.pairwise(edges)
     ]
-    lines += ["", "| rate | faces and lines in time | in time by the phase's speed: "
+    lines += ["", "| rate | imperfection | faces and lines in time | in time by the phase's speed: "
               + ", ".join(band_names) + " | faces and lines in time from one pitch "
               "(slid less than a pitch: found) | rolls with a false alarm "
               "| partial slip identified (without slip detection) | slides identified |",
-              "| --- | --- | --- | --- | --- | --- | --- |"]  # fmt: skip
-    for rate, o in doc["overall"].items():
-        det, part, base = o["detectable"], o["partial"], o["partial_without_slip"]
-        n_part = sum(part.values())
-        by_speed = ", ".join(_pct(b["in_time"], b["phases"]) for b in o["detectable_by_speed"])
-        lines.append(
-            f"| {rate} frames/s | {_pct(det['in_time'], det['phases'])} | {by_speed} "
-            f"| {_from_pitch(o.get('detectable_from_pitch'))} "
-            f"| {100 * o['roll_false_alarm_trial_rate']:.1f} % "
-            f"| {_pct(part['identified'], n_part)} ({base['identified']}), "
-            f"{part['wrong']} wrong | {o['sliding_identified']} |"
-        )
-    verdicts = []
-    for rate, acc in doc["acceptance"].items():
-        holds = [("slip phases in time >= 95 %", acc["detectable_in_time_ge_95"]),
-                 ("false alarms on rolls <= 2 %", acc["roll_false_alarms_le_2"]),
-                 ("slides never identified", acc["sliding_never_identified"])]  # fmt: skip
-        verdicts.append(
-            f"{rate} frames/s: " + "; ".join(f"{n} {'holds' if h else 'fails'}" for n, h in holds)
-        )
+              "| --- | --- | --- | --- | --- | --- | --- | --- |"]  # fmt: skip
+    views = [("none", doc["overall"]), *doc.get("overall_imperfect", {}).items()]
+    for rate in doc["overall"]:
+        for name, overall in views:
+            o = overall[rate]
+            det, part, base = o["detectable"], o["partial"], o["partial_without_slip"]
+            n_part = sum(part.values())
+            by_speed = ", ".join(_pct(b["in_time"], b["phases"]) for b in o["detectable_by_speed"])
+            lines.append(
+                f"| {rate} frames/s | {name} | {_pct(det['in_time'], det['phases'])} | {by_speed} "
+                f"| {_from_pitch(o.get('detectable_from_pitch'))} "
+                f"| {100 * o['roll_false_alarm_trial_rate']:.1f} % "
+                f"| {_pct(part['identified'], n_part)} ({base['identified']}), "
+                f"{part['wrong']} wrong | {o['sliding_identified']} |"
+            )
+    verdicts = [f"{rate} frames/s: {_holds(acc)}" for rate, acc in doc["acceptance"].items()]
+    imperfect = [
+        f"{rate} frames/s with imperfection {name}: {_holds(acceptance_checks(o))}"
+        for name, overall in doc.get("overall_imperfect", {}).items()
+        for rate, o in overall.items()
+    ]
     skipped = "".join(f" Skipped: {k} ({v})." for k, v in doc["skipped"].items())
-    lines += ["", "Acceptance: " + ". ".join(verdicts) + "." + skipped]
+    lines += ["", "Acceptance (imperfection none): " + ". ".join(verdicts) + "." + skipped]
+    if imperfect:
+        lines[-1] += " The same checks beside it: " + ". ".join(imperfect) + "."
     return "\n".join(lines)
+
+
+def _holds(acc: dict[str, bool]) -> str:
+    holds = [("slip phases in time >= 95 %", acc["detectable_in_time_ge_95"]),
+             ("false alarms on rolls <= 2 %", acc["roll_false_alarms_le_2"]),
+             ("slides never identified", acc["sliding_never_identified"])]  # fmt: skip
+    return "; ".join(f"{n} {'holds' if h else 'fails'}" for n, h in holds)
+
+
+def _imperfect_intro(doc: dict[str, Any]) -> str:
+    names = [f for f in doc.get("imperfections", ["none"]) if f != "none"]
+    if not names:
+        return ""
+    described = ", ".join(
+        "every imperfection of the robustness matrix at once (`all`)"
+        if f == "all"
+        else f"the `{f}` fault model"
+        for f in names
+    )
+    return (
+        f" Every trial's frames are recognised again through {described}; the first table "
+        "and the acceptance are those of the frames as the array gives them (imperfection "
+        "none)."
+    )

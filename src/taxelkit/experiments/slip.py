@@ -1,8 +1,11 @@
 """The ``slip`` experiment: slip detected from the frames, against the slip of the simulated body.
 
 Three kinds of trial, per engine and object, each seen at 20 and 100
-frames/s (the same motion) on the Bonneville array with its noise (clean
-otherwise):
+frames/s (the same motion) on the Bonneville array with its noise, and the
+same frames again through each of ``imperfections`` (by default every fault
+model of the robustness matrix at once, ``"all"``, with a seed of its own;
+reported beside the acceptance, which is judged on the frames as the array
+gives them):
 
 ``roll``
     The rolling scripts of :mod:`taxelkit.motion.scenarios` (no slip
@@ -66,6 +69,7 @@ from taxelkit.experiments.work_units import run_units
 from taxelkit.motion.engines.registry import engines_to_run, scenarios_from_engine
 from taxelkit.motion.rolling import Scenario, frames_from_scenario
 from taxelkit.motion.slip_scenarios import make_partial_slip_scenario
+from taxelkit.sensors.faults import FAULT_PRESETS, fault_model
 from taxelkit.sensors.presets import BONNEVILLE_16X16
 from taxelkit.smart.recogniser import recognise
 from taxelkit.smart.tacteme_table import OBJECTS
@@ -73,6 +77,7 @@ from taxelkit.smart.tactemes import TactemeConfig
 
 __all__ = [
     "GT_SLIP_MM_S",
+    "IMPERFECTIONS",
     "LATENCY_S",
     "TRIAL_KINDS",
     "SlipResult",
@@ -157,6 +162,11 @@ def score_trial(
     return out, len(detected) - len(used)
 
 
+#: How each trial's frames are seen: as the array gives them, then through these
+#: fault models (:data:`~taxelkit.sensors.faults.FAULT_PRESETS`).
+IMPERFECTIONS: tuple[str, ...] = ("none", "all")
+
+
 @dataclass(frozen=True)
 class _Unit:
     engine: str
@@ -164,6 +174,7 @@ class _Unit:
     obj: str
     trial: int
     entropy: int
+    imperfections: tuple[str, ...] = IMPERFECTIONS
 
 
 def _scenarios(unit: _Unit, rng: np.random.Generator) -> list[Scenario]:
@@ -175,38 +186,62 @@ def _scenarios(unit: _Unit, rng: np.random.Generator) -> list[Scenario]:
     return scenarios_from_engine(unit.engine, name, rates_hz=RATES_HZ, rng=rng)
 
 
-def _trial(unit: _Unit, sc: Scenario, rate_hz: float, rng: np.random.Generator) -> SlipTrial:
+def _trials(
+    unit: _Unit,
+    sc: Scenario,
+    rate_hz: float,
+    rng: np.random.Generator,
+    fault_seeds: list[np.random.SeedSequence],
+) -> list[SlipTrial]:
+    """One motion at one rate, scored as the array gives it and through each imperfection."""
     rec = frames_from_scenario(BONNEVILLE_16X16, sc, rng=rng)
     thr = BONNEVILLE_16X16.contact_threshold_mm
-    res = recognise(rec, threshold=thr)
-    without = recognise(rec, threshold=thr, config=TactemeConfig(slip=None))
     t = np.asarray(sc.t_s)
     truth = slip_phases(sc)
-    phases, false_alarms = score_trial(t, truth, [s.detected_frame for s in res.slips])
     dt = float(np.median(np.diff(t)))
     slid_mm = np.nan_to_num(sc.slip_mm(), nan=0.0)
     speeds = tuple(float(slid_mm[a:b].sum() / (t[b] - t[a])) for a, b, _ in truth)
-    return SlipTrial(
-        engine=unit.engine,
-        kind=unit.kind,
-        obj=sc.object_name,
-        rate_hz=float(rate_hz),
-        trial=unit.trial,
-        identified=res.identified,
-        reason=res.verdict.reason,
-        identified_without=without.identified,
-        phases=tuple(phases),
-        phase_speeds_mm_s=speeds,
-        pitch_s=tuple(pitch_reached_s(sc, truth, BONNEVILLE_16X16.array.pitch_mm)),
-        false_alarms=false_alarms,
-        contact_s=float(np.count_nonzero(sc.in_contact)) * dt,
-    )
+    pitch_s = tuple(pitch_reached_s(sc, truth, BONNEVILLE_16X16.array.pitch_mm))
+    out = []
+    for name, fseed in zip(unit.imperfections, fault_seeds, strict=True):
+        seen = rec
+        if name != "none":
+            seen = fault_model(name).apply(rec, threshold=thr, rng=np.random.default_rng(fseed))
+        res = recognise(seen, threshold=thr)
+        without = recognise(seen, threshold=thr, config=TactemeConfig(slip=None))
+        phases, false_alarms = score_trial(t, truth, [s.detected_frame for s in res.slips])
+        out.append(
+            SlipTrial(
+                engine=unit.engine,
+                kind=unit.kind,
+                obj=sc.object_name,
+                rate_hz=float(rate_hz),
+                trial=unit.trial,
+                identified=res.identified,
+                reason=res.verdict.reason,
+                identified_without=without.identified,
+                phases=tuple(phases),
+                phase_speeds_mm_s=speeds,
+                pitch_s=pitch_s,
+                false_alarms=false_alarms,
+                contact_s=float(np.count_nonzero(sc.in_contact)) * dt,
+                imperfection=name,
+            )
+        )
+    return out
 
 
 def _run_unit(unit: _Unit) -> list[SlipTrial]:
     rng = np.random.default_rng(np.random.SeedSequence(unit.entropy))
     scenes = _scenarios(unit, rng)
-    return [_trial(unit, sc, r, rng) for sc, r in zip(scenes, RATES_HZ, strict=True)]
+    # the imperfections' seeds, apart from the motion's stream (its trials unchanged)
+    seeds = np.random.SeedSequence(unit.entropy).spawn(len(RATES_HZ) * len(unit.imperfections))
+    k = len(unit.imperfections)
+    return [
+        trial
+        for i, (sc, r) in enumerate(zip(scenes, RATES_HZ, strict=True))
+        for trial in _trials(unit, sc, r, rng, seeds[i * k : (i + 1) * k])
+    ]
 
 
 def run_slip(
@@ -215,6 +250,7 @@ def run_slip(
     n_trials: int = 30,
     mujoco_trials: int | None = None,
     engines: Sequence[str] | None = None,
+    imperfections: Sequence[str] = IMPERFECTIONS,
     workers: int | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> SlipResult:
@@ -233,6 +269,10 @@ def run_slip(
         the ``roll`` and ``slide`` kinds (no partial-slip script).
     engines : sequence of str, optional
         Default both, MuJoCo skipped (and listed) when not installed.
+    imperfections : sequence of str
+        Fault models every trial's frames are also seen through (names of
+        :data:`~taxelkit.sensors.faults.FAULT_PRESETS`); ``"none"`` (the
+        array's noise only) is always first.
     workers : int, optional
         Local worker processes (default: the CPU count).
     progress : callable, optional
@@ -244,6 +284,10 @@ def run_slip(
     """
     if int(n_trials) < 1:
         raise InputError(f"n_trials must be >= 1, got {n_trials!r}")
+    for name in imperfections:
+        if name not in FAULT_PRESETS:
+            raise InputError(f"unknown imperfection {name!r}; known: {', '.join(FAULT_PRESETS)}")
+    imps = ("none", *dict.fromkeys(str(f) for f in imperfections if f != "none"))
     chosen, skipped = engines_to_run(engines)
     n_mj = int(n_trials) if mujoco_trials is None else int(mujoco_trials)
     units = []
@@ -255,7 +299,7 @@ def run_slip(
                 for trial in range(n_mj if engine == "mujoco" else int(n_trials)):
                     key = [int(seed), e_key, k_i, o_i, trial]
                     ent = np.random.SeedSequence(key).generate_state(1)
-                    units.append(_Unit(engine, kind, obj, trial, int(ent[0])))
+                    units.append(_Unit(engine, kind, obj, trial, int(ent[0]), imps))
     n_workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
     results: list[list[SlipTrial]] = [[] for _ in units]
     stream = run_units(_run_unit, units, workers=n_workers)
@@ -264,4 +308,4 @@ def run_slip(
         if progress is not None:
             progress(done, len(units))
     trials = [t for r in results for t in r]
-    return SlipResult(tuple(trials), tuple(chosen), int(n_trials), n_mj, skipped)
+    return SlipResult(tuple(trials), tuple(chosen), int(n_trials), n_mj, skipped, imps)

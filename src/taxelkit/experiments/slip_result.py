@@ -19,6 +19,7 @@ __all__ = [
     "TRIAL_KINDS",
     "SlipResult",
     "SlipTrial",
+    "acceptance_checks",
 ]
 
 #: Kinds of trial.
@@ -71,6 +72,9 @@ class SlipTrial:
         Detected slips matching no phase.
     contact_s : float
         Time in contact, s.
+    imperfection : str
+        The fault model the frames were seen through (``"none"``: the
+        array's noise only; :func:`~taxelkit.sensors.faults.fault_model`).
     """
 
     engine: str
@@ -86,6 +90,7 @@ class SlipTrial:
     false_alarms: int
     contact_s: float
     pitch_s: tuple[float | None, ...] = ()
+    imperfection: str = "none"
 
 
 #: Slip kinds a binary footprint can show (see :mod:`taxelkit.smart.slip`).
@@ -146,6 +151,15 @@ def _from_pitch(trials: Sequence[SlipTrial]) -> dict[str, Any]:
     }
 
 
+def acceptance_checks(o: dict[str, Any]) -> dict[str, bool]:
+    """The acceptance's checks of one rate's entry of :meth:`SlipResult.overall`."""
+    return {
+        "detectable_in_time_ge_95": bool(o["detectable"]["in_time_rate"] >= 0.95),
+        "roll_false_alarms_le_2": bool(o["roll_false_alarm_trial_rate"] <= 0.02),
+        "sliding_never_identified": o["sliding_identified"] == 0,
+    }
+
+
 def _verdicts(trials: Sequence[SlipTrial], *, without: bool = False) -> dict[str, int]:
     said = [(t.identified_without if without else t.identified, t.obj) for t in trials]
     return {
@@ -162,13 +176,16 @@ class SlipResult:
     Attributes
     ----------
     trials : tuple of SlipTrial
-        Sorted by engine, kind, object, trial.
+        Sorted by engine, kind, object, trial, then rate and imperfection.
     engines : tuple of str
     n_trials : int
         Kinematic trials per kind and object (``slide``: per object slid).
     mujoco_trials : int
         MuJoCo trials per kind and object.
     skipped : dict of str to str
+    imperfections : tuple of str
+        The fault models every trial's frames were also seen through
+        (``"none"`` first: the summaries and the acceptance).
     """
 
     trials: tuple[SlipTrial, ...]
@@ -176,11 +193,19 @@ class SlipResult:
     n_trials: int
     mujoco_trials: int
     skipped: dict[str, str]
+    imperfections: tuple[str, ...] = ("none",)
 
-    def summary(self, engine: str, rate_hz: float, kind: str) -> dict[str, Any]:
-        """Figures of one engine, frame rate and kind of trial."""
+    def summary(
+        self, engine: str, rate_hz: float, kind: str, imperfection: str = "none"
+    ) -> dict[str, Any]:
+        """Figures of one engine, frame rate, kind of trial and imperfection."""
         rows = [
-            t for t in self.trials if t.engine == engine and t.kind == kind and t.rate_hz == rate_hz
+            t
+            for t in self.trials
+            if t.engine == engine
+            and t.kind == kind
+            and t.rate_hz == rate_hz
+            and t.imperfection == imperfection
         ]
         contact_s = sum(t.contact_s for t in rows)
         fa = sum(t.false_alarms for t in rows)
@@ -216,18 +241,11 @@ class SlipResult:
             },
         }
 
-    def to_json(self) -> dict[str, Any]:
-        """Summaries per engine and kind, the acceptance checks, and every trial."""
-        summaries = [
-            self.summary(e, r, k)
-            for e in self.engines
-            for r in RATES_HZ
-            for k in TRIAL_KINDS
-            if any(t.engine == e and t.kind == k and t.rate_hz == r for t in self.trials)
-        ]
+    def overall(self, imperfection: str = "none") -> dict[str, dict[str, Any]]:
+        """Per frame rate, every engine and object together, through one imperfection."""
         overall: dict[str, dict[str, Any]] = {}
         for r in RATES_HZ:
-            mine = [t for t in self.trials if t.rate_hz == r]
+            mine = [t for t in self.trials if t.rate_hz == r and t.imperfection == imperfection]
             slipping = [t for t in mine if t.kind != "roll"]
             rolling = [t for t in mine if t.kind == "roll"]
             sliding = [t for t in mine if t.kind == "slide"]
@@ -246,6 +264,24 @@ class SlipResult:
                     [t for t in mine if t.kind == "partial"], without=True
                 ),
             }
+        return overall
+
+    def to_json(self) -> dict[str, Any]:
+        """Summaries per engine and kind, the acceptance checks, and every trial.
+
+        The summaries, ``overall`` and the acceptance are those of the frames as
+        the array gives them (imperfection ``"none"``); ``overall_imperfect``
+        holds ``overall`` through each other imperfection.
+        """
+        clean = [t for t in self.trials if t.imperfection == "none"]
+        summaries = [
+            self.summary(e, r, k)
+            for e in self.engines
+            for r in RATES_HZ
+            for k in TRIAL_KINDS
+            if any(t.engine == e and t.kind == k and t.rate_hz == r for t in clean)
+        ]
+        overall = self.overall()
         return {
             "experiment": "slip",
             "n_trials": self.n_trials,
@@ -256,19 +292,15 @@ class SlipResult:
             "engines": list(self.engines),
             "skipped": dict(self.skipped),
             "detectable_kinds": list(DETECTABLE),
+            "imperfections": list(self.imperfections),
             "overall": overall,
+            "overall_imperfect": {f: self.overall(f) for f in self.imperfections if f != "none"},
             "summaries": summaries,
-            "acceptance": {
-                f"{r}": {
-                    "detectable_in_time_ge_95": bool(o["detectable"]["in_time_rate"] >= 0.95),
-                    "roll_false_alarms_le_2": bool(o["roll_false_alarm_trial_rate"] <= 0.02),
-                    "sliding_never_identified": o["sliding_identified"] == 0,
-                }
-                for r, o in overall.items()
-            },
+            "acceptance": {f"{r}": acceptance_checks(o) for r, o in overall.items()},
             "trials": [
                 {
                     "engine": t.engine,
+                    "imperfection": t.imperfection,
                     "rate_hz": t.rate_hz,
                     "kind": t.kind,
                     "object": t.obj,

@@ -13,7 +13,8 @@ __all__ = ["plot_slip"]
 
 
 def plot_slip(result: Any, ax: Any = None) -> Figure:
-    """Left: the share of slip phases found within a latency, per frame rate.
+    """Left: the share of slip phases found within a latency, per frame rate and
+    imperfection (dashed: through every imperfection at once).
     Right: recognition of the partial-slip rolls with and without slip detection.
 
     Parameters
@@ -31,17 +32,28 @@ def plot_slip(result: Any, ax: Any = None) -> Figure:
     left, right = axes
     grid = np.linspace(0.0, 1.0, 101)
     detectable = set(doc["detectable_kinds"])
-    for rate in doc["rates_hz"]:
-        lat = [
-            p["latency_s"]
-            for t in doc["trials"]
-            if t["rate_hz"] == rate and t["kind"] != "roll"
-            for p in t["phases"]
-            if p["kind"] in detectable
-        ]
-        if lat:
-            found = np.array([np.inf if x is None else x for x in lat])
-            left.plot(grid, [(found <= g).mean() for g in grid], label=f"{rate:g} frames/s")
+    styles = ("-", "--", ":", "-.")
+    for i, rate in enumerate(doc["rates_hz"]):
+        for name, style in zip(doc.get("imperfections", ["none"]), styles, strict=False):
+            lat = [
+                p["latency_s"]
+                for t in doc["trials"]
+                if t["rate_hz"] == rate
+                and t["kind"] != "roll"
+                and t.get("imperfection", "none") == name
+                for p in t["phases"]
+                if p["kind"] in detectable
+            ]
+            if lat:
+                found = np.array([np.inf if x is None else x for x in lat])
+                label = f"{rate:g} frames/s" + ("" if name == "none" else f", {name}")
+                left.plot(
+                    grid,
+                    [(found <= g).mean() for g in grid],
+                    color=f"C{i}",
+                    ls=style,
+                    label=label,
+                )
     left.axvline(doc["latency_s"], color="k", lw=0.8, ls="--")
     left.axhline(0.95, color="k", lw=0.8, ls=":")
     left.set_xlabel("latency, s")
