@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from taxelkit.errors import InputError
 from taxelkit.experiments import new_objects
 from taxelkit.experiments.report import render_block
 from taxelkit.smart.object_table import PAPER_OBJECTS, ObjectRow
@@ -30,7 +31,11 @@ def test_a_small_run_scores_renders_and_plots(monkeypatch: pytest.MonkeyPatch) -
     assert doc["acceptance"]["six_rows_agree"] and not any(doc["six_differences"].values())
     assert {"sphere", "ellipsoid"} <= set(doc["not_distinguishable"])
     text = render_block("new-objects", {"new-objects": doc})
-    assert "| hex-prism |" in text and "Acceptance:" in text
+    assert "| hex-prism |" in text and "Acceptance (the rolls as the array gives them):" in text
+    # the same motions through every imperfection at once: a table and a summary of their own
+    faulty = doc["imperfect"]["all"]
+    assert sum(r["trials"] for r in faulty["per_object"]) == 11  # ten objects and the prism
+    assert "seen through every imperfection" in text and "With all:" in text
     explore = doc["explore"]
     assert explore["handlings"] == new_objects.EXPLORE_HANDLINGS
     for row in explore["per_object"]:
@@ -43,6 +48,18 @@ def test_a_small_run_scores_renders_and_plots(monkeypatch: pytest.MonkeyPatch) -
 
     fig = plot_experiment("new-objects", result)
     assert len(fig.axes) == 3
+
+
+def test_the_imperfect_view_sees_the_same_motions_and_changes_nothing_else() -> None:
+    table = PAPER_OBJECTS
+    seq = np.random.SeedSequence(0).spawn(3)[2]
+    clean = new_objects._trial(("cylinder", seq, table, 2))
+    both = new_objects._trial(("cylinder", seq, table, 2, ("all",)))
+    assert clean[:5] == both[:5] and clean[5] == {}
+    first, outcome, used = both[5]["all"]
+    assert 1 <= used <= 2 and {first, outcome} <= {*PAPER_OBJECTS.objects, "undecided", "unknown"}
+    with pytest.raises(InputError, match="unknown imperfection"):
+        new_objects.run_new_objects(n_trials=1, imperfections=["rust"])
 
 
 def test_the_first_handling_is_the_single_roll() -> None:

@@ -20,6 +20,7 @@ from taxelkit.experiments.report_capacity import (
     capacity_partial_markdown,
     capacity_twins_markdown,
 )
+from taxelkit.experiments.report_new_objects import imperfect_lines, imperfect_summary
 from taxelkit.experiments.report_paper000 import (
     fig9_markdown,
     fig9_readings_markdown,
@@ -192,12 +193,14 @@ def new_objects_markdown(doc: dict[str, Any]) -> str:
         f"Objects in neither table ({doc['n_outside']} rolls each): {outside}.",
         "",
         *_explore_lines(doc["explore"]),
+        *imperfect_lines(doc),
         "",
         "Not distinguishable with these tactemes (learn-object says so):",
         "",
         *[f"- {o['sentence']}" for o in doc["overlaps"]],
         "",
-        "Acceptance: rows learnt from the six meshes agree with Table 1 "
+        "Acceptance (the rolls as the array gives them): rows learnt from the six meshes "
+        "agree with Table 1 "
         f"{'holds' if acc['six_rows_agree'] else 'fails'}; >= 95 % identified where "
         f"distinguishable {'holds' if acc['identified_ge_95_where_distinguishable'] else 'fails'}"
         f"; no wrong identity {'holds' if acc['no_wrong_identity'] else 'fails'}; objects "
@@ -263,6 +266,7 @@ def new_objects_heldout_markdown(docs: dict[str, dict[str, Any]]) -> str:
             f" / seed {held['held_out_seed']} (*rare*: seen in one or two rolls, never names "
             f"the object alone): {'; '.join(added)}."
         )
+    lines += imperfect_summary(tuned, held)
     return "\n".join(lines)
 
 
