@@ -3,14 +3,12 @@
 One *unit* is one scene (:func:`~taxelkit.motion.multi_scenes.multi_scene`):
 ``n`` distinct objects drawn at random from the six, each moved by the
 chosen engine in its own tile of a ``16 x 16 n`` array, each after a random
-delay, composed and seen with the sensor's noise. Each scene is recognised as
-the sensor gives it and again through each of ``imperfections`` (named fault
-models of :func:`~taxelkit.sensors.faults.fault_model`, by default every
-imperfection at once, ``"all"``, with a seed of its own): the same motion,
-a real array's faults on top. The recogniser
+delay, composed and seen with the sensor's noise; then recognised again through
+each of ``imperfections`` (fault models of :func:`~taxelkit.sensors.faults.fault_model`,
+by default all at once, ``"all"``, seeded apart). The recogniser
 (:func:`~taxelkit.smart.objects.recognise_objects`, default robust pipeline)
-sees only the frames; the ground truth (which object pressed each taxel) is
-used here, to score, and nowhere else.
+sees only the frames; the ground truth (which object pressed each taxel)
+serves only to score.
 
 Scoring
     * A track's *frame owner* is the object that pressed most of the track's
@@ -24,9 +22,8 @@ Scoring
     * A **mixed-up** wrong identity is a wrong name from a track of purity
       below 1 (the acceptance asks for none with two objects).
 
-Units run on a local process pool by default, or on a Dask cluster given a
-scheduler address; each has its own :class:`numpy.random.SeedSequence`
-child, so the result does not depend on where or in which order units ran.
+Units run on a local process pool or a Dask cluster; each has its own
+:class:`numpy.random.SeedSequence` child (the result does not depend on where units ran).
 """
 
 from __future__ import annotations
@@ -220,8 +217,7 @@ class MultiObjectResult:
     Attributes
     ----------
     scenes : tuple of SceneOutcome
-        Sorted by engine, object count, trial, then imperfection (in the
-        order of ``imperfections``).
+        Sorted by engine, object count, trial, then imperfection.
     engines : tuple of str
     counts : tuple of int
     imperfections : tuple of str
