@@ -44,16 +44,19 @@ def test_scoring_names_wrong_and_mixed_up_tracks() -> None:
 
 
 def test_a_tiny_run_is_reproducible_and_the_same_on_dask() -> None:
-    here = run_multi_object(seed=1, n_trials=2, engines=["kinematic"], workers=1)
-    again = run_multi_object(seed=1, n_trials=2, engines=["kinematic"], workers=2)
+    rates = (20.0, 100.0)
+    here = run_multi_object(seed=1, n_trials=2, engines=["kinematic"], rates_hz=rates, workers=1)
+    again = run_multi_object(seed=1, n_trials=2, engines=["kinematic"], rates_hz=rates, workers=2)
     assert here.scenes == again.scenes
-    # each scene as the sensor gives it, then through every imperfection at once
-    assert [(s.n_objects, s.trial, s.imperfection) for s in here.scenes] == [
-        (n, t, f) for n in (2, 3) for t in (0, 1) for f in ("none", "all")
+    # each scene at each rate, as the sensor gives it, then through every imperfection at once
+    assert [(s.n_objects, s.trial, s.rate_hz, s.imperfection) for s in here.scenes] == [
+        (n, t, r, f) for n in (2, 3) for t in (0, 1) for r in rates for f in ("none", "all")
     ]
+    by_rate = [[s.names for s in here.scenes if s.rate_hz == r] for r in rates]
+    assert by_rate[0] == by_rate[1]  # the same objects at every rate
     doc = here.to_json()
     assert doc["summaries"][0]["objects"] == 4 and doc["summaries"][1]["objects"] == 6
-    assert "| kinematic | none | 2 |" in render_block("multi-object", {"multi-object": doc})
+    assert "| kinematic | 20 | none |" in render_block("multi-object", {"multi-object": doc})
     # the figure: per engine and count, the outcome shares stack to the whole
     fig = plot_experiment("multi-object", here)
     left = fig.axes[0]
@@ -68,16 +71,19 @@ def test_a_tiny_run_is_reproducible_and_the_same_on_dask() -> None:
         n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None
     ) as cluster:
         there = run_multi_object(
-            seed=1, n_trials=2, engines=["kinematic"], scheduler=cluster.scheduler_address
+            seed=1,
+            n_trials=2,
+            engines=["kinematic"],
+            rates_hz=rates,
+            scheduler=cluster.scheduler_address,
         )
     assert there.scenes == here.scenes
 
 
 def test_the_imperfect_views_leave_the_clean_scenes_as_they_were() -> None:
-    both = run_multi_object(seed=2, n_trials=3, engines=["kinematic"], counts=[2], workers=1)
-    clean = run_multi_object(
-        seed=2, n_trials=3, engines=["kinematic"], counts=[2], workers=1, imperfections=["none"]
-    )
+    kw = {"seed": 2, "n_trials": 3, "engines": ["kinematic"], "counts": [2], "workers": 1}
+    both = run_multi_object(**kw, rates_hz=[20.0])
+    clean = run_multi_object(**kw, rates_hz=[20.0], imperfections=["none"])
     assert clean.imperfections == ("none",)
     assert [s for s in both.scenes if s.imperfection == "none"] == list(clean.scenes)
     imperfect = [s for s in both.scenes if s.imperfection == "all"]
@@ -89,7 +95,7 @@ def test_the_imperfect_views_leave_the_clean_scenes_as_they_were() -> None:
     ]
     assert set(doc["acceptance_imperfect"]) == {"all"}
     text = render_block("multi-object", {"multi-object": doc})
-    assert "| kinematic | all | 2 |" in text and "imperfection all" in text
+    assert "| kinematic | 20 | all |" in text and "imperfection all" in text
 
 
 def test_bad_settings_are_refused() -> None:
@@ -101,6 +107,8 @@ def test_bad_settings_are_refused() -> None:
         run_multi_object(counts=[7], n_trials=1)
     with pytest.raises(InputError, match="unknown imperfection"):
         run_multi_object(imperfections=["rust"], n_trials=1)
+    with pytest.raises(InputError, match="rates_hz"):
+        run_multi_object(rates_hz=[0.0], n_trials=1)
 
 
 @pytest.mark.slow

@@ -31,12 +31,18 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.errors import InputError
+from taxelkit.experiments.multi_object_result import (
+    IMPERFECTIONS,
+    OUTCOMES,
+    RATES_HZ,
+    MultiObjectResult,
+    SceneOutcome,
+)
 from taxelkit.experiments.work_units import run_units
 from taxelkit.motion.engines import engines_to_run
 from taxelkit.motion.multi_scenes import frames_from_multi_scene, multi_scene
@@ -48,6 +54,8 @@ from taxelkit.smart.tacteme_table import OBJECTS
 __all__ = [
     "IMPERFECTIONS",
     "OBJECT_COUNTS",
+    "OUTCOMES",
+    "RATES_HZ",
     "MultiObjectResult",
     "SceneOutcome",
     "run_multi_object",
@@ -56,51 +64,6 @@ __all__ = [
 
 #: Objects per scene.
 OBJECT_COUNTS: tuple[int, ...] = (2, 3)
-#: How each scene is seen: as the sensor gives it (its noise), then through these
-#: fault models (:data:`~taxelkit.sensors.faults.FAULT_PRESETS`).
-IMPERFECTIONS: tuple[str, ...] = ("none", "all")
-#: Frame rate of the scenes, Hz (the robustness matrix's default rate).
-RATE_HZ = 20.0
-#: Outcomes of an object.
-OUTCOMES = ("identified", "wrong", "unknown", "undecided", "missed")
-
-
-@dataclass(frozen=True)
-class SceneOutcome:
-    """The score of one scene.
-
-    Attributes
-    ----------
-    engine : str
-    n_objects, trial : int
-    names : tuple of str
-        The objects, in tile order (ground truth).
-    outcomes : tuple of str
-        Per object, one of :data:`OUTCOMES`.
-    purities : tuple of float
-        Per accepted track.
-    mixed_wrong : int
-        Wrong names from tracks of purity below 1.
-    n_tracks : int
-        Accepted tracks.
-    merges, splits : int
-        Tracker events.
-    imperfection : str
-        The fault model the frames were seen through (``"none"``: the
-        sensor's noise only).
-    """
-
-    engine: str
-    n_objects: int
-    trial: int
-    names: tuple[str, ...]
-    outcomes: tuple[str, ...]
-    purities: tuple[float, ...]
-    mixed_wrong: int
-    n_tracks: int
-    merges: int
-    splits: int
-    imperfection: str = "none"
 
 
 def score_scene(
@@ -172,16 +135,23 @@ class _Unit:
     trial: int
     entropy: int
     imperfections: tuple[str, ...] = IMPERFECTIONS
+    rates_hz: tuple[float, ...] = RATES_HZ[:1]
 
 
 def _run_unit(unit: _Unit) -> tuple[SceneOutcome, ...]:
-    """One scene, scored as the sensor gives it and through each imperfection."""
+    """One scene at each rate, scored as the sensor gives it and through each imperfection."""
+    return tuple(o for i, r in enumerate(unit.rates_hz) for o in _run_rate(unit, r, i))
+
+
+def _run_rate(unit: _Unit, rate_hz: float, i: int) -> list[SceneOutcome]:
+    """The scene at one rate: the same objects and motions at every rate (one seed)."""
     rng = np.random.default_rng(np.random.SeedSequence(unit.entropy))
     names = tuple(str(x) for x in rng.choice(OBJECTS, size=unit.n_objects, replace=False))
-    scene = multi_scene(names, engine=unit.engine, rng=rng, rate_hz=RATE_HZ)
+    scene = multi_scene(names, engine=unit.engine, rng=rng, rate_hz=rate_hz)
     frames = frames_from_multi_scene(scene, rng=rng)
     # each imperfection's own seed, apart from the scene's stream (its results unchanged)
-    seeds = np.random.SeedSequence(unit.entropy).spawn(len(unit.imperfections))
+    root = np.random.SeedSequence(unit.entropy if i == 0 else [unit.entropy, i])
+    seeds = root.spawn(len(unit.imperfections))
     out = []
     for name, fseed in zip(unit.imperfections, seeds, strict=True):
         recording = frames.recording
@@ -205,119 +175,10 @@ def _run_unit(unit: _Unit) -> tuple[SceneOutcome, ...]:
                 merges=kinds.count("merge"),
                 splits=kinds.count("split"),
                 imperfection=name,
+                rate_hz=float(rate_hz),
             )
         )
-    return tuple(out)
-
-
-@dataclass(frozen=True, eq=False)
-class MultiObjectResult:
-    """Every scene's score.
-
-    Attributes
-    ----------
-    scenes : tuple of SceneOutcome
-        Sorted by engine, object count, trial, then imperfection.
-    engines : tuple of str
-    counts : tuple of int
-    imperfections : tuple of str
-        The fault models each scene was seen through (``"none"`` first).
-    n_trials : int
-        Scenes per object count with the kinematic engine.
-    mujoco_trials : int
-        Scenes per object count with the MuJoCo engine.
-    skipped : dict of str to str
-        Engines that could not run, with the reason.
-    """
-
-    scenes: tuple[SceneOutcome, ...]
-    engines: tuple[str, ...]
-    counts: tuple[int, ...]
-    n_trials: int
-    mujoco_trials: int
-    skipped: dict[str, str]
-    imperfections: tuple[str, ...] = IMPERFECTIONS
-
-    def summary(self, engine: str, n_objects: int, imperfection: str = "none") -> dict[str, Any]:
-        """Figures of one engine, object count and imperfection."""
-        rows = [
-            s
-            for s in self.scenes
-            if s.engine == engine and s.n_objects == n_objects and s.imperfection == imperfection
-        ]
-        outcomes = [o for s in rows for o in s.outcomes]
-        purities = [p for s in rows for p in s.purities]
-        n_obj = len(outcomes)
-        counts = {k: outcomes.count(k) for k in OUTCOMES}
-        return {
-            "engine": engine,
-            "imperfection": imperfection,
-            "n_objects": n_objects,
-            "scenes": len(rows),
-            "objects": n_obj,
-            **counts,
-            "identified_rate": counts["identified"] / n_obj if n_obj else float("nan"),
-            "mixed_wrong": sum(s.mixed_wrong for s in rows),
-            "tracks": len(purities),
-            "mean_purity": float(np.mean(purities)) if purities else float("nan"),
-            "pure_tracks": float(np.mean(np.asarray(purities) == 1.0))
-            if purities
-            else float("nan"),
-            "merges": sum(s.merges for s in rows),
-            "splits": sum(s.splits for s in rows),
-        }
-
-    def to_json(self) -> dict[str, Any]:
-        """Summaries per engine, imperfection and count, the acceptance checks, every scene.
-
-        The acceptance is judged on the scenes as the sensor gives them
-        (``"none"``); ``acceptance_imperfect`` applies the same checks to
-        each other imperfection.
-        """
-        summaries = [
-            self.summary(e, n, f)
-            for e in self.engines
-            for f in self.imperfections
-            for n in self.counts
-        ]
-
-        def checks(imperfection: str) -> dict[str, bool]:
-            two = [
-                s for s in summaries if s["n_objects"] == 2 and s["imperfection"] == imperfection
-            ]
-            return {
-                "two_objects_identified_ge_95": bool(two)
-                and all(s["identified_rate"] >= 0.95 for s in two),
-                "two_objects_no_mixed_wrong": all(s["mixed_wrong"] == 0 for s in two),
-            }
-
-        return {
-            "experiment": "multi-object",
-            "n_trials": self.n_trials,
-            "mujoco_trials": self.mujoco_trials,
-            "rate_hz": RATE_HZ,
-            "engines": list(self.engines),
-            "imperfections": list(self.imperfections),
-            "skipped": dict(self.skipped),
-            "summaries": summaries,
-            "acceptance": checks("none"),
-            "acceptance_imperfect": {f: checks(f) for f in self.imperfections if f != "none"},
-            "scenes": [
-                {
-                    "engine": s.engine,
-                    "imperfection": s.imperfection,
-                    "n_objects": s.n_objects,
-                    "trial": s.trial,
-                    "names": list(s.names),
-                    "outcomes": list(s.outcomes),
-                    "purities": list(s.purities),
-                    "mixed_wrong": s.mixed_wrong,
-                    "merges": s.merges,
-                    "splits": s.splits,
-                }
-                for s in self.scenes
-            ],
-        }
+    return out
 
 
 def run_multi_object(
@@ -328,6 +189,7 @@ def run_multi_object(
     mujoco_trials: int | None = None,
     counts: Sequence[int] = OBJECT_COUNTS,
     imperfections: Sequence[str] = IMPERFECTIONS,
+    rates_hz: Sequence[float] = RATES_HZ,
     workers: int | None = None,
     scheduler: str | None = None,
     progress: Callable[[int, int], None] | None = None,
@@ -353,6 +215,9 @@ def run_multi_object(
         Fault models each scene is also seen through (names of
         :data:`~taxelkit.sensors.faults.FAULT_PRESETS`); ``"none"`` (the
         sensor's noise only) is always first.
+    rates_hz : sequence of float
+        Frame rates, Hz: each scene's motions at every rate (the first is the
+        reference rate of the committed figures, 20 frames/s by default).
     workers : int, optional
         Local worker processes (default: the CPU count).
     scheduler : str, optional
@@ -373,6 +238,9 @@ def run_multi_object(
         if name not in FAULT_PRESETS:
             raise InputError(f"unknown imperfection {name!r}; known: {', '.join(FAULT_PRESETS)}")
     imps = ("none", *dict.fromkeys(str(f) for f in imperfections if f != "none"))
+    rates = tuple(dict.fromkeys(float(r) for r in rates_hz))
+    if not rates or any(not 1.0 <= r <= 1000.0 for r in rates):
+        raise InputError(f"rates_hz must lie in 1..1000 Hz, got {list(rates_hz)!r}")
     chosen, skipped = engines_to_run(engines)
     n_mujoco = max(1, int(n_trials) // 5) if mujoco_trials is None else int(mujoco_trials)
     units = []
@@ -381,7 +249,7 @@ def run_multi_object(
         for n in counts:
             for trial in range(n_mujoco if engine == "mujoco" else int(n_trials)):
                 ent = np.random.SeedSequence([int(seed), e_key, int(n), trial]).generate_state(1)
-                units.append(_Unit(engine, int(n), trial, int(ent[0]), imps))
+                units.append(_Unit(engine, int(n), trial, int(ent[0]), imps, rates))
     n_workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
     stream = run_units(_run_unit, units, workers=n_workers, scheduler=scheduler)
     results: list[tuple[SceneOutcome, ...] | None] = [None] * len(units)
@@ -397,4 +265,5 @@ def run_multi_object(
         mujoco_trials=n_mujoco,
         skipped=skipped,
         imperfections=imps,
+        rates_hz=rates,
     )

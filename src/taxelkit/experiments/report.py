@@ -105,6 +105,7 @@ def paper001_markdown(docs: dict[str, dict[str, Any]]) -> str:
 def multi_object_markdown(doc: dict[str, Any]) -> str:
     """The ``multi-object`` experiment: accuracy per object and track purity, per engine."""
     imps = doc.get("imperfections", ["none"])
+    rates = doc.get("rates_hz", [doc.get("rate_hz", 20.0)])
     described = [
         "every imperfection of the robustness matrix at once (`all`)"
         if f == "all"
@@ -115,25 +116,34 @@ def multi_object_markdown(doc: dict[str, Any]) -> str:
     seen = "noise on" + (
         "; each scene is recognised again through " + ", ".join(described) if described else ""
     )
+    counts = sorted({s["n_objects"] for s in doc["summaries"]})
+    head = " | ".join(f"{n} objects: identified (wrong, mixed-up)" for n in counts)
     lines = [
-        f"Scenes of two and three distinct objects of the six at 20 frames/s, each object in "
-        f"its own 16 x 16 tile of one array, staggered starts, {seen} "
+        f"Scenes of {' and '.join(str(n) for n in counts)} distinct objects of the six at "
+        f"{', '.join(f'{r:g}' for r in rates)} frames/s (the same motions at each rate), each "
+        f"object in its own 16 x 16 tile of one array, staggered starts, {seen} "
         f"({doc['n_trials']} kinematic and {doc['mujoco_trials']} MuJoCo scenes per count). "
-        "Purity: fraction of a track's frames owned by one object (ground truth, scoring only).",
+        "Purity: fraction of a track's frames owned by one object (ground truth, scoring only); "
+        "columns with two figures give them for each object count in turn.",
         "",
-        "| engine | imperfection | objects | identified | wrong (mixed-up) | unknown | undecided "
-        "| missed | tracks | mean purity | pure tracks | merges / splits |",
-        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+        f"| engine | frames/s | imperfection | {head} | unknown / undecided / missed "
+        "| pure tracks | merges / splits |",
+        "| --- | --- | --- |" + " --- |" * len(counts) + " --- | --- | --- |",
     ]
+    groups: dict[tuple[str, float, str], list[dict[str, Any]]] = {}
     for s in doc["summaries"]:
-        lines.append(
-            f"| {s['engine']} | {s.get('imperfection', 'none')} | {s['n_objects']} "
-            f"| {s['identified']}/{s['objects']} "
-            f"({100 * s['identified_rate']:.1f} %) | {s['wrong']} ({s['mixed_wrong']}) "
-            f"| {s['unknown']} | {s['undecided']} | {s['missed']} | {s['tracks']} "
-            f"| {s['mean_purity']:.3f} | {100 * s['pure_tracks']:.1f} % "
-            f"| {s['merges']} / {s['splits']} |"
+        key = (s["engine"], s.get("rate_hz", rates[0]), s.get("imperfection", "none"))
+        groups.setdefault(key, []).append(s)
+    for (engine, rate, imp), rows in groups.items():
+        cells = " | ".join(
+            f"{s['identified']}/{s['objects']} ({100 * s['identified_rate']:.1f} %) "
+            f"({s['wrong']}, {s['mixed_wrong']})"
+            for s in rows
         )
+        missed = "; ".join(f"{s['unknown']} / {s['undecided']} / {s['missed']}" for s in rows)
+        pure = " / ".join(f"{100 * s['pure_tracks']:.1f} %" for s in rows)
+        events = "; ".join(f"{s['merges']} / {s['splits']}" for s in rows)
+        lines.append(f"| {engine} | {rate:g} | {imp} | {cells} | {missed} | {pure} | {events} |")
 
     def verdicts(acc: dict[str, bool]) -> str:
         return (
@@ -149,7 +159,7 @@ def multi_object_markdown(doc: dict[str, Any]) -> str:
     )
     lines += [
         "",
-        f"Acceptance, two objects (imperfection none): {verdicts(doc['acceptance'])}."
+        f"Acceptance, two objects (imperfection none, every rate): {verdicts(doc['acceptance'])}."
         + imperfect
         + skipped,
     ]

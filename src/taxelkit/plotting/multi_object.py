@@ -22,9 +22,10 @@ _OUTCOMES = (
 
 
 def plot_multi_object(result: Any, ax: Any = None) -> Figure:
-    """Left: the share of each outcome per engine, imperfection and object count
-    (stacked bars). Right: the distribution of track purity (fraction of a track's
-    frames owned by one object), per object count, as the sensor gives the frames.
+    """Left: the share of each outcome per engine, frame rate, imperfection and object
+    count (stacked bars). Right: the distribution of track purity (fraction of a
+    track's frames owned by one object), per object count, as the sensor gives the
+    frames at the first rate.
 
     Parameters
     ----------
@@ -37,31 +38,42 @@ def plot_multi_object(result: Any, ax: Any = None) -> Figure:
     Figure
     """
     doc = result.to_json()
-    fig, axes = axes_pair(ax, (13.0, 3.8))
+    fig, axes = axes_pair(ax, (14.0, 4.0))
     left, right = axes
     summaries = doc["summaries"]
-    labels = [
-        f"{s['engine']}\n{s.get('imperfection', 'none')}\n{s['n_objects']} objects"
-        for s in summaries
-    ]
-    x = np.arange(len(summaries))
+    # one group of bars per engine, rate and imperfection; one bar per object count
+    keys = [(s["engine"], s.get("rate_hz", 20.0), s.get("imperfection", "none")) for s in summaries]
+    groups = list(dict.fromkeys(keys))
+    counts = sorted({s["n_objects"] for s in summaries})
+    width = 0.8 / len(counts)
+    x = np.array(
+        [
+            groups.index(k) + (counts.index(s["n_objects"]) - 0.5 * (len(counts) - 1)) * width
+            for k, s in zip(keys, summaries, strict=True)
+        ]
+    )
     bottom = np.zeros(len(summaries))
     for name, colour in _OUTCOMES:
         share = np.array([s[name] / max(s["objects"], 1) for s in summaries])
-        left.bar(x, share, bottom=bottom, color=colour, label=name, width=0.6)
+        left.bar(x, share, bottom=bottom, color=colour, label=name, width=0.9 * width)
         bottom += share
+    labels = [f"{e}\n{r:g}/s\n{f}" for e, r, f in groups]
+    left.set_xticks(np.arange(len(groups)), labels, fontsize=6)
     left.axhline(0.95, color="k", lw=0.8, ls="--")
-    left.set_xticks(x, labels, fontsize=7)
     left.set_ylabel("share of objects")
     left.set_ylim(0.0, 1.0)
     left.legend(fontsize=7, loc="lower left")
-    left.set_title("outcome per object (dashed: 95 %)")
+    left.set_title(
+        "outcome per object, bars: " + ", ".join(f"{n} objects" for n in counts) + " (dashed: 95 %)"
+    )
     bins = np.linspace(0.0, 1.0, 11)
     for n in sorted({s["n_objects"] for s in summaries}):
         pur = [
             p
             for sc in doc["scenes"]
-            if sc["n_objects"] == n and sc.get("imperfection", "none") == "none"
+            if sc["n_objects"] == n
+            and sc.get("imperfection", "none") == "none"
+            and sc.get("rate_hz", 20.0) == doc.get("rates_hz", [20.0])[0]
             for p in sc["purities"]
         ]
         if pur:
@@ -70,6 +82,6 @@ def plot_multi_object(result: Any, ax: Any = None) -> Figure:
     right.set_xlabel("track purity")
     right.set_ylabel("tracks")
     right.legend(fontsize=7, loc="upper left")
-    right.set_title("track purity (imperfection none)")
+    right.set_title("track purity (imperfection none, the first rate)")
     fig.tight_layout()
     return fig
