@@ -19,11 +19,7 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.cleaning import CleaningConfig
 from taxelkit.smart.cleaning_chunks import GROUP_FRAMES, ChunkCleaner
-from taxelkit.smart.contact_classes import (
-    ContactClass,
-    ContactNetwork,
-    classify_contacts,
-)
+from taxelkit.smart.contact_classes import ContactClass, ContactNetwork, classify_contacts
 from taxelkit.smart.contact_limits import ContactLimits
 from taxelkit.smart.gather import take_rows
 from taxelkit.smart.limits_rows import limits_rows
