@@ -40,7 +40,8 @@ def test_scoring_latency_and_false_alarms() -> None:
 
 def test_smoke_run_and_readme_block() -> None:
     assert get_experiment("slip").trials == 30
-    res = run_slip(seed=5, n_trials=1, engines=["kinematic"], workers=1)
+    # two of the default rates (20, 100, 240 frames/s) keep the test short
+    res = run_slip(seed=5, n_trials=1, engines=["kinematic"], rates_hz=[20.0, 100.0], workers=1)
     doc = res.to_json()
     assert len(res.trials) == 3 * 6 * 2 * 2  # kinds x objects x rates x imperfections
     assert res.imperfections == ("none", "all")
@@ -87,8 +88,9 @@ def test_smoke_run_and_readme_block() -> None:
 
 
 def test_the_imperfect_view_leaves_the_trials_as_they_were() -> None:
-    both = run_slip(seed=4, n_trials=1, engines=["kinematic"], workers=1)
-    clean = run_slip(seed=4, n_trials=1, engines=["kinematic"], workers=1, imperfections=["none"])
+    kw = {"seed": 4, "n_trials": 1, "engines": ["kinematic"], "workers": 1, "rates_hz": [20.0]}
+    both = run_slip(**kw)
+    clean = run_slip(**kw, imperfections=["none"])
     assert [t for t in both.trials if t.imperfection == "none"] == list(clean.trials)
     doc, doc_clean = both.to_json(), clean.to_json()
     for key in ("summaries", "overall", "acceptance"):  # NaN latencies: compared as JSON
@@ -99,6 +101,8 @@ def test_the_imperfect_view_leaves_the_trials_as_they_were() -> None:
     ]
     with pytest.raises(InputError, match="unknown imperfection"):
         run_slip(n_trials=1, imperfections=["rust"])
+    with pytest.raises(InputError, match="rates_hz"):
+        run_slip(n_trials=1, rates_hz=[2000.0])
 
 
 def test_pitch_reached_by_a_dragged_face() -> None:

@@ -1,6 +1,6 @@
 """The ``slip`` experiment: slip detected from the frames, against the slip of the simulated body.
 
-Three kinds of trial, per engine and object, each seen at 20 and 100
+Three kinds of trial, per engine and object, each seen at 20, 100 and 240
 frames/s (the same motion) on the Bonneville array with its noise, and the
 same frames again through each of ``imperfections`` (by default every fault
 model of the robustness matrix at once, ``"all"``, with a seed of its own;
@@ -175,15 +175,16 @@ class _Unit:
     trial: int
     entropy: int
     imperfections: tuple[str, ...] = IMPERFECTIONS
+    rates_hz: tuple[float, ...] = RATES_HZ
 
 
 def _scenarios(unit: _Unit, rng: np.random.Generator) -> list[Scenario]:
-    """The unit's motion at every rate of :data:`RATES_HZ`."""
+    """The unit's motion at every rate of the unit (one seed: the same motion)."""
     if unit.kind == "partial":
         seed = int(rng.integers(2**63 - 1))
-        return [make_partial_slip_scenario(unit.obj, rng=seed, rate_hz=r) for r in RATES_HZ]
+        return [make_partial_slip_scenario(unit.obj, rng=seed, rate_hz=r) for r in unit.rates_hz]
     name = "sliding" if unit.kind == "slide" else unit.obj
-    return scenarios_from_engine(unit.engine, name, rates_hz=RATES_HZ, rng=rng)
+    return scenarios_from_engine(unit.engine, name, rates_hz=unit.rates_hz, rng=rng)
 
 
 def _trials(
@@ -235,11 +236,11 @@ def _run_unit(unit: _Unit) -> list[SlipTrial]:
     rng = np.random.default_rng(np.random.SeedSequence(unit.entropy))
     scenes = _scenarios(unit, rng)
     # the imperfections' seeds, apart from the motion's stream (its trials unchanged)
-    seeds = np.random.SeedSequence(unit.entropy).spawn(len(RATES_HZ) * len(unit.imperfections))
+    seeds = np.random.SeedSequence(unit.entropy).spawn(len(unit.rates_hz) * len(unit.imperfections))
     k = len(unit.imperfections)
     return [
         trial
-        for i, (sc, r) in enumerate(zip(scenes, RATES_HZ, strict=True))
+        for i, (sc, r) in enumerate(zip(scenes, unit.rates_hz, strict=True))
         for trial in _trials(unit, sc, r, rng, seeds[i * k : (i + 1) * k])
     ]
 
@@ -251,6 +252,7 @@ def run_slip(
     mujoco_trials: int | None = None,
     engines: Sequence[str] | None = None,
     imperfections: Sequence[str] = IMPERFECTIONS,
+    rates_hz: Sequence[float] = RATES_HZ,
     workers: int | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> SlipResult:
@@ -273,6 +275,8 @@ def run_slip(
         Fault models every trial's frames are also seen through (names of
         :data:`~taxelkit.sensors.faults.FAULT_PRESETS`); ``"none"`` (the
         array's noise only) is always first.
+    rates_hz : sequence of float
+        Frame rates every motion is seen at (default :data:`RATES_HZ`).
     workers : int, optional
         Local worker processes (default: the CPU count).
     progress : callable, optional
@@ -288,6 +292,9 @@ def run_slip(
         if name not in FAULT_PRESETS:
             raise InputError(f"unknown imperfection {name!r}; known: {', '.join(FAULT_PRESETS)}")
     imps = ("none", *dict.fromkeys(str(f) for f in imperfections if f != "none"))
+    rates = tuple(dict.fromkeys(float(r) for r in rates_hz))
+    if not rates or any(not 1.0 <= r <= 1000.0 for r in rates):
+        raise InputError(f"rates_hz must lie in 1..1000 Hz, got {list(rates_hz)!r}")
     chosen, skipped = engines_to_run(engines)
     n_mj = int(n_trials) if mujoco_trials is None else int(mujoco_trials)
     units = []
@@ -299,7 +306,7 @@ def run_slip(
                 for trial in range(n_mj if engine == "mujoco" else int(n_trials)):
                     key = [int(seed), e_key, k_i, o_i, trial]
                     ent = np.random.SeedSequence(key).generate_state(1)
-                    units.append(_Unit(engine, kind, obj, trial, int(ent[0]), imps))
+                    units.append(_Unit(engine, kind, obj, trial, int(ent[0]), imps, rates))
     n_workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
     results: list[list[SlipTrial]] = [[] for _ in units]
     stream = run_units(_run_unit, units, workers=n_workers)
@@ -308,4 +315,4 @@ def run_slip(
         if progress is not None:
             progress(done, len(units))
     trials = [t for r in results for t in r]
-    return SlipResult(tuple(trials), tuple(chosen), int(n_trials), n_mj, skipped, imps)
+    return SlipResult(tuple(trials), tuple(chosen), int(n_trials), n_mj, skipped, imps, rates)

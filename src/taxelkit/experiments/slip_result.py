@@ -24,8 +24,9 @@ __all__ = [
 
 #: Kinds of trial.
 TRIAL_KINDS: tuple[str, ...] = ("roll", "partial", "slide")
-#: Frame rates, Hz: the default rate of every experiment, and a faster one.
-RATES_HZ: tuple[float, ...] = (20.0, 100.0)
+#: Frame rates, Hz: the default rate of every experiment, a faster one and the
+#: Bonneville array's own (the same motions at each).
+RATES_HZ: tuple[float, ...] = (20.0, 100.0, 240.0)
 #: Ground truth: contact points moving faster than this along the plane slip, mm/s.
 GT_SLIP_MM_S = 2.5
 #: Ground-truth runs closer than this are one phase, s.
@@ -186,6 +187,8 @@ class SlipResult:
     imperfections : tuple of str
         The fault models every trial's frames were also seen through
         (``"none"`` first: the summaries and the acceptance).
+    rates_hz : tuple of float
+        The frame rates every motion was seen at.
     """
 
     trials: tuple[SlipTrial, ...]
@@ -194,6 +197,7 @@ class SlipResult:
     mujoco_trials: int
     skipped: dict[str, str]
     imperfections: tuple[str, ...] = ("none",)
+    rates_hz: tuple[float, ...] = RATES_HZ
 
     def summary(
         self, engine: str, rate_hz: float, kind: str, imperfection: str = "none"
@@ -244,7 +248,7 @@ class SlipResult:
     def overall(self, imperfection: str = "none") -> dict[str, dict[str, Any]]:
         """Per frame rate, every engine and object together, through one imperfection."""
         overall: dict[str, dict[str, Any]] = {}
-        for r in RATES_HZ:
+        for r in self.rates_hz:
             mine = [t for t in self.trials if t.rate_hz == r and t.imperfection == imperfection]
             slipping = [t for t in mine if t.kind != "roll"]
             rolling = [t for t in mine if t.kind == "roll"]
@@ -277,7 +281,7 @@ class SlipResult:
         summaries = [
             self.summary(e, r, k)
             for e in self.engines
-            for r in RATES_HZ
+            for r in self.rates_hz
             for k in TRIAL_KINDS
             if any(t.engine == e and t.kind == k and t.rate_hz == r for t in clean)
         ]
@@ -286,7 +290,7 @@ class SlipResult:
             "experiment": "slip",
             "n_trials": self.n_trials,
             "mujoco_trials": self.mujoco_trials,
-            "rates_hz": list(RATES_HZ),
+            "rates_hz": list(self.rates_hz),
             "gt_slip_mm_s": GT_SLIP_MM_S,
             "latency_s": LATENCY_S,
             "engines": list(self.engines),
