@@ -43,10 +43,11 @@ from taxelkit.experiments.multi_object_result import (
     MultiObjectResult,
     SceneOutcome,
 )
+from taxelkit.experiments.sensor_views import check_views
 from taxelkit.experiments.work_units import run_units
 from taxelkit.motion.engines import engines_to_run
 from taxelkit.motion.multi_scenes import frames_from_multi_scene, multi_scene
-from taxelkit.sensors.faults import FAULT_PRESETS, fault_model
+from taxelkit.sensors.faults import fault_model
 from taxelkit.smart.levels12 import DEFAULT_THRESHOLD_MM
 from taxelkit.smart.objects import ObjectRecognition, recognise_objects
 from taxelkit.smart.tacteme_table import OBJECTS
@@ -234,13 +235,7 @@ def run_multi_object(
     for c in counts:
         if not 1 <= int(c) <= len(OBJECTS):
             raise InputError(f"counts must lie in 1..{len(OBJECTS)}, got {c!r}")
-    for name in imperfections:
-        if name not in FAULT_PRESETS:
-            raise InputError(f"unknown imperfection {name!r}; known: {', '.join(FAULT_PRESETS)}")
-    imps = ("none", *dict.fromkeys(str(f) for f in imperfections if f != "none"))
-    rates = tuple(dict.fromkeys(float(r) for r in rates_hz))
-    if not rates or any(not 1.0 <= r <= 1000.0 for r in rates):
-        raise InputError(f"rates_hz must lie in 1..1000 Hz, got {list(rates_hz)!r}")
+    imps, rates = check_views(imperfections, rates_hz)
     chosen, skipped = engines_to_run(engines)
     n_mujoco = max(1, int(n_trials) // 5) if mujoco_trials is None else int(mujoco_trials)
     units = []

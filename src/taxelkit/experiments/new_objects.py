@@ -39,13 +39,13 @@ from typing import Any
 
 import numpy as np
 
-from taxelkit.errors import InputError
 from taxelkit.experiments.new_objects_result import (
     EXPLORE_HANDLINGS,
     UNDECIDED,
     NewObjectsResult,
     decidable,
 )
+from taxelkit.experiments.sensor_views import check_views
 from taxelkit.experiments.work_units import map_in_order
 from taxelkit.frames import TactileFrames
 from taxelkit.learn.check import DEFAULT_CHECK_ROLLS, learn_solid
@@ -54,7 +54,7 @@ from taxelkit.learn.examples import EXAMPLE_OBJECTS, OUTSIDE_OBJECTS, example_me
 from taxelkit.motion.mesh_scenarios import make_mesh_scenario
 from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.motion.scenarios import make_scenario
-from taxelkit.sensors.faults import FAULT_PRESETS, FaultModel, fault_model
+from taxelkit.sensors.faults import FaultModel, fault_model
 from taxelkit.sensors.presets import BONNEVILLE_16X16
 from taxelkit.smart.object_table import PAPER_OBJECTS, ObjectTable
 from taxelkit.smart.one_object import ContactEvidence, contacts_of, one_object_verdict
@@ -231,10 +231,7 @@ def run_new_objects(
     progress : callable, optional
         ``progress(done, total)``.
     """
-    for fault in imperfections:
-        if fault not in FAULT_PRESETS:
-            raise InputError(f"unknown imperfection {fault!r}; known: {', '.join(FAULT_PRESETS)}")
-    imps = tuple(dict.fromkeys(str(f) for f in imperfections if f != "none"))
+    imps = check_views(imperfections)[0][1:]  # the views beside the clean rolls
     table, checks = _learn(seed)
     names = [o for o in table.objects for _ in range(n_trials)]
     names += [o for o in OUTSIDE_OBJECTS for _ in range(n_outside)]

@@ -53,6 +53,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.errors import InputError
+from taxelkit.experiments.sensor_views import check_views
 from taxelkit.experiments.slip_result import (
     EARLY_S,
     GT_MERGE_S,
@@ -69,7 +70,7 @@ from taxelkit.experiments.work_units import run_units
 from taxelkit.motion.engines.registry import engines_to_run, scenarios_from_engine
 from taxelkit.motion.rolling import Scenario, frames_from_scenario
 from taxelkit.motion.slip_scenarios import make_partial_slip_scenario
-from taxelkit.sensors.faults import FAULT_PRESETS, fault_model
+from taxelkit.sensors.faults import fault_model
 from taxelkit.sensors.presets import BONNEVILLE_16X16
 from taxelkit.smart.recogniser import recognise
 from taxelkit.smart.tacteme_table import OBJECTS
@@ -288,13 +289,7 @@ def run_slip(
     """
     if int(n_trials) < 1:
         raise InputError(f"n_trials must be >= 1, got {n_trials!r}")
-    for name in imperfections:
-        if name not in FAULT_PRESETS:
-            raise InputError(f"unknown imperfection {name!r}; known: {', '.join(FAULT_PRESETS)}")
-    imps = ("none", *dict.fromkeys(str(f) for f in imperfections if f != "none"))
-    rates = tuple(dict.fromkeys(float(r) for r in rates_hz))
-    if not rates or any(not 1.0 <= r <= 1000.0 for r in rates):
-        raise InputError(f"rates_hz must lie in 1..1000 Hz, got {list(rates_hz)!r}")
+    imps, rates = check_views(imperfections, rates_hz)
     chosen, skipped = engines_to_run(engines)
     n_mj = int(n_trials) if mujoco_trials is None else int(mujoco_trials)
     units = []
