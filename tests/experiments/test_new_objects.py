@@ -53,7 +53,7 @@ def test_a_small_run_scores_renders_and_plots(monkeypatch: pytest.MonkeyPatch) -
 def test_the_imperfect_view_sees_the_same_motions_and_changes_nothing_else() -> None:
     table = PAPER_OBJECTS
     seq = np.random.SeedSequence(0).spawn(3)[2]
-    clean = new_objects._trial(("cylinder", seq, table, 2))
+    clean = new_objects._trial(("cylinder", seq, table, 2, ()))
     both = new_objects._trial(("cylinder", seq, table, 2, ("all",)))
     assert clean[:5] == both[:5] and clean[5] == {}
     first, outcome, used = both[5]["all"]
@@ -66,8 +66,8 @@ def test_the_first_handling_is_the_single_roll() -> None:
     """Exploring changes nothing in the single-roll outcome; one handling explores nothing."""
     table = PAPER_OBJECTS
     seq = np.random.SeedSequence(0).spawn(3)[2]
-    one = new_objects._trial(("cylinder", seq, table, 1))
-    five = new_objects._trial(("cylinder", seq, table, 5))
+    one = new_objects._trial(("cylinder", seq, table, 1, ()))
+    five = new_objects._trial(("cylinder", seq, table, 5, ()))
     assert one[:4] == five[:4]
     assert one[4][1] == 1 and one[4][0] == one[1]
 

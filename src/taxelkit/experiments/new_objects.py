@@ -143,8 +143,7 @@ def _explore(
 
 
 def _trial(
-    args: tuple[str, np.random.SeedSequence, ObjectTable, int]
-    | tuple[str, np.random.SeedSequence, ObjectTable, int, tuple[str, ...]],
+    args: tuple[str, np.random.SeedSequence, ObjectTable, int, tuple[str, ...]],
 ) -> tuple[
     str,
     str,
@@ -157,8 +156,7 @@ def _trial(
     the six, tactemes seen; then the exploration's outcome, handlings used and tactemes;
     last, per imperfection, the first roll's and the exploration's outcome and handlings
     with the same motions seen through that fault model."""
-    name, seq, table, handlings = args[:4]
-    imperfections: tuple[str, ...] = args[4] if len(args) > 4 else ()
+    name, seq, table, handlings, imperfections = args
     recordings: dict[int, TactileFrames] = {}
 
     def handling(j: int) -> TactileFrames:
