@@ -14,8 +14,10 @@ cleaned once; the timings below start from the cleaned images. Prints, in the
 same run:
 
 * batch: :func:`taxelkit.smart.regions.segment_frames` on the whole stack,
-  then :class:`taxelkit.smart.tracks.RegionTracker` over every frame;
-* streaming: the same, one frame per call;
+  then :func:`taxelkit.smart.tracks_batch.track_chunk` (the tracker's step on
+  the frames where something may happen only), and, beside it, the step on
+  every frame (what the batch path did before);
+* streaming: segmentation and the step, one frame per call;
 * the baseline: scikit-image's ``label`` (8-connectivity) plus
   ``regionprops`` (area and centroid of every region) on each frame, with no
   tracking at all; and the ratios;
@@ -54,7 +56,8 @@ from taxelkit.smart.recogniser import recognise  # noqa: E402
 from taxelkit.smart.regions import segment_frames  # noqa: E402
 from taxelkit.smart.tacteme_table import OBJECTS  # noqa: E402
 from taxelkit.smart.tactemes import TactemeConfig, debounce_counts  # noqa: E402
-from taxelkit.smart.tracks import RegionTracker  # noqa: E402
+from taxelkit.smart.tracks import AREA_WEIGHT, RegionTracker  # noqa: E402
+from taxelkit.smart.tracks_batch import continuing_frames, track_chunk  # noqa: E402
 
 THRESHOLD_MM = 0.03
 PITCH_MM = 28.2 / 16
@@ -106,6 +109,13 @@ def overlaid(scenes: int) -> TactileFrames:
 
 
 def track_batch(images: np.ndarray, t_s: np.ndarray, lost: int) -> int:
+    reg = segment_frames(images, pitch_mm=PITCH_MM)
+    tracker = RegionTracker(pitch_mm=PITCH_MM, lost_frames=lost)
+    track_chunk(tracker, reg, t_s, first_frame=0)
+    return tracker.next_id
+
+
+def track_every_frame(images: np.ndarray, t_s: np.ndarray, lost: int) -> int:
     reg = segment_frames(images, pitch_mm=PITCH_MM)
     tracker = RegionTracker(pitch_mm=PITCH_MM, lost_frames=lost)
     for t in range(images.shape[0]):
@@ -171,12 +181,18 @@ def measure(title: str, rec: TactileFrames, repeat: int) -> dict[str, float]:
         f"{title}: {n} frames of {images.shape[1]} x {images.shape[2]}; regions per frame: "
         f"mean {per_frame.mean():.2f}, share with 0, 1, 2, 3: {share}"
     )
+    cont = continuing_frames(reg, area_weight=AREA_WEIGHT)[0]
     batch = best_of(repeat, lambda: track_batch(images, t_s, lost))
+    every = best_of(repeat, lambda: track_every_frame(images, t_s, lost))
     stream = best_of(repeat, lambda: track_stream(images, t_s, lost))
     seg_only = best_of(repeat, lambda: segment_frames(images, pitch_mm=PITCH_MM))
     base = best_of(repeat, lambda: skimage_per_frame(images))
     print(f"  segmentation only, batch:         {n / seg_only:12,.0f} frames/s")
-    print(f"  segmentation + tracking, batch:   {n / batch:12,.0f} frames/s")
+    print(
+        f"  segmentation + tracking, batch:   {n / batch:12,.0f} frames/s "
+        f"({100 * cont.mean():.0f} % of the frames continuing; the step on every frame: "
+        f"{n / every:,.0f} frames/s, {every / batch:.1f}x the time)"
+    )
     print(f"  segmentation + tracking, stream:  {n / stream:12,.0f} frames/s")
     print(f"  skimage label + regionprops:      {n / base:12,.0f} frames/s (no tracking)")
     print(
@@ -194,6 +210,8 @@ def measure(title: str, rec: TactileFrames, repeat: int) -> dict[str, float]:
         "regions_per_frame": float(per_frame.mean()),
         "segmentation": n / seg_only,
         "tracking_batch": n / batch,
+        "tracking_every_frame": n / every,
+        "continuing_share": float(cont.mean()),
         "tracking_stream": n / stream,
         "skimage": n / base,
         "recognise_objects": n / many,
@@ -216,6 +234,8 @@ def record_row(small: dict[str, float], wide: dict[str, float]) -> None:
     cost = ""
     if small["tracking_batch"] < small["skimage"] < small["segmentation"]:
         cost = ": the tracker's per-frame Python step is the cost"
+    steps = f"{small['tracking_every_frame']:,.0f} / {wide['tracking_every_frame']:,.0f}"
+    shares = f"{100 * small['continuing_share']:.0f} / {100 * wide['continuing_share']:.0f} %"
     slower = f"{small['recognise'] / small['recognise_objects']:.0f}x / "
     slower += f"{wide['recognise'] / wide['recognise_objects']:.0f}x"
     record(
@@ -224,7 +244,9 @@ def record_row(small: dict[str, float], wide: dict[str, float]) -> None:
         f"{small['regions_per_frame']:.1f} regions a frame; they touch) and on 16 x 48 (side "
         f"by side: {wide['regions_per_frame']:.1f} a frame), CPU time: segmentation alone "
         f"{pair('segmentation')} frames/s batch; segmentation + tracking "
-        f"{pair('tracking_batch')} frames/s batch, {pair('tracking_stream')} streaming; the "
+        f"{pair('tracking_batch')} frames/s batch ({shares} of the frames continuing, "
+        f"the tracker's step skipped; {steps} with the step on every frame), "
+        f"{pair('tracking_stream')} streaming; the "
         f"whole per-track recogniser {pair('recognise_objects')} frames/s ({slower} the time "
         "of the single-object `recognise`)",
         ratio=f"{ratio('segmentation')} (segmentation), {ratio('tracking_batch')} "

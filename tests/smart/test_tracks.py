@@ -7,7 +7,14 @@ import pytest
 
 from taxelkit.errors import InputError
 from taxelkit.smart.regions import segment_frames
-from taxelkit.smart.tracks import RegionTracker, TrackerConfig, TrackEvent
+from taxelkit.smart.tracks import (
+    LiveTrack,
+    RegionTracker,
+    TrackerConfig,
+    TrackEvent,
+    _near_enough,
+    _nearest,
+)
 
 
 def track(images: np.ndarray, lost_frames: int = 3) -> tuple[list[list[int]], list[TrackEvent]]:
@@ -102,3 +109,25 @@ def test_bad_settings_are_refused() -> None:
     with pytest.raises(InputError, match="area_weight"):
         TrackerConfig(area_weight=-1.0)
     assert TrackerConfig(gate_pitches=3.0).gate_mm(1.5) == 4.5
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_the_shortcut_distances_compare_as_the_exact_ones(seed: int) -> None:
+    """Shared taxels and far bounding boxes skip the taxel-by-taxel distances, unseen."""
+    rng = np.random.default_rng(seed)
+    img = rng.uniform(size=(2, 16, 16)) < rng.uniform(0.02, 0.2)
+    reg = segment_frames(img, pitch_mm=1.0)
+    before, now = reg.in_frame(0), reg.in_frame(1)
+    if before.size == 0 or now.size == 0:
+        pytest.skip("an empty frame")
+    tracks = [
+        LiveTrack(k, reg.centre_mm[r], float(reg.area_mm2[r]), reg.taxels_of(np.array([r]))[0], 0)
+        for k, r in enumerate(before.tolist())
+    ]
+    taxels = reg.taxels_of(now)
+    exact = _nearest(tracks, taxels)
+    for beyond in (1.5, 3.0, 5.0):
+        fast = _near_enough(tracks, taxels, reg.labels[1], now + 1, beyond)
+        for limit in np.linspace(0.0, beyond, 13):
+            assert np.array_equal(fast <= limit, exact <= limit)
+        assert np.all((fast > beyond) == (exact > beyond))

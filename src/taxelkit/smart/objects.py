@@ -54,6 +54,7 @@ from taxelkit.smart.slip import Slip
 from taxelkit.smart.stream_state import check_chunk
 from taxelkit.smart.tactemes import TactemeConfig, debounce_counts
 from taxelkit.smart.tracks import RegionTracker, TrackerConfig
+from taxelkit.smart.tracks_batch import track_chunk
 
 __all__ = [
     "ObjectRecogniser",
@@ -190,30 +191,21 @@ class ObjectRecogniser:
         self._n += t.size
         reg = segment_frames(images, pitch_mm=self.pitch_mm, config=self.regions)
         lut = np.full(reg.n_regions + 1, -1, np.intp)
+        track_of, events = track_chunk(self._tracker, reg, t, first_frame=n0)
+        lut[1:] = track_of
+        starts: dict[int, int] = {}  # track -> first chunk frame (tracks new here)
+        ids, first = np.unique(track_of, return_index=True)
+        for tid, r in zip(ids.tolist(), first.tolist(), strict=True):
+            if tid not in self._live:
+                starts[tid] = int(reg.frame[r])
         found: list[TrackedEvent] = []
         ends: dict[int, int] = {}  # track -> last chunk frame to feed (its death)
-        starts: dict[int, int] = {}
-        for i in range(t.size):
-            idx = reg.in_frame(i)
-            ids, events = self._tracker.push(
-                n0 + i,
-                float(t[i]),
-                reg.labels[i],
-                idx + 1,
-                reg.centre_mm[idx],
-                reg.area_mm2[idx],
-                reg.taxels_of(idx),
-            )
-            lut[idx + 1] = ids
-            for tid in ids.tolist():
-                if tid not in self._live and tid not in starts:
-                    starts[tid] = i
-            for e in events:
-                tracked = TrackedEvent(e.track, e.kind, e.frame, e.t_s, e.other)
-                found.append(tracked)
-                self._track_log.append(tracked)
-                if e.kind == "death":
-                    ends[e.track] = i
+        for e in events:
+            tracked = TrackedEvent(e.track, e.kind, e.frame, e.t_s, e.other)
+            found.append(tracked)
+            self._track_log.append(tracked)
+            if e.kind == "death":
+                ends[e.track] = e.frame - n0
         pix = lut[reg.labels]
         if self.keep_map:
             self._maps.append(pix.astype(np.int16))

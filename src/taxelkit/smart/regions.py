@@ -30,6 +30,7 @@ their sizes and centroids come from ``np.bincount`` over the labels.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -132,9 +133,16 @@ def disc_offsets(radius: float) -> NDArray[np.bool_]:
     (2 r + 1, 2 r + 1) bool
         With ``r = floor(radius)``.
     """
+    return _disc(float(radius)).copy()
+
+
+@functools.lru_cache(maxsize=8)
+def _disc(radius: float) -> NDArray[np.bool_]:
+    """:func:`disc_offsets`, computed once per radius (read-only: shared by the callers)."""
     r = math.floor(radius + 1e-9)
     y, x = np.mgrid[-r : r + 1, -r : r + 1]
     out: NDArray[np.bool_] = (x * x + y * y) <= radius * radius + 1e-9
+    out.flags.writeable = False
     return out
 
 
@@ -186,7 +194,7 @@ def segment_frames(
     t, rows, cols = img.shape
     radius = 0.5 * float(cfg.merge_gap_pitches)
     if radius >= 1.0 - 1e-9:
-        kernel = disc_offsets(radius)[None]
+        kernel = _disc(radius)[None]
         grown = ndimage.binary_dilation(img, structure=kernel)
         lab, n = ndimage.label(grown, structure=_FOUR_IN_PLANE)
     else:

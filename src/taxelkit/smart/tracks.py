@@ -97,6 +97,43 @@ def _nearest(tracks: list[LiveTrack], taxels: list[NDArray[np.float64]]) -> NDAr
     return out
 
 
+def _near_enough(
+    tracks: list[LiveTrack],
+    taxels: list[NDArray[np.float64]],
+    labels: NDArray[np.int32],
+    region_ids: NDArray[np.intp],
+    beyond: float,
+) -> NDArray[np.float64]:
+    """:func:`_nearest` where it matters: exact up to ``beyond`` pitches, a bound above it.
+
+    A track whose last taxels share one with a region is 0 from it; a pair
+    whose bounding boxes lie more than ``beyond`` apart gets the boxes'
+    distance (a lower bound, so every comparison with a distance up to
+    ``beyond`` comes out as with the exact one); only the pairs left are
+    measured taxel by taxel.
+    """
+    n = len(tracks)
+    mine = np.concatenate([tr.taxels for tr in tracks])
+    every = np.concatenate(taxels)
+    t_starts = np.cumsum([0] + [tr.taxels.shape[0] for tr in tracks[:-1]])
+    r_starts = np.cumsum([0] + [t.shape[0] for t in taxels[:-1]])
+    lo_t, hi_t = np.minimum.reduceat(mine, t_starts), np.maximum.reduceat(mine, t_starts)
+    lo_r, hi_r = np.minimum.reduceat(every, r_starts), np.maximum.reduceat(every, r_starts)
+    gap = np.maximum(lo_r[None, :, :] - hi_t[:, None, :], lo_t[:, None, :] - hi_r[None, :, :])
+    bound = np.hypot(*np.maximum(gap, 0.0).transpose(2, 0, 1))  # (n, m)
+    on = labels[mine[:, 0].astype(np.intp), mine[:, 1].astype(np.intp)]
+    order = np.argsort(region_ids)
+    at = np.searchsorted(region_ids, on, sorter=order).clip(0, region_ids.size - 1)
+    hit = region_ids[order[at]] == on
+    owner = np.repeat(np.arange(n), np.diff(np.append(t_starts, mine.shape[0])))
+    shared = np.zeros(bound.shape, bool)
+    shared[owner[hit], order[at[hit]]] = True
+    near: NDArray[np.float64] = np.where(shared, 0.0, bound)
+    if np.any(~shared & (bound <= beyond)):
+        near = np.where(shared | (bound > beyond), near, _nearest(tracks, taxels))
+    return near
+
+
 @dataclass(frozen=True)
 class TrackerConfig:
     """Numbers of the tracker.
@@ -223,7 +260,7 @@ def step(
         taxels = _region_taxels(labels, region_ids) if m else []
     near = np.full((n, m), np.inf)  # region's nearest taxel to each track's last taxels, pitches
     if m and n:
-        near = _nearest(tracks, taxels)
+        near = _near_enough(tracks, taxels, labels, region_ids, max(gate_pitches, touch_pitches))
         prev = np.array([tr.centre_mm for tr in tracks])
         d = np.hypot(*(prev[:, None, :] - centre_mm[None, :, :]).transpose(2, 0, 1))
         root = np.sqrt(np.array([tr.area_mm2 for tr in tracks]))
