@@ -15,6 +15,10 @@ frames this script writes) are reported:
 * out-of-core: :func:`taxelkit.io.chunked_read.open_chunks` read chunk by chunk
   into :class:`taxelkit.smart.recognise_chunks.ChunkRecogniser` (the rows kept
   packed as stored: ``packed_chunks`` into ``push_packed``);
+* the ``taxelkit recognize FILE --json`` command on the long file (once):
+  besides the single-object recogniser it tracks every contact region and
+  recognises each track (:class:`taxelkit.smart.objects.ObjectRecogniser`),
+  and prints the whole JSON document;
 * in memory (the baseline): ``read_recording`` then ``recognise`` (the path
   ``taxelkit recognize`` took before), on the first ``--compare-frames``
   frames, a file that fits; the out-of-core path is run on the same file and
@@ -112,6 +116,19 @@ print(json.dumps({
 )
 
 
+_COMMAND = (
+    _PEAK
+    + """
+import contextlib, json, os, sys, time
+from taxelkit.cli.app import run
+t0 = time.process_time()
+with open(os.devnull, "w") as null, contextlib.redirect_stdout(null):
+    rc = run(["recognize", sys.argv[1], "--json", "--pitch-mm", "1.7625"])
+print(json.dumps({"rc": rc, "seconds": time.process_time() - t0, "maxrss_mb": peak_mb()}))
+"""
+)
+
+
 def base_block(n_scenarios: int) -> np.ndarray:
     """Contact frames of ``n_scenarios`` rolling scenarios, one after another."""
     sensor = BONNEVILLE_16X16
@@ -174,6 +191,7 @@ def main() -> None:
         write_s = write_long(large, block, args.frames, args.chunk_frames)
         size_mb = large.stat().st_size / 2**20
         longs = [run(_OUT_OF_CORE, large, args.chunk_frames) for _ in range(args.runs)]
+        command = run(_COMMAND, large)
     n_small, n = args.compare_frames, args.frames
     rate_mem = n_small / float(memory["seconds"])  # type: ignore[arg-type]
     rate_small = n_small / float(chunked_small["seconds"])  # type: ignore[arg-type]
@@ -199,6 +217,10 @@ def main() -> None:
         f"ratio out-of-core / in memory on the same file: speed {rate_small / rate_mem:.2f}x, "
         f"peak memory {rss_small / rss_mem:.2f}x (events identical: {same})"
     )
+    rate_cmd = n / float(command["seconds"])  # type: ignore[arg-type]
+    rss_cmd = float(command["maxrss_mb"])  # type: ignore[arg-type]
+    print(f"{'taxelkit recognize --json, long file':44s} {n:12,d} {rate_cmd:16,.0f} "
+          f"{rss_cmd:12,.0f}  (both recognisers; exit code {command['rc']})")  # fmt: skip
     last = longs[-1]
     print(
         f"long file: {last['events']} events, {last['segments']:,} class segments, "
@@ -211,7 +233,9 @@ def main() -> None:
             f"{n / 1e6:g} M frames ({n / RATE_HZ / 3600:.1f} h at 240 Hz, {size_mb:,.0f} MiB "
             f"packed HDF5) recognised out of core: {span(rates, step=1000)} frames/s (CPU time, "
             f"{args.runs} runs), peak RSS {span(rss)} MB (target < 300 MB {met_mem}; "
-            f"1,000,000 frames/s {met_rate})"
+            f"1,000,000 frames/s {met_rate}); the `recognize` command on it (the per-track "
+            f"recogniser too, `--json`): {rate_cmd:,.0f} frames/s, peak RSS {rss_cmd:,.0f} MB "
+            f"({'under' if rss_cmd < 300 else 'over'} 300 MB)"
         )
         ratio = (
             f"{rate_small / rate_mem:.2f}x the speed and {rss_small / rss_mem:.2f}x the memory "
@@ -227,6 +251,7 @@ def main() -> None:
             "in_memory": {"rate": rate_mem, "maxrss_mb": rss_mem},
             "out_of_core_same_file": {"rate": rate_small, "maxrss_mb": rss_small},
             "events_identical": same,
+            "command": {"rate": rate_cmd, "maxrss_mb": rss_cmd, "exit_code": command["rc"]},
         }
         record(__file__, figure=figure, ratio=ratio, measured=measured)
 

@@ -137,3 +137,33 @@ def test_recognize_reports_one_verdict_per_object(
     text = capsys.readouterr().out
     assert "identified: cone (object 0); cube (object 1)" in text
     assert "object 1: frames" in text and "identified cube" in text
+
+
+@pytest.mark.parametrize("per_frame", [False, True])
+def test_recognize_json_streams_the_document_json_dumps_would_print(
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+    per_frame: bool,
+) -> None:
+    """The long lists are written a few items at a time; the text is that of the whole document."""
+    import taxelkit.cli.recognize_output as output
+
+    monkeypatch.setattr(output, "_ITEMS_A_WRITE", 3)
+    from taxelkit.io.recordings import read_recording, write_recording
+    from taxelkit.motion.multi_scenes import frames_from_multi_scene, multi_scene
+    from taxelkit.smart.objects import recognise_objects
+    from taxelkit.smart.recognise_chunks import ChunkRecogniser
+
+    scene = multi_scene(["cylinder", "tetrahedron"], rng=7)
+    path = tmp_path / "two.npz"
+    write_recording(frames_from_multi_scene(scene, rng=7).recording, path)
+    rec = read_recording(path)
+    whole = ChunkRecogniser(rec.frames.shape[1:], pitch_mm=rec.pitch_mm, per_frame=per_frame)
+    whole.push(rec.frames, rec.t_s)
+    doc = whole.result().to_json(per_frame=per_frame)
+    doc.update(recognise_objects(rec).to_json())
+    capsys.readouterr()
+    assert run(["recognize", str(path), "--json", *(["--per-frame"] if per_frame else [])]) == 0
+    assert capsys.readouterr().out == json.dumps(doc) + "\n"
+    assert len(doc["class_segments"]) > 5 and len(doc["track_events"]) > 5

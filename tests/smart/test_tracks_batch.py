@@ -118,3 +118,20 @@ def test_empty_frames_after_empty_frames_are_continuing() -> None:
     img[1, 3:5, 3:5] = True
     cont, _, _ = continuing_frames(segment_frames(img, pitch_mm=1.0), area_weight=AREA_WEIGHT)
     assert cont.tolist() == [False, False, False, True]
+
+
+@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize("lost", [1, 3, 6])
+def test_stretches_with_nothing_on_the_array_go_as_frame_by_frame(seed: int, lost: int) -> None:
+    """Tracks go unseen and die on their turn in empty stretches, whatever their length."""
+    rng = np.random.default_rng(100 + seed)
+    images = _blobs(seed)
+    for start in rng.integers(0, images.shape[0] - 8, 12):
+        images[start : start + int(rng.integers(1, 9))] = False
+    ids, events, tracker = _per_frame(images, lost=lost)
+    got, got_events, batch_tracker = _chunked(images, lost=lost, chunk=1000)
+    assert got == ids and got_events == events
+    assert any(e.kind == "death" for e in events)
+    assert [(tr.track, tr.unseen, tr.frames_seen) for tr in batch_tracker.tracks] == [
+        (tr.track, tr.unseen, tr.frames_seen) for tr in tracker.tracks
+    ]

@@ -13,7 +13,44 @@ import click
 if TYPE_CHECKING:
     from taxelkit.smart.object_results import ObjectRecognition
 
-__all__ = ["echo_objects", "one_object_json", "one_object_line", "with_objects"]
+__all__ = ["echo_json_parts", "echo_objects", "one_object_json", "one_object_line", "with_objects"]
+
+
+#: List items written to stdout at once by :func:`echo_json_parts`.
+_ITEMS_A_WRITE = 1024
+
+
+def echo_json_parts(parts: list[tuple[str, Any]]) -> None:
+    """Print one JSON object from ``(key, value)`` parts, streaming the long lists.
+
+    The same text as ``click.echo(json.dumps(dict(parts)))`` with the
+    iterators as lists (a later part with the same key replaces the value in
+    place, as ``dict.update`` does), but a list given as an iterator is
+    written an item at a time: a day-long recording's runs and events never
+    exist as one document or one string.
+    """
+    import json
+    from collections.abc import Iterator
+
+    merged: dict[str, Any] = {}
+    for key, value in parts:
+        merged[key] = value
+    write = click.echo
+    write("{", nl=False)
+    for k, (key, value) in enumerate(merged.items()):
+        write(("" if k == 0 else ", ") + json.dumps(key) + ": ", nl=False)
+        if isinstance(value, Iterator):
+            write("[", nl=False)
+            batch: list[str] = []
+            for i, item in enumerate(value):
+                batch.append(("" if i == 0 else ", ") + json.dumps(item))
+                if len(batch) == _ITEMS_A_WRITE:
+                    write("".join(batch), nl=False)
+                    batch = []
+            write("".join(batch) + "]", nl=False)
+        else:
+            write(json.dumps(value), nl=False)
+    write("}")
 
 
 def with_objects(config: Any, path: Path) -> Any:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -14,6 +13,7 @@ from taxelkit.cli.options import (
     TIMEOUT_S,
 )
 from taxelkit.cli.recognize_output import (
+    echo_json_parts,
     echo_objects,
     one_object_json,
     one_object_line,
@@ -176,11 +176,8 @@ def recognize(
         result, objects = _recognise_whole(file, pitch_mm, topic, view, force, options)
     whole = one_object_json(objects, options.get("config")) if one_object else None
     if as_json:
-        doc = result.to_json(per_frame=per_frame)
-        doc.update(objects.to_json())
-        if whole is not None:
-            doc["one_object"] = whole
-        click.echo(json.dumps(doc))
+        parts = result.json_parts(per_frame=per_frame) + objects.json_parts()
+        echo_json_parts(parts + ([] if whole is None else [("one_object", whole)]))
         return 0
     echo_objects(objects)
     if whole is not None:
@@ -193,7 +190,8 @@ def _recognise_in_chunks(
 ) -> tuple[ChunkRecognition, ObjectRecognition]:
     """Read and recognise a recording a chunk at a time (memory bounded by the chunk)."""
     from taxelkit.io.chunked_read import PackedChunk, open_chunks
-    from taxelkit.smart.objects import ObjectRecogniser
+    from taxelkit.io.packed_chunk import unpack_rows
+    from taxelkit.smart.objects import PIECE_FRAMES, ObjectRecogniser
     from taxelkit.smart.recognise_chunks import ChunkRecogniser
 
     with open_chunks(file, pitch_mm=pitch_mm) as opened:
@@ -208,12 +206,17 @@ def _recognise_in_chunks(
                     shape, pitch_mm=chunk.pitch_mm, per_frame=per_frame, **options
                 )
                 tracks = ObjectRecogniser(shape, pitch_mm=chunk.pitch_mm, **options)
+            step = PIECE_FRAMES  # the tracker's pieces: its temporaries stay small
             if isinstance(chunk, PackedChunk):
                 recogniser.push_packed(chunk.rows, chunk.t_s)
-                tracks.push(chunk.unpacked(), chunk.t_s)
+                for a in range(0, chunk.n_frames, step):
+                    tracks.push(
+                        unpack_rows(chunk.rows[a : a + step], chunk.cols), chunk.t_s[a : a + step]
+                    )
             else:
                 recogniser.push(chunk.frames, chunk.t_s)
-                tracks.push(chunk.frames, chunk.t_s)
+                for a in range(0, chunk.frames.shape[0], step):
+                    tracks.push(chunk.frames[a : a + step], chunk.t_s[a : a + step])
     assert recogniser is not None and tracks is not None  # open_chunks refuses zero frames
     return recogniser.result(), tracks.result()
 

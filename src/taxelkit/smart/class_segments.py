@@ -10,6 +10,7 @@ recognisers (:mod:`taxelkit.smart.recognise_chunks`) return: a
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -21,7 +22,15 @@ from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Event, Verdict
 from taxelkit.smart.slip import Slip, slip_to_json
 
-__all__ = ["ChunkRecognition", "ClassSegments", "class_segments", "joined_segments"]
+__all__ = ["ChunkRecognition", "ClassSegments", "class_segments", "joined_segments", "json_doc"]
+
+#: Runs turned into Python numbers at a time by :meth:`ClassSegments.iter_json`.
+_JSON_BATCH = 4096
+
+
+def json_doc(parts: list[tuple[str, Any]]) -> dict[str, Any]:
+    """A JSON document from ``(key, value)`` parts whose long lists may be iterators."""
+    return {k: list(v) if isinstance(v, Iterator) else v for k, v in parts}
 
 
 @dataclass(frozen=True, eq=False)
@@ -56,23 +65,28 @@ class ClassSegments:
 
     def to_json(self) -> list[dict[str, Any]]:
         """One ``{class, first_frame, last_frame, first_s, last_s}`` object per run."""
-        return [
-            {
-                "class": ContactClass(c).name.lower(),
-                "first_frame": a,
-                "last_frame": b,
-                "first_s": sa,
-                "last_s": sb,
-            }
-            for c, a, b, sa, sb in zip(
-                self.class_code.tolist(),
-                self.first_frame.tolist(),
-                self.last_frame.tolist(),
-                self.first_s.tolist(),
-                self.last_s.tolist(),
+        return list(self.iter_json())
+
+    def iter_json(self) -> Iterator[dict[str, Any]]:
+        """The objects of :meth:`to_json`, one at a time (a day's runs need not exist at once)."""
+        names = {int(c): ContactClass(int(c)).name.lower() for c in np.unique(self.class_code)}
+        for a in range(0, self.class_code.size, _JSON_BATCH):
+            b = a + _JSON_BATCH
+            for c, first, last, first_s, last_s in zip(
+                self.class_code[a:b].tolist(),
+                self.first_frame[a:b].tolist(),
+                self.last_frame[a:b].tolist(),
+                self.first_s[a:b].tolist(),
+                self.last_s[a:b].tolist(),
                 strict=True,
-            )
-        ]
+            ):
+                yield {
+                    "class": names[c],
+                    "first_frame": first,
+                    "last_frame": last,
+                    "first_s": first_s,
+                    "last_s": last_s,
+                }
 
 
 def class_segments(classes: ArrayLike, t_s: ArrayLike, *, first_frame: int = 0) -> ClassSegments:
@@ -158,16 +172,21 @@ class ChunkRecognition:
 
     def to_json(self, *, per_frame: bool = False) -> dict[str, Any]:
         """JSON types: ``class_segments`` always, ``classes`` (per frame) on request."""
-        doc: dict[str, Any] = {
-            "identified": self.identified,
-            "candidates": list(self.candidates),
-            "why": self.verdict.to_json(),
-            "tactemes": [{"name": n, "frame": f} for n, f in self.tactemes],
-            "slips": [slip_to_json(s) for s in self.slips],
-            "n_frames": self.n_frames,
-            "class_segments": self.segments.to_json(),
-        }
+        return json_doc(self.json_parts(per_frame=per_frame))
+
+    def json_parts(self, *, per_frame: bool = False) -> list[tuple[str, Any]]:
+        """The keys and values of :meth:`to_json`, the long lists as iterators (to stream them)."""
+        parts: list[tuple[str, Any]] = [
+            ("identified", self.identified),
+            ("candidates", list(self.candidates)),
+            ("why", self.verdict.to_json()),
+            ("tactemes", ({"name": n, "frame": f} for n, f in self.tactemes)),
+            ("slips", [slip_to_json(s) for s in self.slips]),
+            ("n_frames", self.n_frames),
+            ("class_segments", self.segments.iter_json()),
+        ]
         if per_frame:
             codes = self.segments.per_frame() if self.classes is None else self.classes
-            doc["classes"] = [ContactClass(int(c)).name.lower() for c in codes]
-        return doc
+            names = {int(c): c.name.lower() for c in ContactClass}
+            parts.append(("classes", (names[c] for c in codes.tolist())))
+        return parts

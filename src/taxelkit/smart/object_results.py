@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit.smart.class_segments import json_doc
 from taxelkit.smart.elimination import SLID, Verdict
 
 __all__ = ["ObjectRecognition", "ObjectVerdict", "TrackSlip", "TrackedEvent", "interleaved"]
@@ -191,11 +192,15 @@ class ObjectRecognition:
 
     def to_json(self) -> dict[str, Any]:
         """``objects`` and ``track_events`` as JSON types."""
-        return {
-            "n_frames": self.n_frames,
-            "objects": [o.to_json() for o in self.objects],
-            "track_events": [e.to_json() for e in self.events],
-        }
+        return json_doc(self.json_parts())
+
+    def json_parts(self) -> list[tuple[str, Any]]:
+        """The keys and values of :meth:`to_json`, the lists as iterators (to stream them)."""
+        return [
+            ("n_frames", self.n_frames),
+            ("objects", (o.to_json() for o in self.objects)),
+            ("track_events", (e.to_json() for e in self.events)),
+        ]
 
 
 def interleaved(

@@ -66,6 +66,11 @@ __all__ = [
 ]
 
 
+#: Frames of a chunk segmented, tracked and recognised together (bounds the
+#: temporaries: per frame a region label map of 4 bytes a taxel and a few more).
+PIECE_FRAMES = 4096
+
+
 @dataclass
 class _Live:
     """A track's own recogniser and where its frames start."""
@@ -97,7 +102,11 @@ class ObjectRecogniser:
 
     Notes
     -----
-    Every timestamp is kept (8 bytes a frame) to give each event its time.
+    A chunk is processed :data:`PIECE_FRAMES` frames at a time (the same
+    events as in one piece), so its temporaries stay bounded whatever the
+    chunk's length. The timestamps are kept from the first frame of the
+    oldest live track on (8 bytes a frame), to give each event its time;
+    every track's verdict is kept for :meth:`result`.
     """
 
     def __init__(
@@ -181,7 +190,10 @@ class ObjectRecogniser:
         pending, self._pending = self._pending, []
         images = np.concatenate([p[0] for p in pending]) if len(pending) > 1 else pending[0][0]
         t = np.concatenate([p[1] for p in pending]) if len(pending) > 1 else pending[0][1]
-        return self._process(images, t)
+        found: list[TrackedEvent] = []
+        for a in range(0, t.size, PIECE_FRAMES):  # the same events in any pieces
+            found.extend(self._process(images[a : a + PIECE_FRAMES], t[a : a + PIECE_FRAMES]))
+        return found
 
     def _process(self, images: NDArray[np.bool_], t: NDArray[np.float64]) -> list[TrackedEvent]:
         assert self._tracker is not None
@@ -190,7 +202,7 @@ class ObjectRecogniser:
         self._offsets.append(n0)
         self._n += t.size
         reg = segment_frames(images, pitch_mm=self.pitch_mm, config=self.regions)
-        lut = np.full(reg.n_regions + 1, -1, np.intp)
+        lut = np.full(reg.n_regions + 1, -1, np.int32)
         track_of, events = track_chunk(self._tracker, reg, t, first_frame=n0)
         lut[1:] = track_of
         starts: dict[int, int] = {}  # track -> first chunk frame (tracks new here)
@@ -225,7 +237,22 @@ class ObjectRecogniser:
             found.extend(new)
             if tid in ends:
                 self._finish(tid)
+        self._forget_times()
         return found
+
+    def _forget_times(self) -> None:
+        """Drop the timestamps of pieces before every live track's first frame.
+
+        The last piece stays (a track born on the next piece's first frame
+        starts from the frame before); a track held on the array keeps those
+        since its start.
+        """
+        oldest = min((live.start for live in self._live.values()), default=self._n)
+        drop = 0
+        while drop + 1 < len(self._offsets) and self._offsets[drop + 1] <= oldest:
+            drop += 1
+        if drop:
+            del self._t[:drop], self._offsets[:drop]
 
     def _start_track(
         self, tid: int, birth: int, images: NDArray[np.bool_], t: NDArray[np.float64], i: int

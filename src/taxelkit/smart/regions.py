@@ -146,6 +146,41 @@ def _disc(radius: float) -> NDArray[np.bool_]:
     return out
 
 
+def _dilated(img: NDArray[np.bool_], disc: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """Every frame of ``img`` ``(T, rows, cols)`` dilated by ``disc``, frames apart.
+
+    As :func:`scipy.ndimage.binary_dilation` with ``disc[None]``, several
+    times faster on small frames: each frame is one flat row of taxels, the
+    disc a stack of centred horizontal runs; a run of half-width ``w`` ORs
+    the frames shifted by up to ``w`` columns (masked where a shift would
+    wrap to the next row), and each row offset ORs those shifted by whole rows.
+    """
+    t, rows, cols = img.shape
+    r = disc.shape[0] // 2
+    flat = img.reshape(t, rows * cols)
+    col = np.arange(rows * cols) % cols
+    widths = [int(np.count_nonzero(disc[k])) // 2 for k in range(disc.shape[0])]
+    runs = [flat]  # runs[w]: the frames dilated by a run of half-width w
+    for w in range(1, max(widths) + 1):
+        h = runs[-1].copy()
+        if w < cols:
+            h[:, w:] |= flat[:, :-w] & (col[w:] >= w)
+            h[:, :-w] |= flat[:, w:] & (col[:-w] < cols - w)
+        runs.append(h)
+    out = runs[widths[r]].copy()
+    for k, w in enumerate(widths):
+        dy = k - r
+        if dy == 0 or abs(dy) >= rows:
+            continue
+        shift = abs(dy) * cols
+        if dy > 0:
+            out[:, shift:] |= runs[w][:, :-shift]
+        else:
+            out[:, :-shift] |= runs[w][:, shift:]
+    grown: NDArray[np.bool_] = out.reshape(img.shape)
+    return grown
+
+
 _EIGHT_IN_PLANE = np.zeros((3, 3, 3), bool)
 _EIGHT_IN_PLANE[1] = True
 _FOUR_IN_PLANE = np.zeros((3, 3, 3), bool)
@@ -194,22 +229,21 @@ def segment_frames(
     t, rows, cols = img.shape
     radius = 0.5 * float(cfg.merge_gap_pitches)
     if radius >= 1.0 - 1e-9:
-        kernel = _disc(radius)[None]
-        grown = ndimage.binary_dilation(img, structure=kernel)
+        grown = _dilated(img, _disc(radius))
         lab, n = ndimage.label(grown, structure=_FOUR_IN_PLANE)
     else:
         lab, n = ndimage.label(img, structure=_EIGHT_IN_PLANE)
-    lab = np.where(img, lab, 0).astype(np.int32)
     # renumber the labels that hold contact taxels 1..n in order of first taxel (raster order)
-    flat = lab.reshape(-1)
-    on = np.flatnonzero(flat)
-    used, first = np.unique(flat[on], return_index=True)
+    on = np.flatnonzero(img)  # every contact taxel lies in a labelled component
+    raw = lab.reshape(-1)[on]
+    used, first = np.unique(raw, return_index=True)
     order = np.argsort(first, kind="stable")  # ndimage numbers in raster order already
     remap = np.zeros(n + 1, np.int32)
     remap[used[order]] = np.arange(1, used.size + 1, dtype=np.int32)
-    lab = remap[lab]
     n_reg = int(used.size)
-    ids = lab.reshape(-1)[on] - 1
+    ids = remap[raw] - 1
+    lab = np.zeros(img.shape, np.int32)  # labels on the contact taxels only
+    lab.reshape(-1)[on] = ids + 1
     tt, rr, cc = np.unravel_index(on, (t, rows, cols))
     count = np.bincount(ids, minlength=n_reg)
     sx = np.bincount(ids, weights=cc, minlength=n_reg)

@@ -44,7 +44,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import linear_sum_assignment
 
 from taxelkit.errors import InputError, check_positive
 
@@ -268,7 +267,9 @@ def step(
         cost[near > gate_pitches] = _FORBIDDEN
         if m == 1 and n == 1:  # the usual case: one contact, one track
             rows, cols = np.zeros(1, np.intp), np.zeros(1, np.intp)
-        else:
+        else:  # imported here: scipy.optimize holds ~35 MB that one object never needs
+            from scipy.optimize import linear_sum_assignment
+
             rows, cols = linear_sum_assignment(cost)
         ok = cost[rows, cols] < _FORBIDDEN
         got[rows[ok]] = cols[ok]

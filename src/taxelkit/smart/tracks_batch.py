@@ -83,19 +83,27 @@ def continuing_frames(
         return continuing, previous, starts
     continuing[1:] = (m[1:] == 0) & (m[:-1] == 0)
     flat = labels.reshape(t, -1)
-    both = (flat[:-1] > 0) & (flat[1:] > 0)
-    if not both.any():
-        return continuing, previous, starts
-    key = np.unique((flat[:-1][both].astype(np.int64) - 1) * n + (flat[1:][both] - 1))
-    before, after = key // n, key % n  # overlapping regions of consecutive frames
-    one = (np.bincount(before, minlength=n)[before] == 1) & (
-        np.bincount(after, minlength=n)[after] == 1
-    )
-    before, after = before[one], after[one]
-    paired = np.bincount(regions.frame[after], minlength=t)
+    both = (flat[:-1] > 0) & (flat[1:] > 0)  # (T - 1, taxels): on in a frame and the next
     ok = np.zeros(t, bool)
-    ok[1:] = (paired[1:] == m[1:]) & (m[1:] == m[:-1]) & (m[1:] >= 1) & (m[1:] <= max_regions)
-    previous[after] = before
+    # one region after one region (most frames): continuing when they overlap
+    one_one = np.flatnonzero((m[1:] == 1) & (m[:-1] == 1) & both.any(axis=1)) + 1
+    ok[one_one] = True
+    previous[starts[one_one]] = starts[one_one - 1]
+    # more regions: each must overlap exactly one of the other frame's
+    pairs = np.flatnonzero((np.maximum(m[1:], m[:-1]) >= 2) & (m[1:] == m[:-1]))
+    pairs = pairs[m[pairs + 1] <= max_regions]
+    if pairs.size:
+        sel = both[pairs]
+        key = np.unique((flat[pairs][sel].astype(np.int64) - 1) * n + (flat[pairs + 1][sel] - 1))
+        before, after = key // n, key % n  # overlapping regions of consecutive frames
+        one = (np.bincount(before, minlength=n)[before] == 1) & (
+            np.bincount(after, minlength=n)[after] == 1
+        )
+        before, after = before[one], after[one]
+        paired = np.bincount(regions.frame[after], minlength=t)
+        frames = pairs + 1
+        ok[frames[paired[frames] == m[frames]]] = True
+        previous[after] = before
     for k in range(2, max_regions + 1):
         frames = np.flatnonzero(ok & (m == k))
         if frames.size:
@@ -173,9 +181,17 @@ def track_chunk(
     track_of = np.full(regions.n_regions, -1, np.intp)
     events: list[TrackEvent] = []
     stops = np.flatnonzero(~continuing)  # each run of continuing frames ends at the next
+    seen = np.flatnonzero(np.diff(starts))  # frames with a region
     settled = False
     i = 0
     while i < n_frames:
+        if starts[i] == starts[i + 1] and tracker.tracks:  # nothing seen, tracks alive
+            at = int(np.searchsorted(seen, i))
+            j = int(seen[at]) if at < seen.size else n_frames
+            events.extend(_unseen(tracker, i, j, t_s, first_frame))
+            settled = not tracker.tracks
+            i = j
+            continue
         if continuing[i] and settled:
             at = int(np.searchsorted(stops, i))
             j = int(stops[at]) if at < stops.size else n_frames
@@ -198,6 +214,29 @@ def track_chunk(
         settled = _settled(tracker, int(idx.size))
         i += 1
     return track_of, events
+
+
+def _unseen(
+    tracker: RegionTracker, i: int, j: int, t_s: NDArray[np.float64], first_frame: int
+) -> list[TrackEvent]:
+    """Frames ``i:j`` hold no region: each live track goes unseen, and dies on its turn.
+
+    What :func:`~taxelkit.smart.tracks.step` does frame by frame (no region:
+    no merge, no split): the deaths in order of frame, then of the tracks' order.
+    """
+    deaths: list[tuple[int, int, int]] = []
+    kept = []
+    for order, tr in enumerate(tracker.tracks):
+        dies = i + tracker.lost_frames - tr.unseen - 1  # the frame its unseen count is reached
+        if dies < j:
+            deaths.append((dies, order, tr.track))
+        else:
+            tr.unseen += j - i
+            kept.append(tr)
+    tracker.tracks = kept
+    return [
+        TrackEvent("death", track, first_frame + f, float(t_s[f])) for f, _, track in sorted(deaths)
+    ]
 
 
 def _inherit(
