@@ -131,3 +131,35 @@ def test_blank_and_single_frame_recordings() -> None:
     res = recognise_objects(one, pitch_mm=1.0, cleaning=None)  # (cleaning: stuck from the start)
     assert [e.kind for e in res.events] == ["birth"]
     assert not res.objects[0].accepted
+
+
+def test_events_are_grouped_by_track_with_the_trackers_placed_by_frame() -> None:
+    from taxelkit.smart.object_results import TrackedEvent, interleaved
+
+    found = [
+        TrackedEvent(1, "contact", 12, 0.6),
+        TrackedEvent(0, "contact", 3, 0.15),
+        TrackedEvent(0, "tacteme", 9, 0.45, "LCM"),  # found late: stays after the later one
+        TrackedEvent(0, "tacteme", 7, 0.35, "AC"),
+        TrackedEvent(1, "identified", 30, 1.5, "cube"),
+    ]
+    tracker = [
+        TrackedEvent(0, "birth", 2, 0.1),
+        TrackedEvent(1, "birth", 10, 0.5),
+        TrackedEvent(0, "merge", 8, 0.4, 1),
+        TrackedEvent(0, "death", 8, 0.4),
+        TrackedEvent(2, "birth", 40, 2.0),
+    ]
+    out = [(e.track, e.kind, e.frame) for e in interleaved(found, tracker)]
+    assert out == [
+        (0, "birth", 2),
+        (0, "contact", 3),
+        (0, "merge", 8),
+        (0, "tacteme", 9),
+        (0, "tacteme", 7),
+        (0, "death", 8),
+        (1, "birth", 10),
+        (1, "contact", 12),
+        (1, "identified", 30),
+        (2, "birth", 40),
+    ]

@@ -211,12 +211,16 @@ def interleaved(
     A Level 3 tacteme is reported when it is found, which can be after the
     frame it names, so the recogniser's events are not re-sorted by frame.
     """
+    found: dict[int, list[TrackedEvent]] = {}
+    tracked: dict[int, list[TrackedEvent]] = {}
+    for events, by_track in ((recogniser_events, found), (tracker_events, tracked)):
+        for e in events:  # each track's events in their order (one pass: a day has many tracks)
+            by_track.setdefault(e.track, []).append(e)
     out: list[TrackedEvent] = []
-    tracks = sorted({e.track for e in recogniser_events} | {e.track for e in tracker_events})
-    for tid in tracks:
-        mine = [e for e in tracker_events if e.track == tid]
+    for tid in sorted(found.keys() | tracked.keys()):
+        mine = tracked.get(tid, [])
         i = 0
-        for e in (e for e in recogniser_events if e.track == tid):
+        for e in found.get(tid, []):
             while i < len(mine) and mine[i].kind != "death" and mine[i].frame <= e.frame:
                 out.append(mine[i])
                 i += 1
