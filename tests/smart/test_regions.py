@@ -80,3 +80,23 @@ def test_bad_input_is_refused() -> None:
     with pytest.raises(InputError, match="merge_gap_pitches"):
         RegionConfig(merge_gap_pitches=-1.0)
     assert disc_offsets(1.5).sum() == 9 and disc_offsets(1.0).sum() == 5
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_repeated_frames_are_segmented_once_with_the_same_regions(seed: int) -> None:
+    """A stack whose frames repeat is segmented one distinct image at a time, unseen."""
+    from taxelkit.smart.regions import RegionConfig, _changed, _segment
+
+    rng = np.random.default_rng(seed)
+    t = int(rng.integers(2, 40))
+    img = rng.uniform(size=(t, int(rng.integers(2, 20)), int(rng.integers(2, 20)))) < 0.15
+    img = np.repeat(img, rng.integers(1, 6, t), axis=0)
+    img[rng.integers(0, img.shape[0], 3)] = False  # empty frames among them
+    for gap in (0.0, 3.0, 5.0):
+        cfg = RegionConfig(merge_gap_pitches=gap)
+        fast, plain = segment_frames(img, pitch_mm=1.5, config=cfg), _segment(img, 1.5, cfg)
+        for name in ("labels", "frame", "n_taxels", "centre_mm", "area_mm2", "taxel_rc"):
+            got, want = getattr(fast, name), getattr(plain, name)
+            assert got.dtype == want.dtype and np.array_equal(got, want), name
+        assert np.array_equal(fast.taxel_start, plain.taxel_start)
+    assert _changed(np.repeat(img[:1], 8, axis=0)) is not None  # repeats: segmented once
