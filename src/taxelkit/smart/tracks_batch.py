@@ -21,9 +21,9 @@ the regions exactly so (an overlap is within any gate) and report no event,
 so :func:`track_chunk` only carries each track to its region and calls the
 step on the other frames. A stretch of frames with no region while tracks
 are alive (an object lifted) is passed at once too: each track goes unseen
-for the stretch and dies on the frame the step would end it. The tracks, their events and every region's track
-are those of the step called on every frame (tested), at a fraction of the
-cost (``benchmarks/bench_segment_track.py``).
+for the stretch and dies on the frame the step would end it. The tracks,
+their events and every region's track are those of the step called on every
+frame (tested), at a fraction of the cost (``benchmarks/bench_segment_track.py``).
 """
 
 from __future__ import annotations
