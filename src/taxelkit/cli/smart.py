@@ -206,17 +206,15 @@ def _recognise_in_chunks(
                     shape, pitch_mm=chunk.pitch_mm, per_frame=per_frame, **options
                 )
                 tracks = ObjectRecogniser(shape, pitch_mm=chunk.pitch_mm, **options)
-            step = PIECE_FRAMES  # the tracker's pieces: its temporaries stay small
             if isinstance(chunk, PackedChunk):
                 recogniser.push_packed(chunk.rows, chunk.t_s)
+                step = PIECE_FRAMES  # unpacked a piece at a time, as the tracker works
                 for a in range(0, chunk.n_frames, step):
-                    tracks.push(
-                        unpack_rows(chunk.rows[a : a + step], chunk.cols), chunk.t_s[a : a + step]
-                    )
+                    rows = chunk.rows[a : a + step]
+                    tracks.push(unpack_rows(rows, chunk.cols), chunk.t_s[a : a + step])
             else:
                 recogniser.push(chunk.frames, chunk.t_s)
-                for a in range(0, chunk.frames.shape[0], step):
-                    tracks.push(chunk.frames[a : a + step], chunk.t_s[a : a + step])
+                tracks.push(chunk.frames, chunk.t_s)
     assert recogniser is not None and tracks is not None  # open_chunks refuses zero frames
     return recogniser.result(), tracks.result()
 

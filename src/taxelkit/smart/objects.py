@@ -102,9 +102,9 @@ class ObjectRecogniser:
 
     Notes
     -----
-    A chunk is processed :data:`PIECE_FRAMES` frames at a time (the same
-    events as in one piece), so its temporaries stay bounded whatever the
-    chunk's length. The timestamps are kept from the first frame of the
+    A chunk is processed :data:`PIECE_FRAMES` frames at a time, cleaning
+    included (the same events as in one piece), so its temporaries stay
+    bounded whatever the chunk's length. The timestamps are kept from the first frame of the
     oldest live track on (8 bytes a frame), to give each event its time;
     every track's verdict is kept for :meth:`result`.
     """
@@ -174,6 +174,11 @@ class ObjectRecogniser:
         f, t = check_chunk(frames, t_s, self.shape, self._t_last)
         if f.shape[0] == 0:
             return []
+        if f.shape[0] > PIECE_FRAMES:  # a piece at a time, cleaning included: the same events
+            found: list[TrackedEvent] = []
+            for a in range(0, f.shape[0], PIECE_FRAMES):
+                found.extend(self.push(f[a : a + PIECE_FRAMES], t[a : a + PIECE_FRAMES]))
+            return found
         self._t_last = float(t[-1])
         images = f.astype(bool) if f.dtype == bool else f.astype(np.float64) > self.threshold
         if self._cleaner is not None:
@@ -190,10 +195,7 @@ class ObjectRecogniser:
         pending, self._pending = self._pending, []
         images = np.concatenate([p[0] for p in pending]) if len(pending) > 1 else pending[0][0]
         t = np.concatenate([p[1] for p in pending]) if len(pending) > 1 else pending[0][1]
-        found: list[TrackedEvent] = []
-        for a in range(0, t.size, PIECE_FRAMES):  # the same events in any pieces
-            found.extend(self._process(images[a : a + PIECE_FRAMES], t[a : a + PIECE_FRAMES]))
-        return found
+        return self._process(images, t)
 
     def _process(self, images: NDArray[np.bool_], t: NDArray[np.float64]) -> list[TrackedEvent]:
         assert self._tracker is not None
