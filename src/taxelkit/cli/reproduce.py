@@ -90,10 +90,13 @@ def reproduce(
 ) -> None:
     """Run a registered experiment NAME (or 'all'): writes OUT/NAME.json and OUT/NAME.png.
 
-    NAME.json holds only results, so the same seed gives byte-identical JSON;
-    the wall-clock time goes to OUT/NAME.timing.json, which comparisons ignore.
+    NAME.json holds only results, so the same seed gives byte-identical JSON on
+    the same machine and libraries; the wall-clock time and what it ran on
+    (versions, CPU, BLAS kernels) go to OUT/NAME.timing.json, which comparisons
+    ignore.
     A progress bar on stderr counts each experiment's trials, traces or stages.
     """
+    from taxelkit.experiments.run_environment import run_environment
     from taxelkit.plotting.experiments import plot_experiment
 
     names = list(EXPERIMENTS) if name == "all" else [name]
@@ -103,6 +106,7 @@ def reproduce(
     exts = (".json", ".png", ".timing.json")
     check_outputs([out / f"{n}{ext}" for n in names for ext in exts], force)
     out.mkdir(parents=True, exist_ok=True)
+    env = run_environment()  # this machine's (with --scheduler the workers may differ)
     t_all = time.perf_counter()
     docs: dict[str, dict[str, Any]] = {}
     for k, n in enumerate(names):
@@ -122,7 +126,7 @@ def reproduce(
         doc = result.to_json()
         doc["seed"] = seed
         write_text(out / f"{n}.json", json.dumps(doc, indent=2) + "\n", force)
-        timing = {"experiment": n, "seed": seed, "seconds": seconds}
+        timing = {"experiment": n, "seed": seed, "seconds": seconds, "environment": env}
         write_text(out / f"{n}.timing.json", json.dumps(timing, indent=2) + "\n", force)
         save_figure(plot_experiment(n, result), out / f"{n}.png", force=force)
         click.echo(f"{n}: wrote {out / n}.json, .timing.json and .png in {seconds:.1f} s")
