@@ -1,21 +1,16 @@
 """What an experiment ran on: versions, CPU and BLAS, recorded beside its timing.
 
 The same seed gives byte-identical JSON on the same machine and libraries.
-On another machine an experiment's figures can move at the margin: the
-simulator composes rotations and evaluates the solids with matrix products,
-which NumPy hands to its BLAS, and the BLAS picks kernels by CPU (another
-kernel adds in another order, a last-place difference). Most contacts do not
-care, but a face or a cone's generator lying exactly on the plate is a tie
-that such a difference decides, so a taxel at its edge can read the other
-way and a borderline trial can end differently. Measured with the same code
-and seed on one machine, only OpenBLAS's kernel forced
-(``OPENBLAS_CORETYPE``): a truncated cone's poses (``robustness``, seed 0,
-trial 1, kinematic, 20 frames/s) differed by at most 4.4e-16, and 123 of its
-60,928 taxel readings by up to 0.23 mm. The
-``smart-sensor`` experiment's median frames to identify a truncated cone
-read 85.5 with the Haswell kernels and 86.0 with the Katmai ones; the
-committed 85.0 came from another machine. :func:`run_environment` records
-what such a comparison needs to know.
+Elsewhere an experiment's figures can move at the margin: NumPy hands matrix
+products (composing rotations, evaluating the solids) to its BLAS, which
+picks its kernels by CPU, and another kernel rounds differently in the last
+place. The kinematic engine's frames no longer depend on it (a lying body's
+contact line used to: the skin's groove collapsed to one end on a rounding
+error, see :func:`~taxelkit.world.solids_revolution.revolution_lowest_segment_mm`);
+MuJoCo's rollouts do, as a physics rollout amplifies a last-place difference
+in its start (one cone's roll: 199 frames under OpenBLAS's Haswell kernels,
+261 under the Prescott ones). :func:`run_environment` records what such a
+comparison needs to know.
 """
 
 from __future__ import annotations

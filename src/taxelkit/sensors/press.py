@@ -270,7 +270,7 @@ def displacement_from_solid(
         floor = None
         if use_dimple:
             ends = solid.lowest_segment_mm(rot[a:b])  # (n, 2, 3), relative to the body
-            level64 = indent[a:b] + ends[:, 0, 2]
+            level64 = indent[a:b] + ends[:, :, 2].min(axis=1)  # the lower end (tied: either)
             ends_xy = ends[:, :, :2] + pos[a:b, None, :]
             floor = dimple_mm(indent[a:b], ends_xy, xc.astype(ftype), yc.astype(ftype), sensor.skin)
         else:
