@@ -8,10 +8,6 @@ it: it once collapsed to one end whenever the last rim's point came out lower.
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 
@@ -44,34 +40,3 @@ def test_a_rounding_difference_does_not_move_the_ends() -> None:
     ends = sc.solid.lowest_segment_mm(sc.rotations)
     nudged = sc.solid.lowest_segment_mm(sc.rotations * (1.0 + 1e-15))
     np.testing.assert_allclose(nudged, ends, rtol=0, atol=1e-12)
-
-
-_FRAMES_DIGEST = """
-import hashlib, numpy as np
-from taxelkit.motion.rolling import frames_from_scenario
-from taxelkit.motion.scenarios import make_scenario
-from taxelkit.sensors.presets import BONNEVILLE_16X16
-h = hashlib.sha256()
-for name in ("cylinder", "cone", "truncated-cone", "cube"):
-    sc = make_scenario(name, rng=5)
-    h.update(np.ascontiguousarray(frames_from_scenario(BONNEVILLE_16X16, sc, rng=5).frames))
-print(h.hexdigest())
-"""
-
-
-def _digest(**env: str) -> str:
-    out = subprocess.run(
-        [sys.executable, "-c", _FRAMES_DIGEST],
-        capture_output=True,
-        text=True,
-        env={**os.environ, "OPENBLAS_NUM_THREADS": "1", **env},
-        check=True,
-    )
-    return out.stdout.strip()
-
-
-def test_kinematic_frames_do_not_depend_on_the_blas_kernel() -> None:
-    # OpenBLAS picks its kernels by CPU; forcing an old one rounds matrix products
-    # differently in the last place (where NumPy's BLAS is not OpenBLAS, the
-    # override does nothing and the test holds trivially)
-    assert _digest() == _digest(OPENBLAS_CORETYPE="Prescott")

@@ -1,16 +1,14 @@
 """What an experiment ran on: versions, CPU and BLAS, recorded beside its timing.
 
-The same seed gives byte-identical JSON on the same machine and libraries.
-Elsewhere an experiment's figures can move at the margin: NumPy hands matrix
-products (composing rotations, evaluating the solids) to its BLAS, which
-picks its kernels by CPU, and another kernel rounds differently in the last
-place. The kinematic engine's frames no longer depend on it (a lying body's
-contact line used to: the skin's groove collapsed to one end on a rounding
-error, see :func:`~taxelkit.world.solids_revolution.revolution_lowest_segment_mm`);
-MuJoCo's rollouts do, as a physics rollout amplifies a last-place difference
-in its start (one cone's roll: 199 frames under OpenBLAS's Haswell kernels,
-261 under the Prescott ones). :func:`run_environment` records what such a
-comparison needs to know.
+The same seed gives byte-identical JSON on the same machine and libraries,
+and the simulation no longer depends on the CPU's BLAS kernels: the small
+products of the skin, the motion scripts and MuJoCo's scripted hand are
+summed in a fixed order (``taxelkit._fixed_order``; a lying body's contact
+line also used to hang on a rounding error, see
+:func:`~taxelkit.world.solids_revolution.revolution_lowest_segment_mm`).
+What could still move a figure at the margin elsewhere is what was not tried:
+NumPy's AVX-512 loops, another MuJoCo build, other library versions.
+:func:`run_environment` records what such a comparison needs to know.
 """
 
 from __future__ import annotations

@@ -17,6 +17,7 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit import _fixed_order as fo
 from taxelkit.motion.roll_paths import roll_cone, roll_straight, rotate_about_line
 from taxelkit.motion.rolling import E_Z, Pose
 from taxelkit.world.solids import AnalyticSolid
@@ -91,7 +92,7 @@ class Draws:
 def unit_h(v: NDArray[np.float64]) -> NDArray[np.float64]:
     """Horizontal part of ``v``, normalised."""
     h = np.array([v[0], v[1], 0.0])
-    out: NDArray[np.float64] = h / np.linalg.norm(h)
+    out: NDArray[np.float64] = h / math.hypot(float(v[0]), float(v[1]))
     return out
 
 
@@ -198,7 +199,7 @@ def balance_angle(pose: Pose, pivot: NDArray[np.float64], u: NDArray[np.float64]
     centroid ``w = c - pivot`` is above the line at ``atan2(-(w . u), w_z)``.
     """
     w = pose.centroid_mm - pivot
-    return math.atan2(-float(w @ u), float(w[2]))
+    return math.atan2(-fo.scalar_dot(w, u), float(w[2]))
 
 
 def landing_angle(
@@ -212,8 +213,8 @@ def landing_angle(
     """
     k = np.cross(E_Z, u)
     q = points - pivot
-    off_line = np.linalg.norm(q - np.outer(q @ k, k), axis=1) > 1e-6
-    angles = np.mod(np.arctan2(q[off_line, 2], q[off_line] @ u), 2.0 * math.pi)
+    off_line = fo.norm(q - np.outer(fo.dot(q, k), k)) > 1e-6
+    angles = np.mod(np.arctan2(q[off_line, 2], fo.dot(q[off_line], u)), 2.0 * math.pi)
     return float(np.min(angles))
 
 
@@ -229,7 +230,7 @@ def rim_lowest(pose: Pose, z: float, r: float) -> NDArray[np.float64]:
     if r == 0.0:
         return centre
     down = -(E_Z - a[2] * a)
-    out: NDArray[np.float64] = centre + r * down / np.linalg.norm(down)
+    out: NDArray[np.float64] = centre + r * down / fo.scalar_norm(down)
     return out
 
 
@@ -277,7 +278,7 @@ def stand_up(b: Builder, end: int, d: Draws) -> None:
     u = unit_h(pivot - rim_lowest(b.pose, *rim_list[1 - end]))
     a = b.pose.rotation[:, 2]
     normal = a if end == 1 else -a
-    angle = math.atan2(float(normal[2]), float(normal @ u)) + math.pi / 2.0
+    angle = math.atan2(float(normal[2]), fo.scalar_dot(normal, u)) + math.pi / 2.0
     k = np.cross(E_Z, u)
     speed = d.span(TIP_DEG_S)
     held = (1.0 - d.span(HOLD_FRACTION)) * angle
@@ -311,7 +312,7 @@ def roll_about_apex(b: Builder, turn_rad: float, speed_mm_s: float, end_label: s
     solid = b.solid
     assert isinstance(solid, Cone | TruncatedCone)
     apex, axis = apex_and_axis(solid, b.pose)
-    reach = max(float(np.linalg.norm(rim_lowest(b.pose, z, r) - apex)) for z, r in rims(solid))
+    reach = max(fo.scalar_norm(rim_lowest(b.pose, z, r) - apex) for z, r in rims(solid))
     pose = b.pose
     b.move(
         lambda u: roll_cone(pose, apex, axis, u * turn_rad),

@@ -14,6 +14,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit import _fixed_order as fo
 from taxelkit.motion.contact_truth import contact_state
 from taxelkit.motion.rolling import E_Z
 from taxelkit.world.pose import matrix_from_axis_angle
@@ -79,7 +80,7 @@ def contact_bounds(
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Lower and upper xy corner of the contact points turned by ``yaw``, margins included."""
     c, s = math.cos(yaw), math.sin(yaw)
-    turned = xy @ np.array([[c, s], [-s, c]])
+    turned = fo.matmul(xy, np.array([[c, s], [-s, c]]))
     low: NDArray[np.float64] = (turned - margin[:, None]).min(axis=0)
     high: NDArray[np.float64] = (turned + margin[:, None]).max(axis=0)
     return low, high
@@ -130,6 +131,4 @@ def yawed(
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """A whole track turned about the vertical through the origin (physics is unchanged)."""
     z = matrix_from_axis_angle(E_Z, yaw)
-    out_r: NDArray[np.float64] = z @ rots
-    out_c: NDArray[np.float64] = cents @ z.T
-    return out_r, out_c
+    return fo.matmul(z, rots), fo.rotate_points(cents, z)

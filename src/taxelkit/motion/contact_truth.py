@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from taxelkit import _fixed_order as fo
 from taxelkit.errors import InputError
 from taxelkit.world.base import Solid
 from taxelkit.world.pose import check_rotations
@@ -126,17 +127,16 @@ def contact_points_body_mm(solid: Solid, rotations: ArrayLike) -> NDArray[np.flo
 
 def _relative_world(rot: NDArray[np.float64], body: NDArray[np.float64]) -> NDArray[np.float64]:
     """Candidates rotated into the sensor frame, still relative to the reference point."""
-    out: NDArray[np.float64] = np.matmul(body, np.swapaxes(rot, 1, 2))
-    return out
+    return fo.rotate_points(body, rot)
 
 
 def _types_from(pts: NDArray[np.float64], touching: NDArray[np.bool_]) -> tuple[str, ...]:
     """Contact types from candidate points ``(P, K, 3)`` and which touch ``(P, K)``."""
     w = touching.astype(np.float64)
     w /= w.sum(axis=1, keepdims=True)
-    mean = np.matmul(w[:, None, :], pts)  # (P, 1, 3)
+    mean = fo.matmul(w[:, None, :], pts)  # (P, 1, 3)
     d = pts - mean
-    cov = np.matmul(np.swapaxes(d * w[..., None], 1, 2), d)
+    cov = fo.matmul(np.swapaxes(d * w[..., None], 1, 2), d)
     eig = np.linalg.eigvalsh(cov)  # ascending
     tol2 = CONTACT_SPREAD_MM**2
     kinds = np.where(eig[:, 2] <= tol2, 1, np.where(eig[:, 1] <= tol2, 2, 3))

@@ -36,6 +36,7 @@ from collections import deque
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit import _fixed_order as fo
 from taxelkit.errors import InputError, check_in_range, check_positive
 from taxelkit.motion._script import (
     HOLD_FRACTION,
@@ -126,7 +127,7 @@ def _edge_pivot(
     pivot = 0.5 * (v1 + v2)
     e = unit_h(v2 - v1)
     w = pivot - b.pose.centroid_mm
-    return solid, pivot, unit_h(w - (w @ e) * e)
+    return solid, pivot, unit_h(w - fo.scalar_dot(w, e) * e)
 
 
 def _tip(b: Builder, feats: MeshFeatures, d: Draws, edge: int, over: bool) -> None:

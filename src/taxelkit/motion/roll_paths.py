@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from taxelkit import _fixed_order as fo
 from taxelkit.errors import InputError, check_finite_array, check_positive
 from taxelkit.motion.rolling import E_Z, Pose
 from taxelkit.world.pose import matrix_from_axis_angle
@@ -74,8 +75,8 @@ def rotate_about_line(
     """
     p = _vector3("point_mm", point_mm)
     q = matrix_from_axis_angle(_unit("axis", axis), _samples("angles_rad", angles_rad))
-    rots: NDArray[np.float64] = q @ pose.rotation
-    cents: NDArray[np.float64] = p + (q @ (pose.centroid_mm - p))
+    rots = fo.matmul(q, pose.rotation)
+    cents = p + fo.matvec(q, pose.centroid_mm - p)
     return rots, cents
 
 
@@ -114,7 +115,7 @@ def roll_straight(
         raise InputError(f"direction must be horizontal (z = 0), got {d.tolist()}")
     s = _samples("distances_mm", distances_mm)
     q = matrix_from_axis_angle(np.cross(E_Z, d), s / r)
-    rots: NDArray[np.float64] = q @ pose.rotation
+    rots = fo.matmul(q, pose.rotation)
     cents: NDArray[np.float64] = pose.centroid_mm + s[:, None] * d
     return rots, cents
 
@@ -163,9 +164,9 @@ def roll_cone(
     if a[2] <= 1e-9:
         raise InputError(f"axis must rise from the apex (z > 0), got {a.tolist()}")
     phi = _samples("turns_rad", turns_rad)
-    q = matrix_from_axis_angle(E_Z, phi) @ matrix_from_axis_angle(a, -phi / a[2])
-    rots: NDArray[np.float64] = q @ pose.rotation
-    cents: NDArray[np.float64] = apex + (q @ (pose.centroid_mm - apex))
+    q = fo.matmul(matrix_from_axis_angle(E_Z, phi), matrix_from_axis_angle(a, -phi / a[2]))
+    rots = fo.matmul(q, pose.rotation)
+    cents = apex + fo.matvec(q, pose.centroid_mm - apex)
     return rots, cents
 
 

@@ -46,6 +46,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from taxelkit import _fixed_order as fo
 from taxelkit._arrays import readonly_copy
 from taxelkit.errors import InputError, check_finite_array, check_ndim
 from taxelkit.frames import TactileFrames
@@ -139,8 +140,7 @@ class Pose:
     def world_mm(self, body_mm: ArrayLike) -> NDArray[np.float64]:
         """Body-frame points ``(..., 3)`` mm in the sensor frame, ``c + R p``."""
         p = np.asarray(body_mm, dtype=np.float64)
-        out: NDArray[np.float64] = self.centroid_mm + p @ self.rotation.T
-        return out
+        return self.centroid_mm + fo.matvec(self.rotation, p)
 
 
 @dataclass(frozen=True, eq=False)

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit import _fixed_order as fo
 from taxelkit.motion._script import (
     CONE_TURN_DEG,
     CYLINDER_ROLL_MM,
@@ -117,7 +118,7 @@ def polyhedron_tips(b: Builder, d: Draws, lim: Limits) -> None:
         pivot = 0.5 * (v1 + v2)
         e = unit_h(v2 - v1)
         w = pivot - b.pose.centroid_mm
-        u = unit_h(w - (w @ e) * e)
+        u = unit_h(w - fo.scalar_dot(w, e) * e)
         balance = balance_angle(b.pose, pivot, u)
         landing = landing_angle(b.pose.world_mm(solid.vertices_mm), pivot, u)
         k = np.cross(E_Z, u)

@@ -13,7 +13,8 @@ position that are combinations of the four *basis functions*
 need ``q`` as well). The sensor samples every pose on the same grid, shifted
 by the pose's position, so all these functions are evaluated for a whole batch
 by one matrix product ``(poses x functions, 4) @ (4, grid points)`` against a
-shared basis; the per-solid combination that follows (maxima, minima, a square
+shared basis (summed term by term in a fixed order, the same bits on every
+CPU); the per-solid combination that follows (maxima, minima, a square
 root) runs on contiguous blocks that stay in cache. Per-pose coefficients are
 computed in float64 and cast to the grid's dtype before the grid work, so a
 float32 grid is evaluated in float32 (a solid may ask for float64 on the few
@@ -34,6 +35,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from taxelkit._fixed_order import matmul as fo_matmul
 from taxelkit.errors import InputError, check_finite_array
 
 __all__ = [
@@ -251,6 +253,7 @@ class _Buffers:
 
     def __init__(self, dtype: np.dtype[Any], rows: int, work: int, block: int, n_pts: int):
         self.slabs = np.empty((rows * block, n_pts), dtype=dtype)
+        self.term = np.empty((rows * block, n_pts), dtype=dtype)
         self.work = np.empty((work + 1, block, n_pts), dtype=dtype)
 
 
@@ -320,12 +323,13 @@ def _evaluate_group(
         cb = coef[a : a + m]
         if basis is not None:
             lhs = np.ascontiguousarray(cb.transpose(1, 0, 2)).reshape(n_rows * m, -1)
-            slabs = np.matmul(lhs, basis, out=buf.slabs[: n_rows * m])
+            slabs = _combine_basis(lhs, basis, buf.slabs[: n_rows * m], buf.term[: n_rows * m])
             slabs = slabs.reshape(n_rows, m, n_pts)
         else:
             assert grid.pose_basis is not None
             sel = slice(a, a + m) if idx is None else idx[a : a + m]
-            slabs = np.matmul(cb, grid.pose_basis[sel].astype(dtype)).transpose(1, 0, 2)
+            pose_basis = grid.pose_basis[sel].astype(dtype)
+            slabs = fo_matmul(cb, pose_basis).astype(dtype, copy=False).transpose(1, 0, 2)
         work = [buf.work[i, :m] for i in range(group.n_work)]
         rows = slice(start + a, start + a + m) if contiguous else idx[a : a + m]  # type: ignore[index]
         if direct:
@@ -334,6 +338,24 @@ def _evaluate_group(
             target = scatter[:m]
             group.combine(slabs, work, target, pvals[a : a + m])
             flat[rows] = target
+
+
+def _combine_basis(
+    lhs: NDArray[Any], basis: NDArray[Any], out: NDArray[Any], term: NDArray[Any]
+) -> NDArray[Any]:
+    """``lhs @ basis`` (``(R, 4) @ (4, N)``) into ``out``, summed in a fixed order.
+
+    Not ``np.matmul``: its BLAS picks a kernel for the CPU (with fused
+    multiply-adds or without), and a point exactly on a body's boundary, a
+    tie of ``lo <= hi``, then falls on one side on one machine and on the
+    other elsewhere. Multiplying and adding column by column gives the same
+    bits everywhere.
+    """
+    out[...] = lhs[:, :1]  # the first basis function is 1
+    for k in range(1, basis.shape[0]):
+        np.multiply(lhs[:, k : k + 1], basis[k : k + 1], out=term)
+        np.add(out, term, out=out)
+    return out
 
 
 def finish_interval(

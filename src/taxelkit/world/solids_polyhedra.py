@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from taxelkit import _fixed_order as fo
 from taxelkit.errors import check_positive
 from taxelkit.world.solid_methods import SolidMethods
 from taxelkit.world.solids_grid import (
@@ -105,12 +106,11 @@ def polytope_lowest_point_mm(
         the mean of the tied vertices.
     """
     rot = as_rotation_batch(rotations)
-    z = rot[:, 2, :] @ vertices_mm.T  # (P, V): heights of the rotated vertices
+    z = fo.matmul(rot[:, 2, :], vertices_mm.T)  # (P, V): heights of the rotated vertices
     tied = (z <= z.min(axis=1, keepdims=True) + LOWEST_TIE_MM).astype(np.float64)
     tied /= tied.sum(axis=1, keepdims=True)
-    body = tied @ vertices_mm  # mean of the tied vertices, body frame (P, 3)
-    low: NDArray[np.float64] = np.einsum("pij,pj->pi", rot, body)
-    return low
+    body = fo.matmul(tied, vertices_mm)  # mean of the tied vertices, body frame (P, 3)
+    return fo.matvec(rot, body)
 
 
 def polytope_lowest_segment_mm(
@@ -126,19 +126,17 @@ def polytope_lowest_segment_mm(
         face is sampled well and needs no groove), relative to the reference point.
     """
     rot = as_rotation_batch(rotations)
-    z = rot[:, 2, :] @ vertices_mm.T  # (P, V) heights of the rotated vertices
+    z = fo.matmul(rot[:, 2, :], vertices_mm.T)  # (P, V) heights of the rotated vertices
     tied = z <= z.min(axis=1, keepdims=True) + LOWEST_TIE_MM
     count = tied.sum(axis=1)
     first = np.argmax(tied, axis=1)
     last = tied.shape[1] - 1 - np.argmax(tied[:, ::-1], axis=1)
     weights = tied / count[:, None]
-    centre = weights @ vertices_mm  # mean of the tied vertices, body frame
+    centre = fo.matmul(weights, vertices_mm)  # mean of the tied vertices, body frame
     edge = count == 2
     a = np.where(edge[:, None], vertices_mm[first], centre)
     b = np.where(edge[:, None], vertices_mm[last], centre)
-    out: NDArray[np.float64] = np.stack(
-        [np.einsum("pij,pj->pi", rot, a), np.einsum("pij,pj->pi", rot, b)], axis=1
-    )
+    out: NDArray[np.float64] = np.stack([fo.matvec(rot, a), fo.matvec(rot, b)], axis=1)
     return out
 
 
@@ -158,7 +156,7 @@ def polytope_lowest_z_mm(
     (P,) float64, mm
     """
     rot = as_rotation_batch(rotations)
-    z: NDArray[np.float64] = (rot[:, 2, :] @ vertices_mm.T).min(axis=1)
+    z: NDArray[np.float64] = fo.matmul(rot[:, 2, :], vertices_mm.T).min(axis=1)
     return z
 
 
@@ -236,8 +234,8 @@ def polytope_bottom_mm(
     n_poses = rot.shape[0]
     if n_poses == 0:
         return evaluate_bottom(grid, [])
-    # Rotated normals, one BLAS call: n[p, i, f] = sum_j R[p, i, j] normals[f, j].
-    n = (rot.reshape(-1, 3) @ normals.T).reshape(n_poses, 3, -1)
+    # Rotated normals: n[p, i, f] = sum_j R[p, i, j] normals[f, j].
+    n = fo.matmul(rot.reshape(-1, 3), normals.T).reshape(n_poses, 3, -1)
     nx, ny, nz = n[:, 0], n[:, 1], n[:, 2]
     sign = np.sign(nz)
     # Exactly vertical faces: split opposite faces between "lower" and "upper".

@@ -32,8 +32,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit import _fixed_order as fo
 from taxelkit.motion.engines._mjcf import GRAVITY_M_S2, M_PER_MM
-from taxelkit.motion.rolling import E_Z
 from taxelkit.world.solids import AnalyticSolid
 from taxelkit.world.solids_round import Cone, TruncatedCone
 
@@ -89,8 +89,7 @@ class Hand:
     ramp: str = ""
 
     def inertia_world(self, rot: NDArray[np.float64]) -> NDArray[np.float64]:
-        out: NDArray[np.float64] = rot @ self.inertia_body @ rot.T
-        return out
+        return fo.matmul(fo.matmul(rot, self.inertia_body), rot.T)
 
     def rest_z_m(self, rot: NDArray[np.float64]) -> float:
         """Centroid height with the body resting on the plate in this orientation, m."""
@@ -103,7 +102,7 @@ class Hand:
         f[:2] = -self.mass_kg * 2.0 * w * s.vel_m_s[:2]
         acc = w * w * (z_m - s.pos_m[2]) + 2.0 * w * (vz_m_s - s.vel_m_s[2])
         f[2] = self.mass_kg * (GRAVITY_M_S2 + acc)
-        f[3:] = -2.0 * w * (self.inertia_world(s.rot) @ s.omega_rad_s)
+        f[3:] = -2.0 * w * fo.matvec(self.inertia_world(s.rot), s.omega_rad_s)
         return f
 
 
@@ -220,7 +219,7 @@ class Push(Segment):
         else:
             a = s.rot[:, 2]  # e_z x a, horizontal: across the axis
             d = self.sign * np.array([-a[1], a[0]]) / max(math.hypot(a[0], a[1]), 1e-12)
-            err = (speed - float(s.vel_m_s[:2] @ d)) * d
+            err = (speed - fo.scalar_dot(s.vel_m_s[:2], d)) * d
         self._integral += err * (s.t_s - self._last_s)
         self._last_s = s.t_s
         f = np.zeros(6)
@@ -234,7 +233,8 @@ def _centroid_over_far_rim(solid: Cone | TruncatedCone, s: BodyState) -> float:
     a = s.rot[:, 2]
     apex = s.pos_m / M_PER_MM + prof.vertex_z_mm * a
     reach = max(math.hypot(r, z - prof.vertex_z_mm) for z, r in prof.rims)
-    centroid_h = float(np.linalg.norm((s.pos_m / M_PER_MM - apex)[:2]))
+    h = s.pos_m / M_PER_MM - apex
+    centroid_h = math.hypot(float(h[0]), float(h[1]))
     return centroid_h / reach
 
 
@@ -249,7 +249,7 @@ class Brake(Segment):
             return None
         f = np.zeros(6)
         f[:2] = -hand.mass_kg * s.vel_m_s[:2] / PUSH_TIMECONST_S
-        iz = float(E_Z @ hand.inertia_world(s.rot) @ E_Z)
+        iz = float(hand.inertia_world(s.rot)[2, 2])
         f[5] = -iz * s.omega_rad_s[2] / PUSH_TIMECONST_S
         return f
 
@@ -281,7 +281,7 @@ class Spin(Segment):
         self._last_s = s.t_s
         f = np.zeros(6)
         f[:2] = -hand.mass_kg * s.vel_m_s[:2] / PUSH_TIMECONST_S
-        iz = float(E_Z @ hand.inertia_world(s.rot) @ E_Z)
+        iz = float(hand.inertia_world(s.rot)[2, 2])
         f[5] = iz * (err / PUSH_TIMECONST_S + self._integral / PUSH_TIMECONST_S**2)
         return f
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit import _fixed_order as fo
 from taxelkit.motion import _script as sc
 from taxelkit.motion.engines import _mj_hand as mh
 from taxelkit.motion.engines import _mj_tip as mt
@@ -173,7 +174,7 @@ def start_rotation(plan: Plan, d: sc.Draws, allow_lay: bool) -> tuple[NDArray[np
             b = sc.Builder(solid, sc.rest_pose(solid, base), rate_hz=1.0, depth_mm=1.0)
             sc.lay_silently(b, np.array([1.0, 0.0, 0.0]))
             base = b.pose.rotation
-    out: NDArray[np.float64] = matrix_from_axis_angle(E_Z, plan.yaw) @ base
+    out = fo.matmul(matrix_from_axis_angle(E_Z, plan.yaw), base)
     return out, not on_side
 
 

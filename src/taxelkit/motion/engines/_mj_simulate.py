@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit import _fixed_order as fo
 from taxelkit.errors import InputError
 from taxelkit.motion import _script as sc
 from taxelkit.motion.engines import _mj_hand as mh
@@ -61,7 +62,9 @@ def simulate(
     mujoco.mju_quat2Mat(ri, model.body_iquat[bid])
     ri3 = ri.reshape(3, 3)
     hand = mh.Hand(
-        plan.solid, float(model.body_mass[bid]), ri3 @ np.diag(model.body_inertia[bid]) @ ri3.T
+        plan.solid,
+        float(model.body_mass[bid]),
+        fo.matmul(fo.matmul(ri3, np.diag(model.body_inertia[bid])), ri3.T),
     )
     rest = sc.rest_pose(plan.solid, rotation0)
     quat = np.zeros(4)
@@ -130,7 +133,7 @@ def _state(data: Any, bid: int, t: float, touching: bool) -> mh.BodyState:
         pos_m=np.array(data.qpos[:3]),
         rot=rot,
         vel_m_s=np.array(data.qvel[:3]),
-        omega_rad_s=rot @ np.array(data.qvel[3:6]),
+        omega_rad_s=fo.matvec(rot, np.array(data.qvel[3:6])),
         touching=touching,
     )
 

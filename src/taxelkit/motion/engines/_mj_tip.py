@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit import _fixed_order as fo
 from taxelkit.motion._script import balance_angle, landing_angle, unit_h
 from taxelkit.motion.engines._mj_hand import BodyState, Hand, Segment, smooth_step
 from taxelkit.motion.engines._mjcf import GRAVITY_M_S2, M_PER_MM
@@ -97,10 +98,10 @@ class Tip(Segment):
         self.pivot_xy_mm = (float(pivot[0]), float(pivot[1]))
         k = np.cross(E_Z, u)
         lever = pose.centroid_mm - pivot
-        lever_perp = (lever - (lever @ k) * k) * M_PER_MM
-        self._ik = float(k @ hand.inertia_world(s.rot) @ k) + hand.mass_kg * float(
-            lever_perp @ lever_perp
-        )
+        lever_perp = (lever - fo.scalar_dot(lever, k) * k) * M_PER_MM
+        self._ik = fo.scalar_dot(
+            k, fo.matvec(hand.inertia_world(s.rot), k)
+        ) + hand.mass_kg * fo.scalar_dot(lever_perp, lever_perp)
 
     def _target(self, tau: float) -> tuple[float, float]:
         hold, final, t1, t2, t3 = self._plan
@@ -117,9 +118,9 @@ class Tip(Segment):
         if tau >= self._plan[4]:
             return None
         k = np.array([-self._u[1], self._u[0], 0.0])  # e_z x u
-        a = s.rot @ self._a0
-        angle = math.atan2(float(a @ self._u), float(a[2]))
-        rate = float(s.omega_rad_s @ k)
+        a = fo.matvec(s.rot, self._a0)
+        angle = math.atan2(fo.scalar_dot(a, self._u), float(a[2]))
+        rate = fo.scalar_dot(s.omega_rad_s, k)
         target, target_rate = self._target(tau)
         w = 2.0 * math.pi * TILT_BANDWIDTH_HZ
         lever = s.pos_m - self._pivot * M_PER_MM
@@ -130,7 +131,7 @@ class Tip(Segment):
         torque_k -= gravity_moment
         f = np.zeros(6)
         omega_off = s.omega_rad_s - rate * k
-        f[3:] = torque_k * k - 2.0 * w * (hand.inertia_world(s.rot) @ omega_off)
+        f[3:] = torque_k * k - 2.0 * w * fo.matvec(hand.inertia_world(s.rot), omega_off)
         return f
 
 
@@ -155,7 +156,7 @@ def _pick_edge(
     pivot = mids[j].copy()
     pivot[2] = 0.0
     w = pivot - pose.centroid_mm
-    u = unit_h(w - (w @ e) * e)
+    u = unit_h(w - fo.scalar_dot(w, e) * e)
     return pivot, u
 
 

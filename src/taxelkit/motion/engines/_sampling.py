@@ -39,6 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit import _fixed_order as fo
 from taxelkit.motion.array_placement import EDGE_MARGIN_MM, patch_halfwidth_mm
 from taxelkit.motion.contact_truth import CONTACT_TYPES, contact_points_body_mm
 from taxelkit.world.solids import AnalyticSolid
@@ -250,13 +251,13 @@ def _touching(
     """Candidate points ``(P, K, 3)`` (sensor orientation, relative to the centroid),
     which of them touch ``(P, K)``, and the contact type index ``(P,)`` (1 point,
     2 line, 3 area)."""
-    pts = np.matmul(contact_points_body_mm(solid, rot), np.swapaxes(rot, 1, 2))
+    pts = fo.rotate_points(contact_points_body_mm(solid, rot), rot)
     z = pts[..., 2]
     touch = z <= z.min(axis=1, keepdims=True) + PHYSICS_TIE_MM
     w = touch.astype(np.float64)
     w /= w.sum(axis=1, keepdims=True)
-    d = pts - np.matmul(w[:, None, :], pts)
-    cov = np.matmul(np.swapaxes(d * w[..., None], 1, 2), d)
+    d = pts - fo.matmul(w[:, None, :], pts)
+    cov = fo.matmul(np.swapaxes(d * w[..., None], 1, 2), d)
     eig = np.linalg.eigvalsh(cov)
     tol2 = PHYSICS_SPREAD_MM**2
     kind = np.where(eig[:, 2] <= tol2, 1, np.where(eig[:, 1] <= tol2, 2, 3))

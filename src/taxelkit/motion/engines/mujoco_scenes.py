@@ -63,6 +63,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit import _fixed_order as fo
 from taxelkit.errors import InputError, check_in_range, check_positive
 from taxelkit.motion.array_placement import fit_on_array
 from taxelkit.motion.engines import _mj_hand as mh
@@ -278,8 +279,8 @@ def _sampled(
     turn, shift = placed
     rots, cents, t_s, nearest = sample_record(rec, PHYSICS_HZ, rate)
     z = matrix_from_axis_angle(E_Z, turn)
-    rots = z @ rots
-    cents = cents @ z.T
+    rots = fo.matmul(z, rots)
+    cents = fo.rotate_points(cents, z)
     rest = -plan.solid.lowest_z_mm(rots)
     gap_mm = cents[:, 2] - rest
     touching = rec.touching[nearest]

@@ -1,0 +1,125 @@
+"""Simulated frames and physics rollouts do not depend on the CPU's BLAS kernels.
+
+OpenBLAS picks its kernels by CPU (with fused multiply-adds or without), and
+another kernel rounds a matrix product differently in the last place. Forcing
+an old kernel with ``OPENBLAS_CORETYPE=Prescott`` stands in for another
+machine. Before the products on these paths were summed in a fixed order
+(:mod:`taxelkit._fixed_order`), a point on a body's boundary fell on either
+side of it (240 frames/s kinematic rolls differed in their frames) and every
+MuJoCo scene's rollout drifted (the hand reads the body's state each step).
+Where NumPy's BLAS is not OpenBLAS the override does nothing and the tests
+hold trivially.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from taxelkit import _fixed_order as fo
+
+_KINEMATIC = """
+import hashlib, numpy as np
+from taxelkit.motion.engines import scenarios_from_engine
+from taxelkit.motion.rolling import frames_from_scenario
+from taxelkit.sensors.presets import BONNEVILLE_16X16
+h = hashlib.sha256()
+for i, name in enumerate(("sphere", "cylinder", "cone", "truncated-cone", "cube", "tetrahedron")):
+    for rate in (20.0, 240.0):
+        g = np.random.default_rng(i)
+        sc = scenarios_from_engine("kinematic", name, rates_hz=(rate,), rng=g)[0]
+        h.update(np.ascontiguousarray(sc.rotations))
+        h.update(np.ascontiguousarray(frames_from_scenario(BONNEVILLE_16X16, sc, rng=i).frames))
+print(h.hexdigest())
+"""
+
+_MUJOCO = """
+import hashlib, numpy as np
+from taxelkit.motion.engines.mujoco_scenes import mujoco_scene
+from taxelkit.motion.rolling import frames_from_scenario
+from taxelkit.sensors.presets import BONNEVILLE_16X16
+h = hashlib.sha256()
+for name in ("cone", "cube"):
+    sc = mujoco_scene(name, rng=0).scenario
+    h.update(np.ascontiguousarray(sc.rotations))
+    h.update(np.ascontiguousarray(sc.positions_mm))
+    h.update(np.ascontiguousarray(frames_from_scenario(BONNEVILLE_16X16, sc, rng=0).frames))
+print(h.hexdigest())
+"""
+
+
+def _digest(script: str, **env: str) -> str:
+    out = subprocess.run(
+        [sys.executable, "-c", script],
+        capture_output=True,
+        text=True,
+        env={**os.environ, "OPENBLAS_NUM_THREADS": "1", **env},
+        check=True,
+    )
+    return out.stdout.strip()
+
+
+def test_kinematic_frames_do_not_depend_on_the_blas_kernel() -> None:
+    # 240 frames/s rolls differed in their frames before the skin's basis product
+    # was summed in a fixed order
+    assert _digest(_KINEMATIC) == _digest(_KINEMATIC, OPENBLAS_CORETYPE="Prescott")
+
+
+@pytest.mark.skipif(
+    importlib.util.find_spec("mujoco") is None,
+    reason='the MuJoCo engine is an optional extra: pip install "taxelkit[mujoco]"',
+)
+def test_mujoco_rollouts_do_not_depend_on_the_blas_kernel() -> None:
+    # both scenes' rotations differed before the hand's products were summed in a
+    # fixed order; the cone's frames too
+    assert _digest(_MUJOCO) == _digest(_MUJOCO, OPENBLAS_CORETYPE="Prescott")
+
+
+def _python_sum(a: np.ndarray, b: np.ndarray) -> float:
+    total = 0.0
+    for x, y in zip(a.tolist(), b.tolist(), strict=True):
+        total = total + x * y
+    return total
+
+
+def test_products_are_summed_from_the_first_index() -> None:
+    rng = np.random.default_rng(3)
+    m = rng.normal(size=(5, 4, 3))
+    v = rng.normal(size=(5, 3))
+    b = rng.normal(size=(5, 3, 2))
+    mv = fo.matvec(m, v)
+    mm = fo.matmul(m, b)
+    for p in range(5):
+        for i in range(4):
+            assert mv[p, i] == _python_sum(m[p, i], v[p])  # bit for bit
+            for j in range(2):
+                assert mm[p, i, j] == _python_sum(m[p, i], b[p, :, j])
+        # one small matrix takes the Python-float path: the same bits as the batch
+        np.testing.assert_array_equal(fo.matvec(m[p], v[p]), mv[p])
+        np.testing.assert_array_equal(fo.matmul(m[p], b[p]), mm[p])
+        assert fo.dot(v[p], v[p]) == _python_sum(v[p], v[p])
+        assert fo.scalar_norm(v[p]) == np.sqrt(_python_sum(v[p], v[p]))
+    np.testing.assert_allclose(mv, np.einsum("pij,pj->pi", m, v), rtol=1e-13, atol=1e-14)
+    np.testing.assert_allclose(mm, m @ b, rtol=1e-13, atol=1e-14)
+
+
+def test_shapes_broadcast_like_numpy() -> None:
+    rng = np.random.default_rng(4)
+    r = rng.normal(size=(3, 3))
+    pts = rng.normal(size=(7, 3))
+    rots = rng.normal(size=(6, 3, 3))
+    np.testing.assert_allclose(fo.rotate_points(pts, r), pts @ r.T, rtol=1e-13, atol=1e-14)
+    np.testing.assert_allclose(fo.matvec(r, pts), pts @ r.T, rtol=1e-13, atol=1e-14)
+    np.testing.assert_allclose(fo.matmul(r, rots), r @ rots, rtol=1e-13, atol=1e-14)
+    np.testing.assert_allclose(fo.norm(pts), np.linalg.norm(pts, axis=1), rtol=1e-14)
+    assert fo.matmul(np.ones((2, 3)), np.ones((3, 4))).shape == (2, 4)
+    assert fo.dot(np.ones(3), np.ones(3)).shape == ()
+    # empty batches keep their shapes on both paths
+    assert fo.matmul(np.ones((0, 3)), np.ones((3, 4))).shape == (0, 4)
+    assert fo.matmul(np.ones((0, 3)), np.ones((3, 8))).shape == (0, 8)
+    assert fo.matvec(np.ones((0, 3)), np.ones(3)).shape == (0,)
