@@ -31,6 +31,8 @@ _SMALL = 16
 
 def _sum_of_products(x: list[float], y: list[float]) -> float:
     """``x[0] * y[0] + x[1] * y[1] + ...`` from the left (the array code's order)."""
+    if len(x) == 3:
+        return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]
     acc = x[0] * y[0]
     for k in range(1, len(x)):
         acc = acc + x[k] * y[k]
@@ -74,8 +76,12 @@ def matvec(m: ArrayLike, v: ArrayLike) -> NDArray[np.float64]:
     a = np.asarray(m, dtype=np.float64)
     if a.ndim == 2 and np.ndim(v) == 1 and a.size <= _SMALL:
         xs = np.asarray(v, dtype=np.float64).tolist()
-        rows = [_sum_of_products(row, xs) for row in a.tolist()]
-        return np.array(rows, dtype=np.float64).reshape(a.shape[0])
+        if len(xs) == 3:  # the physics step's case, written out (same order)
+            x0, x1, x2 = xs
+            rows = [r[0] * x0 + r[1] * x1 + r[2] * x2 for r in a.tolist()]
+        else:
+            rows = [_sum_of_products(row, xs) for row in a.tolist()]
+        return np.array(rows, dtype=np.float64) if rows else np.zeros(0)
     x = np.asarray(v, dtype=np.float64)[..., None, :]
     out: NDArray[np.float64] = a[..., :, 0] * x[..., 0]
     for k in range(1, a.shape[-1]):
@@ -99,8 +105,11 @@ def matmul(a: ArrayLike, b: ArrayLike) -> NDArray[np.float64]:
     y = np.asarray(b, dtype=np.float64)
     if x.ndim == 2 and y.ndim == 2 and x.size <= _SMALL and y.size <= _SMALL:
         cols = y.T.tolist()
-        cells = [[_sum_of_products(row, c) for c in cols] for row in x.tolist()]
-        return np.array(cells, dtype=np.float64).reshape(x.shape[0], y.shape[1])
+        if x.shape[1] == 3:  # the physics step's case, written out (same order)
+            cells = [[r[0] * c[0] + r[1] * c[1] + r[2] * c[2] for c in cols] for r in x.tolist()]
+        else:
+            cells = [[_sum_of_products(row, c) for c in cols] for row in x.tolist()]
+        return np.array(cells, dtype=np.float64) if cells else np.zeros((0, y.shape[1]))
     out: NDArray[np.float64] = x[..., :, 0, None] * y[..., None, 0, :]
     for k in range(1, x.shape[-1]):
         out = out + x[..., :, k, None] * y[..., None, k, :]

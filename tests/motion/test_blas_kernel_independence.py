@@ -104,6 +104,12 @@ def test_products_are_summed_from_the_first_index() -> None:
         np.testing.assert_array_equal(fo.matmul(m[p], b[p]), mm[p])
         assert fo.dot(v[p], v[p]) == _python_sum(v[p], v[p])
         assert fo.scalar_norm(v[p]) == np.sqrt(_python_sum(v[p], v[p]))
+    xy = rng.normal(size=(5, 2))  # a small matrix with two columns: the general small path
+    turn = rng.normal(size=(2, 2))
+    small = fo.matmul(xy, turn)
+    for i in range(5):
+        for j in range(2):
+            assert small[i, j] == _python_sum(xy[i], turn[:, j])
     np.testing.assert_allclose(mv, np.einsum("pij,pj->pi", m, v), rtol=1e-13, atol=1e-14)
     np.testing.assert_allclose(mm, m @ b, rtol=1e-13, atol=1e-14)
 

@@ -208,9 +208,9 @@ def test_a_held_contact_costs_the_same_per_frame_at_its_end_as_at_its_start() ->
     costs = []
     for _ in range(n // window):
         block = core[None] | ((rng.random((window, 16, 16)) < 0.2) & np.roll(core, 1, 0)[None])
-        t0 = time.perf_counter()
+        t0 = time.process_time()  # this process's CPU: other work on the machine does not count
         sensor.push_many(block)
-        costs.append(time.perf_counter() - t0)
+        costs.append(time.process_time() - t0)
     assert len(sensor.classes.runs()) <= 3  # one contact, held
     seg = sensor._stream._seg
     assert seg is not None and seg.size == n

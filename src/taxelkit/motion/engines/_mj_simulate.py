@@ -39,6 +39,10 @@ TOUCH_GAP_MM = 0.005
 _MAX_DURATION_S = 60.0
 
 
+#: The hand's press ramp per step, as stored in the step record.
+_RAMP_CODES = {"": 0, "placing": 1, "lifting": 2}
+
+
 def import_mujoco() -> Any:
     try:
         import mujoco
@@ -86,21 +90,16 @@ def simulate(
         if ncon:  # material velocity of the body at its contact points
             rel = data.contact.pos[:ncon] - s.pos_m
             w = s.omega_rad_s
-            v = s.vel_m_s + np.column_stack(  # v + w x rel
-                [
-                    w[1] * rel[:, 2] - w[2] * rel[:, 1],
-                    w[2] * rel[:, 0] - w[0] * rel[:, 2],
-                    w[0] * rel[:, 1] - w[1] * rel[:, 0],
-                ]
-            )
-            slip_now = float(np.max(np.hypot(v[:, 0], v[:, 1]))) / M_PER_MM
+            vx = s.vel_m_s[0] + (w[1] * rel[:, 2] - w[2] * rel[:, 1])  # v + w x rel
+            vy = s.vel_m_s[1] + (w[2] * rel[:, 0] - w[0] * rel[:, 2])
+            slip_now = float(np.hypot(vx, vy).max()) / M_PER_MM
         wrench = segments[seg_i].wrench(hand, s)
         while wrench is None and seg_i + 1 < len(segments):
             seg_i += 1
             segments[seg_i].start(hand, s)
             wrench = segments[seg_i].wrench(hand, s)
-        ramp = {"": 0, "placing": 1, "lifting": 2}[hand.ramp]
-        rows.append((*data.qpos[:7], ncon > 0, hand.press, ramp, slip_now))
+        ramp = _RAMP_CODES[hand.ramp]
+        rows.append((*data.qpos[:7].tolist(), ncon > 0, hand.press, ramp, slip_now))
         if wrench is None:
             break
         data.xfrc_applied[bid] = wrench
