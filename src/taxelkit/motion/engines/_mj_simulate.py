@@ -77,6 +77,11 @@ def simulate(
     data.qpos[3:7] = quat
     radius_mm = bounding_radius_mm(plan.solid)
     rows: list[tuple[float, ...]] = []
+    # the contact points of the steps in contact and the body's motion then, for the
+    # slip of its material contact points (computed after the loop, all at once)
+    contact_pos: list[NDArray[np.float64]] = []
+    contact_steps: list[int] = []
+    contact_motion: list[tuple[float, ...]] = []
     seg_i = 0
     mujoco.mj_forward(model, data)
     segments[0].start(hand, _state(data, bid, 0.0, False))
@@ -86,20 +91,19 @@ def simulate(
         t = step / PHYSICS_HZ
         ncon = int(data.ncon)
         s = _state(data, bid, t, ncon > 0)
-        slip_now = 0.0
-        if ncon:  # material velocity of the body at its contact points
-            rel = data.contact.pos[:ncon] - s.pos_m
-            w = s.omega_rad_s
-            vx = s.vel_m_s[0] + (w[1] * rel[:, 2] - w[2] * rel[:, 1])  # v + w x rel
-            vy = s.vel_m_s[1] + (w[2] * rel[:, 0] - w[0] * rel[:, 2])
-            slip_now = float(np.hypot(vx, vy).max()) / M_PER_MM
+        if ncon:
+            contact_pos.append(data.contact.pos[:ncon].copy())
+            contact_steps.append(len(rows))
+            contact_motion.append(
+                (*s.pos_m.tolist(), *s.vel_m_s[:2].tolist(), *s.omega_rad_s.tolist())
+            )
         wrench = segments[seg_i].wrench(hand, s)
         while wrench is None and seg_i + 1 < len(segments):
             seg_i += 1
             segments[seg_i].start(hand, s)
             wrench = segments[seg_i].wrench(hand, s)
         ramp = _RAMP_CODES[hand.ramp]
-        rows.append((*data.qpos[:7].tolist(), ncon > 0, hand.press, ramp, slip_now))
+        rows.append((*data.qpos[:7].tolist(), ncon > 0, hand.press, ramp))
         if wrench is None:
             break
         data.xfrc_applied[bid] = wrench
@@ -109,8 +113,9 @@ def simulate(
     centroids = arr[:, :3] / M_PER_MM
     gap = centroids[:, 2] + plan.solid.lowest_z_mm(matrices_from_quats(quats))
     touching = (arr[:, 7] > 0.5) | (gap < TOUCH_GAP_MM)
+    slip_now = _contact_slip_mm_s(arr.shape[0], contact_pos, contact_steps, contact_motion)
     speed, spin, slip = motion_measures(  # the script ends after at most _MAX_DURATION_S
-        quats, centroids, arr[:, 10], radius_mm=radius_mm, steps_per_s=PHYSICS_HZ
+        quats, centroids, slip_now, radius_mm=radius_mm, steps_per_s=PHYSICS_HZ
     )
     return StepRecord(
         quats=quats,
@@ -122,6 +127,34 @@ def simulate(
         spin_share=spin,
         slip_mm_s=slip,
     )
+
+
+def _contact_slip_mm_s(
+    n_steps: int,
+    contact_pos: list[NDArray[np.float64]],
+    contact_steps: list[int],
+    contact_motion: list[tuple[float, ...]],
+) -> NDArray[np.float64]:
+    """Fastest horizontal speed of the body's material contact points per step, mm/s.
+
+    ``contact_pos[i]`` holds the contact points (m) of step ``contact_steps[i]``
+    and ``contact_motion[i]`` the centroid (m), its horizontal velocity (m/s)
+    and the angular velocity (rad/s) then; steps without contact get 0. The
+    material velocity is ``v + w x (p - c)``, elementwise as per step.
+    """
+    out = np.zeros(n_steps)
+    if not contact_steps:
+        return out
+    counts = np.array([p.shape[0] for p in contact_pos])
+    pts = np.concatenate(contact_pos)
+    m = np.repeat(np.array(contact_motion), counts, axis=0)  # (points, 8)
+    rel = pts - m[:, :3]
+    w0, w1, w2 = m[:, 5], m[:, 6], m[:, 7]
+    vx = m[:, 3] + (w1 * rel[:, 2] - w2 * rel[:, 1])  # v + w x rel
+    vy = m[:, 4] + (w2 * rel[:, 0] - w0 * rel[:, 2])
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    out[np.array(contact_steps)] = np.maximum.reduceat(np.hypot(vx, vy), starts) / M_PER_MM
+    return out
 
 
 def _state(data: Any, bid: int, t: float, touching: bool) -> mh.BodyState:
