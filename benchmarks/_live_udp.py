@@ -29,7 +29,7 @@ path, port, rate, n, size = sys.argv[1], *map(float, sys.argv[2:])
 port, n, size = int(port), int(n), int(size)
 data = open(path, "rb").read()
 count = len(data) // size
-packets = [data[i * size:(i + 1) * size] for i in range(count)]
+view = memoryview(data)  # packets cut as they are sent: a long file starts at once
 out = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
 out.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, 4 << 20)
 address = ("127.0.0.1", port)
@@ -39,7 +39,8 @@ sent = 0
 while sent < n:
     due = min(n, int((time.perf_counter() - start) * rate) + 1)
     while sent < due:
-        out.sendto(packets[sent % count], address)
+        i = sent % count
+        out.sendto(view[i * size:(i + 1) * size], address)
         sent += 1
     time.sleep(0.0005)
 print(time.perf_counter() - start, flush=True)
