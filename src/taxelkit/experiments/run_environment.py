@@ -2,8 +2,8 @@
 
 The same seed gives byte-identical JSON on the same machine and libraries,
 and the simulation no longer depends on the CPU's BLAS kernels: the small
-products of the skin, the motion scripts and MuJoCo's scripted hand are
-summed in a fixed order (``taxelkit._fixed_order``; a lying body's contact
+products of the skin, the motion scripts, the mesh roller and MuJoCo's
+scripted hand are summed in a fixed order (``taxelkit._fixed_order``; a lying body's contact
 line also used to hang on a rounding error, see
 :func:`~taxelkit.world.solids_revolution.revolution_lowest_segment_mm`).
 What could still move a figure at the margin elsewhere is what was not tried:

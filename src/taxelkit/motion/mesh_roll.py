@@ -5,7 +5,9 @@ horizontal axis ``e_z x d`` through its lowest point farthest along the
 direction of travel ``d``, sets it back on the plane, and repeats: rolling
 without slip and without spin for a smooth body, tipping over the front edge
 for a face. The scripts of :mod:`taxelkit.motion.mesh_scenarios` roll learnt
-meshes with it.
+meshes with it. Each step's pose is built on the last, so its products are
+summed in a fixed order (:mod:`taxelkit._fixed_order`): the same roll on
+every CPU, whatever BLAS kernel NumPy's ``@`` would pick.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit._fixed_order import dot, matmul, matvec, rotate_points, scalar_dot
 from taxelkit.errors import InputError
 from taxelkit.motion._script import unit_h
 from taxelkit.motion.rolling import E_Z, Pose
@@ -64,18 +67,19 @@ def roll_path(
     verts = solid.vertices_mm
     rots, cents = [], []
     travelled, turned = 0.0, 0.0
-    world = cen + verts @ rot.T
-    pivot = world[np.argmax(np.where(world[:, 2] <= world[:, 2].min() + 1e-6, world @ d, -np.inf))]
+    world = cen + rotate_points(verts, rot)
+    lowest = world[:, 2] <= world[:, 2].min() + 1e-6
+    pivot = world[np.argmax(np.where(lowest, dot(world, d), -np.inf))]
     while (travelled < distance_mm) if distance_mm is not None else (turned < abs(angle_rad or 0)):
-        rot = q @ rot
-        cen = pivot + q @ (cen - pivot)
-        world = cen + verts @ rot.T
+        rot = matmul(q, rot)
+        cen = pivot + matvec(q, cen - pivot)
+        world = cen + rotate_points(verts, rot)
         low = world[:, 2].min()
         cen[2] -= low  # rest on the plane again (a finite step dips a little)
         world[:, 2] -= low
-        front = np.where(world[:, 2] <= 1e-6, world @ d, -np.inf)
+        front = np.where(world[:, 2] <= 1e-6, dot(world, d), -np.inf)
         new = world[np.argmax(front)]
-        travelled += float((new - pivot) @ d)  # the contact's advance along d
+        travelled += scalar_dot(new - pivot, d)  # the contact's advance along d
         turned += step
         pivot = new
         rots.append(rot.copy())

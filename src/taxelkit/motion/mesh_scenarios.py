@@ -77,7 +77,7 @@ def _roll(b: Builder, d: NDArray[np.float64], speed: float, label: str, **stop: 
     solid = b.solid
     assert isinstance(solid, MeshSolid)
     rots, cents = roll_path(solid, b.pose, d, **stop)
-    travel = float(np.linalg.norm(cents[-1, :2] - b.pose.centroid_mm[:2])) + 1e-9
+    travel = fo.scalar_norm(cents[-1, :2] - b.pose.centroid_mm[:2]) + 1e-9
     dist = stop.get("distance_mm", travel)
     n = rots.shape[0]
     b.move(
@@ -93,9 +93,9 @@ def _roll(b: Builder, d: NDArray[np.float64], speed: float, label: str, **stop: 
 
 def _rest_rotation(solid: MeshSolid, normal: NDArray[np.float64]) -> NDArray[np.float64]:
     """A rotation that turns the body-frame ``normal`` straight down."""
-    n = normal / np.linalg.norm(normal)
+    n = normal / fo.scalar_norm(normal)
     axis = np.cross(n, -E_Z)
-    s, c = float(np.linalg.norm(axis)), float(n @ -E_Z)
+    s, c = fo.scalar_norm(axis), fo.scalar_dot(n, -E_Z)
     if s < 1e-9:
         return np.eye(3) if c > 0 else matrix_from_axis_angle([1.0, 0.0, 0.0], math.pi)
     out: NDArray[np.float64] = matrix_from_axis_angle(axis / s, math.atan2(s, c))
@@ -103,12 +103,12 @@ def _rest_rotation(solid: MeshSolid, normal: NDArray[np.float64]) -> NDArray[np.
 
 
 def _rest(solid: MeshSolid, rotation: NDArray[np.float64]) -> Pose:
-    low = float((solid.vertices_mm @ rotation.T)[:, 2].min())
+    low = float(fo.rotate_points(solid.vertices_mm, rotation)[:, 2].min())
     return Pose(rotation, np.array([0.0, 0.0, -low]))
 
 
 def _down_face(solid: MeshSolid, feats: MeshFeatures, pose: Pose) -> int:
-    normals = np.array([f.normal for f in feats.faces]) @ pose.rotation.T
+    normals = fo.rotate_points(np.array([f.normal for f in feats.faces]), pose.rotation)
     return int(np.argmin(normals[:, 2]))
 
 
@@ -212,7 +212,7 @@ def _settled(solid: MeshSolid, d: Draws) -> Pose:
     best: Pose | None = None
     for _ in range(64):
         axis = np.array([d.uniform(-1, 1), d.uniform(-1, 1), d.uniform(-1, 1)]) + 1e-9
-        rot = matrix_from_axis_angle(axis / np.linalg.norm(axis), d.uniform(0.0, math.pi))
+        rot = matrix_from_axis_angle(axis / fo.scalar_norm(axis), d.uniform(0.0, math.pi))
         pose = _rest(solid, rot)
         if best is None or pose.centroid_mm[2] < best.centroid_mm[2]:
             best = pose
@@ -221,10 +221,19 @@ def _settled(solid: MeshSolid, d: Draws) -> Pose:
 
 
 def _long_axis(solid: MeshSolid, pose: Pose) -> NDArray[np.float64]:
-    """Horizontal direction of the body's longest extent in ``pose``."""
+    """Horizontal direction of the body's longest extent in ``pose``.
+
+    The principal axis of the vertices' horizontal spread, from sums that
+    :func:`math.fsum` rounds exactly (the same bits on every CPU).
+    """
     v = pose.world_mm(solid.vertices_mm)
-    v = v - v.mean(axis=0)
-    return unit_h(np.linalg.svd(v, full_matrices=False)[2][0])
+    x, y = (
+        v[:, 0] - math.fsum(v[:, 0].tolist()) / v.shape[0],
+        v[:, 1] - math.fsum(v[:, 1].tolist()) / v.shape[0],
+    )
+    sxx, syy, sxy = (math.fsum((a * b).tolist()) for a, b in ((x, x), (y, y), (x, y)))
+    theta = 0.5 * math.atan2(2.0 * sxy, sxx - syy)
+    return np.array([math.cos(theta), math.sin(theta), 0.0])
 
 
 def _script_round(b: Builder, feats: MeshFeatures, d: Draws) -> None:
@@ -262,7 +271,7 @@ def _fit(
     """Rotations, centroids (yawed, shifted) and indentation on the array, or None."""
     rots, cents, indent = b.arrays()
     touch = indent > 0.0
-    world = cents[touch][:, None, :] + np.einsum("vj,tij->tvi", solid.vertices_mm, rots[touch])
+    world = cents[touch][:, None, :] + fo.rotate_points(solid.vertices_mm, rots[touch])
     pressed = world[..., 2] <= indent[touch][:, None] + 1e-9
     xy = world[..., :2][pressed]
     margin = np.full(xy.shape[0], EDGE_MARGIN_MM)
