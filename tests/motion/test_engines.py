@@ -176,3 +176,18 @@ def test_cli_writes_a_mujoco_recording(tmp_path: Path, scenes: dict[str, MujocoS
     rec = read_recording(out)
     assert rec.n_frames == scenes["cylinder"].scenario.n_frames
     assert rec.frames.dtype == np.bool_ and rec.frames.shape[1:] == (16, 16)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_a_slid_face_is_a_face_in_the_ground_truth(seed: int) -> None:
+    """The sliding script drags or spins a body on a face; its scenario says so.
+
+    MuJoCo's resting face is level only to micrometres: with the exact poses'
+    tolerances it read as a line or a point (and the ``slip`` experiment
+    counted a spinning disc as a line's slip).
+    """
+    scene = mujoco_scene("sliding", rng=seed)
+    sc = scene.scenario
+    slid = [c for p, c in zip(sc.phase, sc.contact, strict=True) if p in ("sliding", "spinning")]
+    assert slid and set(slid) == {"area"}
+    assert scene.contact == sc.contact

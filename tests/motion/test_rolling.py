@@ -375,3 +375,33 @@ def test_frames_from_scenario_shape_units_and_seeding() -> None:
     # the blob moves with the sphere: 1 mm per frame along +x
     cols = [np.nonzero(contact[t])[1].mean() for t in range(1, 6)]
     assert np.all(np.diff(cols) >= 0) and cols[-1] - cols[0] > 1.0
+
+
+def test_a_face_a_few_micrometres_out_of_level_is_a_face_with_physics_tolerances() -> None:
+    """A physics engine's resting face is level only to micrometres (MuJoCo's soft contacts).
+
+    The exact poses' tie (1e-6 mm) keeps only the lowest rim points of a disc
+    tilted by 0.2 mrad (its rim 2.8 um out of level): a point or, here, the
+    lowest point and its rim sample, a line. The physics tolerances that a
+    MuJoCo scenario carries see the face.
+    """
+    tilt = matrix_from_axis_angle([1.0, 0.0, 0.0], 2e-4)
+    rots = np.repeat(tilt[None], 3, axis=0)
+    fields = {
+        "name": "cylinder",
+        "object_name": "cylinder",
+        "solid": Cylinder(),
+        "rotations": rots,
+        "positions_mm": np.zeros((3, 2)),
+        "rest_height_mm": np.full(3, 5.0),
+        "indent_mm": np.full(3, 0.3),
+        "t_s": np.arange(3) / 20.0,
+        "phase": ("face",) * 3,
+    }
+    exact = Scenario(**fields)  # type: ignore[arg-type]
+    assert exact.contact == ("line",) * 3
+    physics = Scenario(**fields, contact_tie_mm=0.02, contact_spread_mm=1.0)  # type: ignore[arg-type]
+    assert physics.contact == ("area",) * 3
+    assert contact_types(Cylinder(), rots, tie_mm=0.02, spread_mm=1.0) == physics.contact
+    with pytest.raises(InputError, match="contact_tie_mm"):
+        Scenario(**fields, contact_tie_mm=0.0)  # type: ignore[arg-type]

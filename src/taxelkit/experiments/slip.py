@@ -24,7 +24,9 @@ plane (:meth:`~taxelkit.motion.rolling.Scenario.slip_mm`: rolling without
 slip gives about 0, tipping up to 2 mm/s), runs less than
 :data:`GT_MERGE_S` apart merged, phases shorter than :data:`GT_MIN_S`
 ignored. Its kind is the body's contact at the time (``area``, ``line``,
-``point``), ``area spin`` when the engine labels most of it as spinning.
+``point``; :attr:`~taxelkit.motion.rolling.Scenario.contact`, with the
+tolerances of the engine's poses: a MuJoCo face rests level only to
+micrometres), ``area spin`` when the engine labels most of it as spinning.
 
 Scoring
     * A phase is *detected* by the earliest slip of the recogniser decided

@@ -41,6 +41,7 @@ __all__ = [
     "contact_points_body_mm",
     "contact_state",
     "contact_types",
+    "kind_indices",
     "slip_from_poses",
 ]
 
@@ -59,6 +60,10 @@ CONTACT_SPREAD_MM = 0.01
 #: Points per rim circle of a body of revolution: enough to outline a flat
 #: face's contact disc (the exact lowest point of a tilted rim is added per pose).
 RIM_SAMPLES = 256
+
+#: Poses per batch of :func:`contact_types` (bounds the memory of the candidates
+#: of round bodies: 2 x 257 points per pose).
+_CHUNK = 2000
 
 #: Contact types, from nothing to a patch (the classes of paper 001, Level 2,
 #: without "indeterminate", which only a sensor can produce).
@@ -130,17 +135,41 @@ def _relative_world(rot: NDArray[np.float64], body: NDArray[np.float64]) -> NDAr
     return fo.rotate_points(body, rot)
 
 
-def _types_from(pts: NDArray[np.float64], touching: NDArray[np.bool_]) -> tuple[str, ...]:
-    """Contact types from candidate points ``(P, K, 3)`` and which touch ``(P, K)``."""
+def kind_indices(
+    pts: NDArray[np.float64], touching: NDArray[np.bool_], spread_mm: float = CONTACT_SPREAD_MM
+) -> NDArray[np.intp]:
+    """Contact type per pose, as an index of :data:`CONTACT_TYPES` (1 point, 2 line, 3 area).
+
+    Parameters
+    ----------
+    pts : (P, K, 3) float, mm
+        Candidate points (sensor orientation).
+    touching : (P, K) bool
+        Which of them touch the plane.
+    spread_mm : float
+        RMS spread of the touching points along their widest (second widest)
+        direction below which the contact is a point (a line), mm.
+
+    Returns
+    -------
+    (P,) intp
+    """
     w = touching.astype(np.float64)
     w /= w.sum(axis=1, keepdims=True)
     mean = fo.matmul(w[:, None, :], pts)  # (P, 1, 3)
     d = pts - mean
     cov = fo.matmul(np.swapaxes(d * w[..., None], 1, 2), d)
     eig = np.linalg.eigvalsh(cov)  # ascending
-    tol2 = CONTACT_SPREAD_MM**2
-    kinds = np.where(eig[:, 2] <= tol2, 1, np.where(eig[:, 1] <= tol2, 2, 3))
-    return tuple(CONTACT_TYPES[int(k)] for k in kinds)
+    tol2 = spread_mm**2
+    out: NDArray[np.intp] = np.where(eig[:, 2] <= tol2, 1, np.where(eig[:, 1] <= tol2, 2, 3))
+    return out
+
+
+def _types_from(
+    pts: NDArray[np.float64], touching: NDArray[np.bool_], spread_mm: float = CONTACT_SPREAD_MM
+) -> tuple[str, ...]:
+    """Contact types from candidate points ``(P, K, 3)`` and which touch ``(P, K)``."""
+    return tuple(CONTACT_TYPES[int(k)] for k in kind_indices(pts, touching, spread_mm))
 
 
 @dataclass(frozen=True, eq=False)
@@ -168,13 +197,18 @@ class ContactState:
         return _types_from(self.relative_mm, self.touching)
 
 
-def contact_state(solid: Solid, rotations: ArrayLike) -> ContactState:
+def contact_state(
+    solid: Solid, rotations: ArrayLike, *, tie_mm: float = CONTACT_TIE_MM
+) -> ContactState:
     """Candidate points of a solid under each pose and which of them touch the plane.
 
     Parameters
     ----------
     solid : Solid
     rotations : (P, 3, 3) float
+    tie_mm : float
+        Candidates within this height of the lowest one touch, mm (default
+        :data:`CONTACT_TIE_MM`, for exact poses).
 
     Returns
     -------
@@ -184,22 +218,34 @@ def contact_state(solid: Solid, rotations: ArrayLike) -> ContactState:
     body = contact_points_body_mm(solid, rot)
     rel = _relative_world(rot, body)
     z = rel[..., 2]
-    return ContactState(body, rel, z <= z.min(axis=1, keepdims=True) + CONTACT_TIE_MM)
+    return ContactState(body, rel, z <= z.min(axis=1, keepdims=True) + tie_mm)
 
 
-def contact_types(solid: Solid, rotations: ArrayLike) -> tuple[str, ...]:
+def contact_types(
+    solid: Solid,
+    rotations: ArrayLike,
+    *,
+    tie_mm: float = CONTACT_TIE_MM,
+    spread_mm: float = CONTACT_SPREAD_MM,
+) -> tuple[str, ...]:
     """Geometric contact type of a rigid solid resting on a plane, per pose.
 
     Parameters
     ----------
     solid : Solid
     rotations : (P, 3, 3) float
+    tie_mm, spread_mm : float
+        Candidates within ``tie_mm`` of the lowest one touch; their RMS spread
+        is compared with ``spread_mm`` (mm). The defaults suit exact poses
+        (kinematic scripts); a body resting on a physics engine's soft
+        contacts is level only to micrometres and needs wider ones
+        (:data:`~taxelkit.motion.engines._sampling.PHYSICS_TIE_MM`).
 
     Returns
     -------
     tuple of str, length P
         ``"point"``, ``"line"`` or ``"area"``: the contact set is one point, a
-        segment, or spans a patch (RMS spreads against :data:`CONTACT_SPREAD_MM`).
+        segment, or spans a patch (RMS spreads against ``spread_mm``).
 
     Notes
     -----
@@ -208,7 +254,12 @@ def contact_types(solid: Solid, rotations: ArrayLike) -> tuple[str, ...]:
     just lifting off, a rim just landing) its image can still look like the
     previous type: those are the spurious images paper 001 debounces.
     """
-    return contact_state(solid, rotations).kinds
+    rot = check_rotations(rotations)
+    out: list[str] = []
+    for start in range(0, rot.shape[0], _CHUNK):  # bounds the candidates' memory
+        state = contact_state(solid, rot[start : start + _CHUNK], tie_mm=tie_mm)
+        out.extend(_types_from(state.relative_mm, state.touching, spread_mm))
+    return tuple(out)
 
 
 def slip_from_poses(

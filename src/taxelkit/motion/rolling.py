@@ -48,9 +48,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from taxelkit import _fixed_order as fo
 from taxelkit._arrays import readonly_copy
-from taxelkit.errors import InputError, check_finite_array, check_ndim
+from taxelkit.errors import InputError, check_finite_array, check_ndim, check_positive
 from taxelkit.frames import TactileFrames
-from taxelkit.motion.contact_truth import contact_types, slip_from_poses
+from taxelkit.motion.contact_truth import (
+    CONTACT_SPREAD_MM,
+    CONTACT_TIE_MM,
+    contact_types,
+    slip_from_poses,
+)
 from taxelkit.sensors.noise import RngLike
 from taxelkit.sensors.presets import Sensor
 from taxelkit.sensors.press import displacement_from_solid
@@ -172,6 +177,14 @@ class Scenario:
     slides : bool
         True if the script slides (ground truth: a correct recogniser must not
         identify the object).
+    contact_tie_mm, contact_spread_mm : float
+        Tolerances of the ground-truth contact type (:attr:`contact`), mm:
+        :func:`~taxelkit.motion.contact_truth.contact_types`' defaults for
+        the exact poses of the kinematic scripts; a physics engine's poses,
+        level only to micrometres on its soft contacts, carry wider ones
+        (:data:`~taxelkit.motion.engines._sampling.PHYSICS_TIE_MM`), or a
+        face that rests a few micrometres out of level reads as a line or a
+        point.
 
     Notes
     -----
@@ -190,8 +203,12 @@ class Scenario:
     t_s: NDArray[np.float64]
     phase: tuple[str, ...]
     slides: bool = False
+    contact_tie_mm: float = CONTACT_TIE_MM
+    contact_spread_mm: float = CONTACT_SPREAD_MM
 
     def __post_init__(self) -> None:
+        for tol in ("contact_tie_mm", "contact_spread_mm"):
+            object.__setattr__(self, tol, check_positive(tol, getattr(self, tol)))
         rot = check_rotations(self.rotations)
         n = rot.shape[0]
         pos = np.asarray(self.positions_mm, dtype=np.float64)
@@ -246,7 +263,12 @@ class Scenario:
 
         See :func:`~taxelkit.motion.contact_truth.contact_types` (ground truth).
         """
-        kinds = contact_types(self.solid, self.rotations)
+        kinds = contact_types(
+            self.solid,
+            self.rotations,
+            tie_mm=self.contact_tie_mm,
+            spread_mm=self.contact_spread_mm,
+        )
         return tuple(k if c else "none" for k, c in zip(kinds, self.in_contact, strict=True))
 
     def slip_mm(self, *, full: bool = False) -> NDArray[np.float64]:

@@ -39,9 +39,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from taxelkit import _fixed_order as fo
 from taxelkit.motion.array_placement import EDGE_MARGIN_MM, patch_halfwidth_mm
-from taxelkit.motion.contact_truth import CONTACT_TYPES, contact_points_body_mm
+from taxelkit.motion.contact_truth import contact_state, contact_types, kind_indices
 from taxelkit.world.solids import AnalyticSolid
 from taxelkit.world.solids_polyhedra import Cube, Tetrahedron
 from taxelkit.world.solids_round import Cone, Sphere
@@ -251,17 +250,9 @@ def _touching(
     """Candidate points ``(P, K, 3)`` (sensor orientation, relative to the centroid),
     which of them touch ``(P, K)``, and the contact type index ``(P,)`` (1 point,
     2 line, 3 area)."""
-    pts = fo.rotate_points(contact_points_body_mm(solid, rot), rot)
-    z = pts[..., 2]
-    touch = z <= z.min(axis=1, keepdims=True) + PHYSICS_TIE_MM
-    w = touch.astype(np.float64)
-    w /= w.sum(axis=1, keepdims=True)
-    d = pts - fo.matmul(w[:, None, :], pts)
-    cov = fo.matmul(np.swapaxes(d * w[..., None], 1, 2), d)
-    eig = np.linalg.eigvalsh(cov)
-    tol2 = PHYSICS_SPREAD_MM**2
-    kind = np.where(eig[:, 2] <= tol2, 1, np.where(eig[:, 1] <= tol2, 2, 3))
-    return pts, touch, kind
+    state = contact_state(solid, rot, tie_mm=PHYSICS_TIE_MM)
+    pts, touch = state.relative_mm, state.touching
+    return pts, touch, kind_indices(pts, touch, PHYSICS_SPREAD_MM)
 
 
 def contact_kinds(solid: AnalyticSolid, rotations: NDArray[np.float64]) -> tuple[str, ...]:
@@ -280,11 +271,7 @@ def contact_kinds(solid: AnalyticSolid, rotations: NDArray[np.float64]) -> tuple
         tolerances of physics poses (:data:`PHYSICS_TIE_MM`,
         :data:`PHYSICS_SPREAD_MM`).
     """
-    kinds: list[str] = []
-    for start in range(0, rotations.shape[0], _CHUNK):
-        _, _, kind = _touching(solid, rotations[start : start + _CHUNK])
-        kinds.extend(CONTACT_TYPES[int(i)] for i in kind)
-    return tuple(kinds)
+    return contact_types(solid, rotations, tie_mm=PHYSICS_TIE_MM, spread_mm=PHYSICS_SPREAD_MM)
 
 
 def contact_footprint_mm(

@@ -71,9 +71,10 @@ from taxelkit.motion.engines import _mj_scripts as ms_scripts
 from taxelkit.motion.engines._mj_simulate import import_mujoco, simulate
 from taxelkit.motion.engines._mjcf import PHYSICS_HZ
 from taxelkit.motion.engines._sampling import (
+    PHYSICS_SPREAD_MM,
+    PHYSICS_TIE_MM,
     StepRecord,
     contact_footprint_mm,
-    contact_kinds,
     matrices_from_quats,
     phase_labels,
     sample_record,
@@ -115,9 +116,9 @@ class MujocoScene:
         Fastest horizontal speed of a material contact point (0 when lifted).
     contact : tuple of str, length T
         ``"none"`` when lifted, else the contact type with the tolerances of
-        physics poses (:func:`~taxelkit.motion.engines._sampling.contact_kinds`;
-        :attr:`Scenario.contact` ties points within 1e-6 mm and can call a
-        resting edge a point).
+        physics poses: :attr:`Scenario.contact` of ``scenario``, which carries
+        them (:data:`~taxelkit.motion.engines._sampling.PHYSICS_TIE_MM`; the
+        exact poses' 1e-6 mm would call a resting edge a point, a face a line).
     n_steps : int
         Physics steps simulated (:data:`~taxelkit.motion.engines._mjcf.TIMESTEP_S` each).
     attempts : int
@@ -300,15 +301,14 @@ def _sampled(
         t_s=t_s,
         phase=phase_labels(plan.solid, rec, rots, nearest),
         slides=plan.slides,
+        contact_tie_mm=PHYSICS_TIE_MM,
+        contact_spread_mm=PHYSICS_SPREAD_MM,
     )
     return MujocoScene(
         scenario=scenario,
         gap_mm=gap_mm,
         slip_mm_s=rec.slip_mm_s[nearest],
-        contact=tuple(
-            k if c else "none"
-            for k, c in zip(contact_kinds(plan.solid, rots), scenario.in_contact, strict=True)
-        ),
+        contact=scenario.contact,
         n_steps=int(rec.quats.shape[0]),
         attempts=attempts,
         friction=plan.friction,
