@@ -8,6 +8,7 @@ bounded.
 
 from __future__ import annotations
 
+import itertools
 import time
 
 import numpy as np
@@ -29,6 +30,7 @@ from taxelkit.smart.segment_scan import SegmentScanner
 from taxelkit.smart.stream_state import ClassHistory
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, segment_tactemes
+from taxelkit.smart.track_geometry import corner_turn, spaced_points
 from taxelkit.smart.track_stream import CornerScan
 
 PITCH = 1.7625
@@ -153,8 +155,8 @@ def test_chunk_cleaner_settles_clear_arrays_as_the_batch_cleaning(
     assert not cleaner.busy[3]  # never touched: at rest after its first chunk
 
 
-def test_scanner_equals_segment_tactemes_in_chunks_of_any_size() -> None:
-    cfg = TactemeConfig()
+@pytest.mark.parametrize("cfg", [TactemeConfig(), TactemeConfig(corner_step_mm=0.5)])
+def test_scanner_equals_segment_tactemes_in_chunks_of_any_size(cfg: TactemeConfig) -> None:
     for seed in range(6):
         rec = random_recording(seed, 400, 60.0)
         rows = np.zeros((400, 9))
@@ -294,3 +296,56 @@ def test_a_line_rolling_across_re_anchors_carries_its_roll_when_streamed() -> No
             for x in scan.extend(frames[a : a + step], rows[a : a + step])
         ]
         assert got + scan.close() == want, step
+
+
+def _cornered_path(rate_hz: float, rng: np.random.Generator) -> np.ndarray:
+    """A point rolling 8 mm at 5 mm/s, resting 1 s with taxel-sized jitter, then 4 mm at 90 deg."""
+    dt = 1.0 / rate_hz
+    run1 = np.stack([np.zeros(int(1.6 * rate_hz)), np.arange(int(1.6 * rate_hz)) * 5.0 * dt], 1)
+    rest = run1[-1] + rng.normal(0.0, 0.25, (int(rate_hz), 2))
+    run2 = run1[-1] + np.stack(
+        [np.arange(1, int(0.8 * rate_hz)) * 5.0 * dt, np.zeros(int(0.8 * rate_hz) - 1)], 1
+    )
+    raw = np.concatenate([run1, rest, run2])
+    w = max(1, round(0.15 * rate_hz))  # smoothed as Level 3 smooths a centre
+    kernel = np.ones(w) / w
+    return np.stack([np.convolve(raw[:, k], kernel, mode="valid") for k in (0, 1)], 1)
+
+
+@pytest.mark.parametrize("rate_hz", [20.0, 100.0, 240.0])
+def test_a_corner_after_a_rest_is_seen_at_every_rate_once_the_path_is_thinned(
+    rate_hz: float,
+) -> None:
+    """Jitter at rest lengthens the path by an amount that depends on the rate (the chords
+    into the corner then read too short); thinned to 0.5 mm steps it does not."""
+    path = _cornered_path(rate_hz, np.random.default_rng(int(rate_hz)))
+    window = (60.0, 120.0)
+    found = corner_turn(path, 0, 3.0, window, 0.5)
+    assert found is not None
+    assert abs(found / rate_hz - 2.6) <= 1.0  # seen on the second run, not during the rest
+    for step in (0.0, 0.5):
+        want = corner_turn(path, 0, 3.0, window, step)
+        for size in (1, 7, 64):
+            scan = CornerScan(3.0, window, step)
+            got = None
+            for a in range(0, path.shape[0], size):
+                got = scan.push(path[a : a + size], np.arange(a, min(a + size, path.shape[0])))
+                if got is not None:
+                    break
+            assert got == want, (step, size)
+
+
+def test_spaced_points_keeps_rows_a_step_apart_and_carries_on() -> None:
+    rng = np.random.default_rng(3)
+    pts = np.cumsum(rng.normal(0.0, 0.2, (500, 2)), axis=0)
+    rows = spaced_points(pts, 0.5)
+    assert rows[0] == 0
+    gaps = np.hypot(*np.diff(pts[rows], axis=0).T)
+    assert np.all(gaps >= 0.5)
+    for a, b in itertools.pairwise(rows.tolist()):  # nothing skipped that was far enough
+        between = pts[a + 1 : b]
+        assert np.all(np.hypot(*(between - pts[a]).T) < 0.5)
+    head = spaced_points(pts[:200], 0.5)
+    tail = spaced_points(pts[200:], 0.5, (float(pts[head[-1], 0]), float(pts[head[-1], 1])))
+    np.testing.assert_array_equal(np.concatenate([head, tail + 200]), rows)
+    np.testing.assert_array_equal(spaced_points(pts, 0.0), np.arange(500))

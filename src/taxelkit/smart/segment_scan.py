@@ -184,7 +184,7 @@ class SegmentScanner(SegmentHead):
         window = (cfg.orthogonal_min_deg, cfg.orthogonal_max_deg)
         self._legs, self._corners = (
             LegScan(cfg.turn_leg_mm, window),
-            CornerScan(cfg.turn_leg_mm, window),
+            CornerScan(cfg.turn_leg_mm, window, cfg.corner_step_mm),
         )
         self._turn_pt: int | None = None
         self._slide_decided = self._par_decided = False

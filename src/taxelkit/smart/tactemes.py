@@ -226,7 +226,7 @@ def _orthogonal_turn(centre: NDArray[np.float64], start: int, config: TactemeCon
 
 def _corner_turn(centre: NDArray[np.float64], start: int, config: TactemeConfig) -> int | None:
     window = (config.orthogonal_min_deg, config.orthogonal_max_deg)
-    return corner_turn(centre, start, config.turn_leg_mm, window)
+    return corner_turn(centre, start, config.turn_leg_mm, window, config.corner_step_mm)
 
 
 def _point_turn(centre: NDArray[np.float64], start: int, config: TactemeConfig) -> int | None:

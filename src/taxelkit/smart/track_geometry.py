@@ -25,6 +25,7 @@ __all__ = [
     "grid_wobble_deg",
     "orthogonal_turn",
     "rolling_mean",
+    "spaced_points",
     "sustained",
     "turn",
 ]
@@ -236,8 +237,46 @@ def orthogonal_turn(
     return None
 
 
+def spaced_points(
+    points: NDArray[np.float64], step_mm: float, last: tuple[float, float] | None = None
+) -> NDArray[np.intp]:
+    """Rows of ``points`` ``(n, 2)`` each at least ``step_mm`` from the row kept before it.
+
+    A distance filter: the first row is kept (unless ``last``, the point
+    kept before these rows, is given), then each row at least ``step_mm``
+    from the last one kept. A point jittering in place keeps no rows, so the
+    path length between the kept rows does not grow with the frame rate.
+    ``step_mm`` <= 0 keeps every row.
+    """
+    n = points.shape[0]
+    if step_mm <= 0.0 or n == 0:
+        return np.arange(n, dtype=np.intp)
+    kept: list[int] = []
+    i = 0
+    if last is None:
+        kept, i = [0], 1
+        last = (float(points[0, 0]), float(points[0, 1]))
+    window = 16
+    while i < n:
+        stop = min(n, i + window)
+        gap = np.hypot(points[i:stop, 0] - last[0], points[i:stop, 1] - last[1])
+        far = np.flatnonzero(gap >= step_mm)
+        if far.size == 0:
+            i, window = stop, 2 * window
+            continue
+        i += int(far[0])
+        kept.append(i)
+        last = (float(points[i, 0]), float(points[i, 1]))
+        i, window = i + 1, 16
+    return np.asarray(kept, dtype=np.intp)
+
+
 def corner_turn(
-    centre: NDArray[np.float64], start: int, leg_mm: float, window_deg: tuple[float, float]
+    centre: NDArray[np.float64],
+    start: int,
+    leg_mm: float,
+    window_deg: tuple[float, float],
+    step_mm: float = 0.0,
 ) -> int | None:
     """First frame at which a corner of 60-120 deg is seen on a point's path (vectorised).
 
@@ -249,8 +288,10 @@ def corner_turn(
     between them lies in the window. It is seen when the outgoing chord is
     complete. This finds corners that fall between the legs of
     :func:`orthogonal_turn` when the runs are only a little longer than a leg.
+    With ``step_mm`` > 0 the path is first thinned by :func:`spaced_points`.
     """
-    p = centre[start:]
+    rows = spaced_points(centre[start:], step_mm)
+    p = centre[start:][rows]
     if p.shape[0] < 3:
         return None
     d = leg_mm
@@ -266,4 +307,4 @@ def corner_turn(
     cos = np.sum(u * v, axis=1) / np.where(ok, nu * nv, 1.0)
     lo, hi = np.cos(np.deg2rad(window_deg[1])), np.cos(np.deg2rad(window_deg[0]))
     hits = b[ok & (cos >= lo) & (cos <= hi)]
-    return None if hits.size == 0 else start + int(hits.min())
+    return None if hits.size == 0 else start + int(rows[hits.min()])

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from taxelkit.smart.track_geometry import drawn_half_mm
+from taxelkit.smart.track_geometry import drawn_half_mm, spaced_points
 
 __all__ = [
     "CarriedShift",
@@ -207,13 +207,20 @@ class CornerScan:
     ----------
     leg_mm : float
     window_deg : (float, float)
+    step_mm : float
+        The path is thinned by :func:`~taxelkit.smart.track_geometry.spaced_points`
+        first (0: every point).
     """
 
     #: Most path points kept for the incoming chords.
     MAX_ROWS = 4096
 
-    def __init__(self, leg_mm: float, window_deg: tuple[float, float]) -> None:
+    def __init__(
+        self, leg_mm: float, window_deg: tuple[float, float], step_mm: float = 0.0
+    ) -> None:
         self.d = float(leg_mm)
+        self.step = float(step_mm)
+        self._last: tuple[float, float] | None = None  # the last point the thinning kept
         self.lo = np.cos(np.deg2rad(window_deg[1]))
         self.hi = np.cos(np.deg2rad(window_deg[0]))
         self._p = np.zeros((0, 2))
@@ -229,6 +236,12 @@ class CornerScan:
         if self.found is not None or points.shape[0] == 0:
             return self.found
         idx = np.asarray(index, dtype=np.intp)
+        if self.step > 0.0:
+            rows = spaced_points(points, self.step, self._last)
+            if rows.size == 0:
+                return None
+            points, idx = points[rows], idx[rows]
+            self._last = (float(points[-1, 0]), float(points[-1, 1]))
         if self._arc.size:
             steps = np.hypot(*np.diff(np.concatenate([self._p[-1:], points]), axis=0).T)
             arc = np.cumsum(np.concatenate([self._arc[-1:], steps]))[1:]
