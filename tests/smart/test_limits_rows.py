@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from taxelkit.smart.contact_limits import held_high, held_high_rows
+from taxelkit.smart.hysteresis import held_high, held_high_rows
 
 
 @pytest.mark.parametrize("enter_s", [0.0, 0.1, 0.5])

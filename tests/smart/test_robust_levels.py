@@ -12,13 +12,8 @@ from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.sensors import BONNEVILLE_16X16
 from taxelkit.sensors.frame_rate import frames_at_rate
 from taxelkit.smart.contact_classes import ContactClass
-from taxelkit.smart.contact_limits import (
-    ContactLimits,
-    LimitState,
-    apply_limits,
-    limit_one,
-    schmitt,
-)
+from taxelkit.smart.contact_limits import ContactLimits, LimitState, apply_limits, limit_one
+from taxelkit.smart.hysteresis import schmitt
 from taxelkit.smart.recogniser import SmartSensor, recognise
 from taxelkit.smart.tacteme_table import OBJECTS, Tacteme
 from taxelkit.smart.tactemes import PAPER_LEVEL3, TactemeConfig, debounce_counts
@@ -70,9 +65,10 @@ def test_limits_batch_equals_one_frame_at_a_time() -> None:
 def test_limits_with_times_batch_equals_one_frame_at_a_time() -> None:
     rng = np.random.default_rng(5)
     m = 300
-    classes = rng.choice([POINT, INDET, int(ContactClass.AREA)], m).astype(np.int8)
+    classes = rng.choice([POINT, INDET, LINE, int(ContactClass.AREA)], m).astype(np.int8)
     n = rng.integers(0, 14, m)
-    length, elong = rng.uniform(2.0, 9.0, m), rng.uniform(1.0, 3.0, m)
+    length = rng.choice([4.0, 5.3, 5.8, 6.2, 8.0], m)  # around the band 5.1-6 mm
+    elong = rng.uniform(1.0, 3.0, m)
     area = rng.choice([18.0, 22.0, 24.0, 27.0, 31.0], m)  # around the band 20-26 mm^2
     t = np.cumsum(rng.choice([0.01, 0.05, 0.2], m))  # irregular intervals
     lim = ContactLimits()
@@ -90,14 +86,17 @@ def test_limits_with_times_batch_equals_one_frame_at_a_time() -> None:
         for c, k, x, e, ar, ts in zip(classes, n, length, elong, area, t, strict=True)
     ]
     np.testing.assert_array_equal(batch, scalar)
+    assert np.any((classes == LINE) & (length >= 6.0) & (batch != LINE))  # a line not yet held
     # without a dwell, the times change nothing
-    now = ContactLimits(area_enter_s=0.0)
+    now = ContactLimits(area_enter_s=0.0, line_enter_s=0.0)
     np.testing.assert_array_equal(
         apply_limits(classes, n, length, elong, now, area_mm2=area, t_s=t),
         apply_limits(classes, n, length, elong, now, area_mm2=area),
     )
     with pytest.raises(InputError, match="area_enter_s"):
         ContactLimits(area_enter_s=-0.1)
+    with pytest.raises(InputError, match="line_enter_s"):
+        ContactLimits(line_enter_s=-0.1)
 
 
 def _ball_with_a_spike(rate_hz: float) -> TactileFrames:
@@ -135,6 +134,68 @@ def test_one_frame_over_the_area_mark_does_not_make_an_area(rate_hz: float) -> N
     k = rec.frames.shape[0] // 3  # in three chunks
     got = [chunk.process(frames[:, a : a + k], times[:, a : a + k])[0] for a in range(0, 3 * k, k)]
     np.testing.assert_array_equal(np.concatenate(got, axis=1)[0], held.classes[: 3 * k])
+
+
+def _bar_with_a_flicker(rate_hz: float) -> TactileFrames:
+    """A ball's disc pressed to a 3-taxel bar (5.3 mm), one frame a fourth taxel in its row."""
+    t = int(2.0 * rate_hz)
+    frames = np.zeros((t, 16, 16), bool)
+    frames[:, 6:9, 7] = True  # three taxels in a column: inside the line's band 5.1-6 mm
+    frames[t // 2, 9, 7] = True  # a flickering fourth: 7 mm, over the line's mark, one frame
+    return TactileFrames(frames, t_s=np.arange(t) / rate_hz, pitch_mm=PITCH)
+
+
+@pytest.mark.parametrize("rate_hz", [20.0, 240.0])
+def test_one_frame_over_the_line_mark_does_not_make_a_line(rate_hz: float) -> None:
+    rec = _bar_with_a_flicker(rate_hz)
+    held = recognise(rec, cleaning=None)
+    assert LINE not in held.classes.tolist()
+    assert "LC" not in [n for n, _ in held.tactemes]
+    at_once = recognise(rec, cleaning=None, limits=ContactLimits(line_enter_s=0.0))
+    t = rec.frames.shape[0]
+    assert np.all(at_once.classes[t // 2 : t // 2 + 5] == LINE)  # latched by the hysteresis
+    # the streaming sensor and the chunked Levels 1-2 (the bank's) agree with the batch
+    sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None)
+    sensor.push_many(rec.frames, rec.t_s)
+    np.testing.assert_array_equal(sensor.result().classes, held.classes)
+    from taxelkit.smart.contact_classes import DEFAULT_CONFIDENCE, HAND_SET
+    from taxelkit.smart.levels12 import DEFAULT_LIMITS, ChunkLevels12
+
+    chunk = ChunkLevels12(
+        2, (16, 16), pitch_mm=PITCH, threshold=0.5, network=HAND_SET,
+        confidence=DEFAULT_CONFIDENCE, cleaning=None, limits=DEFAULT_LIMITS,
+    )  # fmt: skip
+    frames = np.stack([rec.frames, np.zeros_like(rec.frames)])
+    times = np.stack([rec.t_s, rec.t_s])
+    k = t // 2  # cut just before the flicker's frame: the run is carried across chunks
+    got = [chunk.process(frames[:, a : a + k], times[:, a : a + k])[0] for a in range(0, t, k)]
+    np.testing.assert_array_equal(np.concatenate(got, axis=1)[0], held.classes)
+    # two frames in a row over the mark make a line (a real edge is seen twice)
+    frames2 = rec.frames.copy()
+    frames2[t // 2 + 1, 9, 7] = True
+    two = recognise(TactileFrames(frames2, rec.t_s, pitch_mm=PITCH), cleaning=None)
+    assert two.classes[t // 2 + 1] == LINE and two.classes[t // 2] != LINE
+    # a long line (line_confirm_mm) is no flicker: it is a line from its first frame
+    long = np.zeros_like(rec.frames)
+    long[t // 2 :, 8, 4:10] = True  # six taxels: 10.6 mm
+    first = recognise(TactileFrames(long, rec.t_s, pitch_mm=PITCH), cleaning=None).classes
+    assert first[t // 2] == LINE and first[t // 2 - 1] != LINE
+
+
+def test_a_face_shrinking_to_a_bar_does_not_latch_a_line() -> None:
+    # a face of 4 x 3 taxels (7 mm long, not a line) shrinks onto a rim: a 3-taxel bar
+    frames = np.zeros((40, 16, 16), bool)
+    frames[2:20, 6:10, 6:9] = True
+    frames[20:38, 6:9, 7] = True
+    rec = TactileFrames(frames, t_s=np.arange(40) / 20.0, pitch_mm=PITCH)
+    robust = recognise(rec, cleaning=None)
+    assert LINE not in robust.classes.tolist()
+    assert "AC -> LC" not in [n for n, _ in robust.tactemes]
+    old = recognise(rec, cleaning=None, limits=ContactLimits(line_enter_s=0.0))
+    assert old.classes[30] == LINE  # the face's length latched the trigger
+    sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None)
+    sensor.push_many(rec.frames, rec.t_s)
+    np.testing.assert_array_equal(sensor.result().classes, robust.classes)
 
 
 def test_a_three_taxel_bar_is_no_edge_but_a_long_line_is() -> None:

@@ -323,6 +323,7 @@ def test_a_corner_after_a_rest_is_seen_at_every_rate_once_the_path_is_thinned(
     found = corner_turn(path, 0, 3.0, window, 0.5)
     assert found is not None
     assert abs(found / rate_hz - 2.6) <= 1.0  # seen on the second run, not during the rest
+    assert corner_turn(path, 0, 3.0, window, 0.0) is None  # unthinned, the rest hides it
     for step in (0.0, 0.5):
         want = corner_turn(path, 0, 3.0, window, step)
         for size in (1, 7, 64):

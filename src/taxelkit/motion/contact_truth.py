@@ -36,6 +36,7 @@ __all__ = [
     "CONTACT_SPREAD_MM",
     "CONTACT_TIE_MM",
     "CONTACT_TYPES",
+    "POSE_CHUNK",
     "RIM_SAMPLES",
     "ContactState",
     "contact_points_body_mm",
@@ -61,9 +62,10 @@ CONTACT_SPREAD_MM = 0.01
 #: face's contact disc (the exact lowest point of a tilted rim is added per pose).
 RIM_SAMPLES = 256
 
-#: Poses per batch of :func:`contact_types` (bounds the memory of the candidates
-#: of round bodies: 2 x 257 points per pose).
-_CHUNK = 2000
+#: Poses per batch of :func:`contact_types` and of the engines' geometric
+#: contact (bounds the memory of the candidates of round bodies: 2 x 257
+#: points per pose).
+POSE_CHUNK = 2000
 
 #: Contact types, from nothing to a patch (the classes of paper 001, Level 2,
 #: without "indeterminate", which only a sensor can produce).
@@ -256,8 +258,8 @@ def contact_types(
     """
     rot = check_rotations(rotations)
     out: list[str] = []
-    for start in range(0, rot.shape[0], _CHUNK):  # bounds the candidates' memory
-        state = contact_state(solid, rot[start : start + _CHUNK], tie_mm=tie_mm)
+    for start in range(0, rot.shape[0], POSE_CHUNK):  # bounds the candidates' memory
+        state = contact_state(solid, rot[start : start + POSE_CHUNK], tie_mm=tie_mm)
         out.extend(_types_from(state.relative_mm, state.touching, spread_mm))
     return tuple(out)
 

@@ -127,6 +127,7 @@ class ChunkLevels12:
         self._big = np.zeros(self.n, bool)
         self._run = np.zeros(self.n, np.int64)  # frames in a row over the area's higher mark
         self._t_prev = np.full(self.n, np.nan)  # each array's last frame time, s
+        self._line_run = np.zeros(self.n, np.int64)  # frames in a row over the line's length
 
     def _levels(
         self,
@@ -233,9 +234,16 @@ class ChunkLevels12:
         """:func:`~taxelkit.smart.contact_limits.apply_limits` on the arrays ``sel``, ``(m, T)``:
         their classes, taxels, areas, elongations and half-lengths, taken at ``t_s``."""
         assert self.limits is not None
-        state = (self._long[sel], self._big[sel], self._run[sel], self._t_prev[sel])
+        state = (
+            self._long[sel],
+            self._big[sel],
+            self._run[sel],
+            self._t_prev[sel],
+            self._line_run[sel],
+        )
         out, after = limits_rows(classes, taxels, area, elong, half, t_s, self.limits, state)
-        self._long[sel], self._big[sel], self._run[sel], self._t_prev[sel] = after
+        self._long[sel], self._big[sel], self._run[sel], self._t_prev[sel] = after[:4]
+        self._line_run[sel] = after[4]
         return out
 
     def process(
@@ -396,6 +404,7 @@ class ChunkLevels12:
         self._long[quiet] = False  # no contact: no length, no area
         self._big[quiet] = False
         self._run[quiet] = 0
+        self._line_run[quiet] = 0
         if t:
             self._t_prev[quiet] = np.asarray(t_s, dtype=np.float64)[quiet, -1]
         return classes, rows

@@ -15,18 +15,23 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import AREA_MIN_AREA_MM2, ContactClass
-from taxelkit.smart.contact_limits import ContactLimits, _length_thresholds, held_high_rows
+from taxelkit.smart.contact_limits import ContactLimits, _length_thresholds, line_lengths
+from taxelkit.smart.hysteresis import held_high_rows
 
 __all__ = ["limits_rows", "schmitt_rows"]
 
 _LINE, _AREA = int(ContactClass.LINE), int(ContactClass.AREA)
+#: Each row's limit state: long, big, area run, last time (s), line run.
+_State = tuple[
+    NDArray[np.bool_], NDArray[np.bool_], NDArray[np.int64], NDArray[np.float64], NDArray[np.int64]
+]
 _POINT, _INDET = int(ContactClass.POINT), int(ContactClass.INDETERMINATE)
 
 
 def schmitt_rows(
     on: NDArray[np.bool_], off: NDArray[np.bool_], start: NDArray[np.bool_]
 ) -> NDArray[np.bool_]:
-    """:func:`~taxelkit.smart.contact_limits.schmitt_masks` along each row, from its own state.
+    """:func:`~taxelkit.smart.hysteresis.schmitt_masks` along each row, from its own state.
 
     ``on``, ``off`` ``(m, T)``: where the trigger is set and reset; ``start``
     ``(m,)``: each row's state before its first frame.
@@ -46,11 +51,8 @@ def limits_rows(
     half: NDArray[np.float64],
     t_s: NDArray[np.float64],
     limits: ContactLimits,
-    state: tuple[NDArray[np.bool_], NDArray[np.bool_], NDArray[np.int64], NDArray[np.float64]],
-) -> tuple[
-    NDArray[np.int8],
-    tuple[NDArray[np.bool_], NDArray[np.bool_], NDArray[np.int64], NDArray[np.float64]],
-]:
+    state: _State,
+) -> tuple[NDArray[np.int8], _State]:
     """Limited classes of ``m`` rows of frames ``(m, T)``, and each row's state after them.
 
     Parameters
@@ -62,20 +64,25 @@ def limits_rows(
     t_s : (m, T) float, s
         The frames' times.
     limits : ContactLimits
-    state : ((m,) bool, (m,) bool, (m,) int, (m,) float)
+    state : ((m,) bool, (m,) bool, (m,) int, (m,) float, (m,) int)
         Each row's state before its first frame: long enough for a line, big
-        enough for an area, frames in a row over the area's higher mark, and
-        the last frame's time (s; NaN: none).
+        enough for an area, frames in a row over the area's higher mark, the
+        last frame's time (s; NaN: none) and frames in a row over the line's
+        length.
 
     Returns
     -------
     classes : (m, T) int8
     state : as the parameter, after the last frame
     """
-    long0, big0, run0, t_prev0 = state
+    long0, big0, run0, t_prev0, line_run0 = state
     length = np.where(taxels > 0, 2.0 * half, 0.0)
     high, low = _length_thresholds(limits)
-    long = schmitt_rows(length >= high, length < low, long0)
+    as_line = line_lengths(classes, length, limits)  # only a line's length makes a line
+    held_l, line_run, _ = held_high_rows(
+        as_line, high, t_s, limits.line_enter_s, line_run0, t_prev0, limits.line_confirm_mm
+    )
+    long = schmitt_rows(held_l, length < low, long0)
     enter = AREA_MIN_AREA_MM2 * (1.0 + limits.area_hysteresis)
     held, run, t_last = held_high_rows(area, enter, t_s, limits.area_enter_s, run0, t_prev0)
     big = schmitt_rows(held, area < AREA_MIN_AREA_MM2, big0)
@@ -88,4 +95,4 @@ def limits_rows(
         out[compact & (out == _INDET)] = _POINT
     few = (taxels > 0) & (taxels <= limits.point_max_taxels) & (elong <= 2.0)
     out[few & (out != _LINE)] = _POINT
-    return out, (long[:, -1], big[:, -1], run, t_last)
+    return out, (long[:, -1], big[:, -1], run, t_last, line_run)

@@ -40,7 +40,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.motion.array_placement import EDGE_MARGIN_MM, patch_halfwidth_mm
-from taxelkit.motion.contact_truth import contact_state, contact_types, kind_indices
+from taxelkit.motion.contact_truth import (
+    POSE_CHUNK,
+    contact_state,
+    contact_types,
+    kind_indices,
+)
 from taxelkit.world.solids import AnalyticSolid
 from taxelkit.world.solids_polyhedra import Cube, Tetrahedron
 from taxelkit.world.solids_round import Cone, Sphere
@@ -75,10 +80,6 @@ PHYSICS_TIE_MM = 0.02
 #: jittered cube's edge (8.4 mm), has an RMS of 2.4 mm, the smallest face
 #: (a frustum's top, radius >= 2.45 mm) 1.2 mm.
 PHYSICS_SPREAD_MM = 1.0
-
-#: Poses per batch of the geometric contact type (bounds the memory of
-#: ``contact_types`` on round bodies: 2 x 257 candidate points per pose).
-_CHUNK = 2000
 
 
 @dataclass(frozen=True, eq=False)
@@ -304,8 +305,8 @@ def contact_footprint_mm(
     xy_parts: list[NDArray[np.float64]] = []
     margin_parts: list[NDArray[np.float64]] = []
     patch = patch_halfwidth_mm(solid, depth_mm)
-    for start in range(0, rotations.shape[0], _CHUNK):
-        stop = start + _CHUNK
+    for start in range(0, rotations.shape[0], POSE_CHUNK):
+        stop = start + POSE_CHUNK
         pts, touch, kind = _touching(solid, rotations[start:stop])
         xy = pts[..., :2] + positions_mm[start:stop, None, :]
         margin = EDGE_MARGIN_MM + np.where(kind == 3, 0.0, patch)
