@@ -110,6 +110,29 @@ def _ball_with_a_spike(rate_hz: float) -> TactileFrames:
     return TactileFrames(frames, t_s=np.arange(t) / rate_hz, pitch_mm=PITCH)
 
 
+def _paths_agree(rec: TactileFrames, classes: np.ndarray, chunk_frames: int) -> None:
+    """The streaming sensor and the chunked Levels 1-2 (the bank's, beside a clear array, in
+    chunks of ``chunk_frames``) give the batch's ``classes`` (over the whole chunks)."""
+    from taxelkit.smart.contact_classes import DEFAULT_CONFIDENCE, HAND_SET
+    from taxelkit.smart.levels12 import DEFAULT_LIMITS, ChunkLevels12
+
+    sensor = SmartSensor(rec.frames.shape[1:], pitch_mm=PITCH, cleaning=None)
+    sensor.push_many(rec.frames, rec.t_s)
+    np.testing.assert_array_equal(sensor.result().classes, classes)
+    chunk = ChunkLevels12(
+        2, rec.frames.shape[1:], pitch_mm=PITCH, threshold=0.5, network=HAND_SET,
+        confidence=DEFAULT_CONFIDENCE, cleaning=None, limits=DEFAULT_LIMITS,
+    )  # fmt: skip
+    frames = np.stack([rec.frames, np.zeros_like(rec.frames)])
+    times = np.stack([rec.t_s, rec.t_s])
+    n = rec.frames.shape[0] // chunk_frames * chunk_frames
+    got = [
+        chunk.process(frames[:, a : a + chunk_frames], times[:, a : a + chunk_frames])[0]
+        for a in range(0, n, chunk_frames)
+    ]
+    np.testing.assert_array_equal(np.concatenate(got, axis=1)[0], classes[:n])
+
+
 @pytest.mark.parametrize("rate_hz", [20.0, 100.0])
 def test_one_frame_over_the_area_mark_does_not_make_an_area(rate_hz: float) -> None:
     rec = _ball_with_a_spike(rate_hz)
@@ -118,22 +141,7 @@ def test_one_frame_over_the_area_mark_does_not_make_an_area(rate_hz: float) -> N
     assert "AC" not in [n for n, _ in held.tactemes]
     at_once = recognise(rec, cleaning=None, limits=ContactLimits(area_enter_s=0.0))
     assert int(ContactClass.AREA) in at_once.classes.tolist()  # latched by the hysteresis
-    # the streaming sensor and the chunked Levels 1-2 (the bank's) agree with the batch
-    sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None)
-    sensor.push_many(rec.frames, rec.t_s)
-    np.testing.assert_array_equal(sensor.result().classes, held.classes)
-    from taxelkit.smart.contact_classes import DEFAULT_CONFIDENCE, HAND_SET
-    from taxelkit.smart.levels12 import DEFAULT_LIMITS, ChunkLevels12
-
-    chunk = ChunkLevels12(
-        2, (16, 16), pitch_mm=PITCH, threshold=0.5, network=HAND_SET,
-        confidence=DEFAULT_CONFIDENCE, cleaning=None, limits=DEFAULT_LIMITS,
-    )  # fmt: skip
-    frames = np.stack([rec.frames, np.zeros_like(rec.frames)])
-    times = np.stack([rec.t_s, rec.t_s])
-    k = rec.frames.shape[0] // 3  # in three chunks
-    got = [chunk.process(frames[:, a : a + k], times[:, a : a + k])[0] for a in range(0, 3 * k, k)]
-    np.testing.assert_array_equal(np.concatenate(got, axis=1)[0], held.classes[: 3 * k])
+    _paths_agree(rec, held.classes, rec.frames.shape[0] // 3)  # in three chunks
 
 
 def _bar_with_a_flicker(rate_hz: float) -> TactileFrames:
@@ -154,22 +162,7 @@ def test_one_frame_over_the_line_mark_does_not_make_a_line(rate_hz: float) -> No
     at_once = recognise(rec, cleaning=None, limits=ContactLimits(line_enter_s=0.0))
     t = rec.frames.shape[0]
     assert np.all(at_once.classes[t // 2 : t // 2 + 5] == LINE)  # latched by the hysteresis
-    # the streaming sensor and the chunked Levels 1-2 (the bank's) agree with the batch
-    sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None)
-    sensor.push_many(rec.frames, rec.t_s)
-    np.testing.assert_array_equal(sensor.result().classes, held.classes)
-    from taxelkit.smart.contact_classes import DEFAULT_CONFIDENCE, HAND_SET
-    from taxelkit.smart.levels12 import DEFAULT_LIMITS, ChunkLevels12
-
-    chunk = ChunkLevels12(
-        2, (16, 16), pitch_mm=PITCH, threshold=0.5, network=HAND_SET,
-        confidence=DEFAULT_CONFIDENCE, cleaning=None, limits=DEFAULT_LIMITS,
-    )  # fmt: skip
-    frames = np.stack([rec.frames, np.zeros_like(rec.frames)])
-    times = np.stack([rec.t_s, rec.t_s])
-    k = t // 2  # cut just before the flicker's frame: the run is carried across chunks
-    got = [chunk.process(frames[:, a : a + k], times[:, a : a + k])[0] for a in range(0, t, k)]
-    np.testing.assert_array_equal(np.concatenate(got, axis=1)[0], held.classes)
+    _paths_agree(rec, held.classes, t // 2)  # cut at the flicker: its run carried over
     # two frames in a row over the mark make a line (a real edge is seen twice)
     frames2 = rec.frames.copy()
     frames2[t // 2 + 1, 9, 7] = True
@@ -193,9 +186,7 @@ def test_a_face_shrinking_to_a_bar_does_not_latch_a_line() -> None:
     assert "AC -> LC" not in [n for n, _ in robust.tactemes]
     old = recognise(rec, cleaning=None, limits=ContactLimits(line_enter_s=0.0))
     assert old.classes[30] == LINE  # the face's length latched the trigger
-    sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None)
-    sensor.push_many(rec.frames, rec.t_s)
-    np.testing.assert_array_equal(sensor.result().classes, robust.classes)
+    _paths_agree(rec, robust.classes, 10)
 
 
 def test_a_three_taxel_bar_is_no_edge_but_a_long_line_is() -> None:
