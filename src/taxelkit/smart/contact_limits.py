@@ -121,15 +121,18 @@ class ContactLimits:
         every bar down to ``(1 - hysteresis) x line_min_length_mm``, three
         taxels at 1.76 mm: a ball's disc with threshold spread reads as such
         a bar, and one flickering taxel at its end made it a line for as long
-        as it stayed a bar (seed 0, kinematic spheres at 20 and 100 frames/s
-        with every imperfection: "LC" after "PC takes an orthogonal turn",
-        ending "unknown"); a truncated cone's face shrinking onto its rim
-        latched the trigger on the face's length and the rim's bar read as a
-        line, so face -> rim read "AC -> LC", a polyhedron's. 0: enter at
-        once, on any class's length (as before).
+        as it stayed a bar (seed 0 at 20 frames/s with every imperfection,
+        kinematic sphere 44 and MuJoCo sphere 34: an "LC" among the ball's
+        point contacts, ending "unknown"); a truncated cone's face shrinking
+        onto its rim latched the trigger on the face's length and the rim's
+        bar read as a line, so face -> rim read "AC -> LC", a polyhedron's
+        (kinematic truncated cone 5). 0: enter at once, on any class's length
+        (as before).
     line_confirm_mm : float
         A line at least this long is one from its first frame (a flicker adds
-        a taxel to a bar; it does not draw a long line), mm. Delaying every
+        a taxel to a bar; it seldom draws a long line), mm. A burst of
+        flicker beside a ball's bar that draws one (seed 0, kinematic sphere
+        36 at 20 frames/s, sphere 7 at 100) still enters it. Delaying every
         line by a frame moved the pivot readings of a few truncated cones
         (their segment started a frame later) out of "in an arc".
 
