@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from taxelkit.frames import TactileFrames
+from taxelkit.smart.pivots import arc_limit_turn_deg
 from taxelkit.smart.recognise_chunks import ChunkRecogniser
 from taxelkit.smart.recogniser import SmartSensor, recognise
 from taxelkit.smart.tactemes import PAPER_LEVEL3, TactemeConfig
@@ -91,3 +92,66 @@ def test_the_paper_pipeline_keeps_only_the_first_verdict() -> None:
         for f, t in zip(rec.frames, rec.t_s, strict=True):
             sensor.push(f, t)
         assert list(sensor.result().events) == list(res.events), batch_frames
+
+
+def arc_and_back_frames(rate_hz: float) -> np.ndarray:
+    """An 11 mm line turning 22 deg about a point 12 mm behind its end, then 14 deg back.
+
+    A truncated cone rolled a little and back: pivot ratio about 3.2, far
+    outside the band; its turn exceeds what the grid gives an 11 mm line (18
+    deg) for about a quarter of a second only.
+    """
+    ax = (np.arange(16) - 7.5) * PITCH
+    x, y = np.meshgrid(ax, ax)
+    pivot, start = np.array([-16.0, -4.0]), 12.0
+    n = round(0.6 * rate_hz)
+    angles = [0.0] * round(0.1 * rate_hz)
+    angles += np.linspace(0.0, 22.0, n).tolist() + np.linspace(22.0, 8.0, n)[1:].tolist()
+    angles += [8.0] * round(0.8 * rate_hz)
+    out = np.zeros((len(angles), 16, 16), dtype=bool)
+    for i, deg in enumerate(angles):
+        t = np.deg2rad(deg)
+        along = (x - pivot[0]) * np.cos(t) + (y - pivot[1]) * np.sin(t)
+        across = -(x - pivot[0]) * np.sin(t) + (y - pivot[1]) * np.cos(t)
+        out[i] = (np.abs(across) <= 0.9) & (along >= start) & (along <= start + 11.0)
+    return out
+
+
+def test_an_arc_read_at_the_largest_turn_survives_the_line_turning_back() -> None:
+    """The arc's limit reads the turn the lines spread over (pivot_arc_max_turn)."""
+    for rate in (100.0, 240.0):
+        frames = arc_and_back_frames(rate)
+        rec = TactileFrames(frames, t_s=np.arange(frames.shape[0]) / rate, pitch_mm=PITCH)
+        res = recognise(rec, cleaning=None)
+        names = [n for n, _ in res.tactemes]
+        assert "LCMT in an arc" in names and "LCMT about one end" not in names, rate
+        assert res.identified == "truncated-cone", rate
+        # read at the turn now, the arc holds too briefly: undecided
+        now = TactemeConfig(pivot_arc_max_turn=False)
+        old = recognise(rec, cleaning=None, config=now)
+        assert "LCMT in an arc" not in [n for n, _ in old.tactemes], rate
+        assert old.identified is None and set(old.candidates) == {"cone", "truncated-cone"}
+        assert TactemeConfig().pivot_arc_max_turn and not PAPER_LEVEL3.pivot_arc_max_turn
+        # streamed one frame at a time and in uneven chunks, and out of core: the same events
+        for cfg, want in ((None, res), (now, old)):
+            sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None, config=cfg)
+            for f, t in zip(rec.frames, rec.t_s, strict=True):
+                sensor.push(f, t)
+            assert list(sensor.result().events) == list(want.events), rate
+            chunks = ChunkRecogniser((16, 16), pitch_mm=PITCH, cleaning=None, config=cfg)
+            for part in np.array_split(np.arange(frames.shape[0]), 7):
+                chunks.push(rec.frames[part], rec.t_s[part])
+            assert list(chunks.result().events) == list(want.events), rate
+
+
+def test_the_largest_turn_stands_only_where_the_grid_cannot_tilt_the_line_as_far() -> None:
+    """A line of six 1.76 mm taxels keeps its largest turn; one of three 3.5 mm taxels does not."""
+    turn_now, largest = np.array([8.0, 8.0, 8.0]), np.array([22.0, 22.0, 22.0])
+    lines = np.array([11.0, 10.5, 25.0])
+    # 2 atan(pitch / length) against the 20 deg full turn: 18.2, 19.0, 8.1 deg at 1.76 mm
+    got = arc_limit_turn_deg(turn_now, largest, lines, PITCH, 20.0)
+    assert got.tolist() == [22.0, 22.0, 22.0]
+    # and 35.3, 36.9, 15.9 deg at 3.5 mm
+    got = arc_limit_turn_deg(turn_now, largest, lines, 3.5, 20.0)
+    assert got.tolist() == [8.0, 8.0, 22.0]
+    assert arc_limit_turn_deg(turn_now, largest, lines, 0.0, 20.0).tolist() == [22.0] * 3

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from taxelkit.smart.pivots import arc_ratio_limit, drawn_pivot_fit, pivot_upper
+from taxelkit.smart.pivots import arc_limit_turn_deg, arc_ratio_limit, drawn_pivot_fit, pivot_upper
 from taxelkit.smart.tacteme_config import TactemeConfig
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_geometry import drawn_half_mm, first, sustained, turn
@@ -77,8 +77,9 @@ def pivot_tacteme(
     line_mm = 2.0 * _drawn_half(track, start, stop)
     pivot_hold = track.frames_for(config.pivot_hold_s, k, minimum=hold)
     turned_now = turn(angle, ref[start] + np.zeros(n, np.intp))[start:]
+    largest = np.maximum.accumulate(turned_now) if config.pivot_arc_max_turn else None
     for tac, verdict in pivot_verdicts(
-        config, ratio, error, arc_ratio, turned_now, line_mm, track.pitch_mm
+        config, ratio, error, arc_ratio, turned_now, line_mm, track.pitch_mm, largest
     ):
         j = first(sustained(verdict, pivot_hold), 0)
         if j is not None:
@@ -95,6 +96,7 @@ def pivot_verdicts(
     turned_deg: NDArray[np.float64],
     line_mm: NDArray[np.float64],
     pitch_mm: float,
+    largest_deg: NDArray[np.float64] | None = None,
 ) -> list[tuple[Tacteme, NDArray[np.bool_]]]:
     """The three pivot verdicts at each frame: spins, about one end, in an arc.
 
@@ -109,6 +111,10 @@ def pivot_verdicts(
         Each frame's drawn line length, mm (shorter than
         ``pivot_min_line_taxels`` pitches: no verdict).
     pitch_mm : float
+    largest_deg : (n,) float, optional
+        The largest turn up to each frame, deg: "in an arc" reads its limit
+        there where the grid allows (:func:`~taxelkit.smart.pivots.arc_limit_turn_deg`,
+        ``config.pivot_arc_max_turn``); None: at ``turned_deg``.
 
     Returns
     -------
@@ -119,8 +125,13 @@ def pivot_verdicts(
     arc_ratio = np.where(short, np.nan, arc_ratio)
     ready = turned_deg > config.pivot_turn_deg
     lo = config.pivot_end_ratio / config.pivot_band
+    arc_turned = turned_deg
+    if largest_deg is not None:
+        arc_turned = arc_limit_turn_deg(
+            turned_deg, largest_deg, line_mm, pitch_mm, config.pivot_turn_deg
+        )
     arc = arc_ratio_limit(
-        turned_deg,
+        arc_turned,
         config.pivot_end_ratio,
         config.pivot_band,
         config.pivot_turn_deg,

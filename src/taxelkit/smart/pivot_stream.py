@@ -12,7 +12,13 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from taxelkit.smart.pivots import arc_ratio_limit, pivot_from_sums, pivot_upper, trailing_mean
+from taxelkit.smart.pivots import (
+    arc_limit_turn_deg,
+    arc_ratio_limit,
+    pivot_from_sums,
+    pivot_upper,
+    trailing_mean,
+)
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_stream import RunningSum, Sustained, drawn_length_mm, turn_from
 
@@ -40,11 +46,22 @@ class PivotRun:
     every : bool
         Look for every verdict until it is found (False: stop at the first,
         :attr:`~taxelkit.smart.tactemes.TactemeConfig.pivot_every_verdict`).
+    arc_max_turn : bool
+        "In an arc" reads its limit at the largest turn so far
+        (:attr:`~taxelkit.smart.tactemes.TactemeConfig.pivot_arc_max_turn`).
     """
 
-    def __init__(self, start: int, hold: int, arc_w: int = 1, every: bool = True) -> None:
+    def __init__(
+        self,
+        start: int,
+        hold: int,
+        arc_w: int = 1,
+        every: bool = True,
+        arc_max_turn: bool = False,
+    ) -> None:
         self.start = start  # segment index of the anchor
         self.every = every
+        self.arc_max_turn = arc_max_turn
         self.sums = RunningSum(7)  # sxx, sxy, syy, bx, by, half, dd: column by column
         self.count = 0
         self.arc_w = arc_w
@@ -63,6 +80,7 @@ class PivotRun:
             ]
         ] = []
         self.verdicts = [Sustained(hold) for _ in range(3)]
+        self.max_turn = 0.0  # the largest turn from the reference so far, deg
         # (frame, tacteme) of each verdict sustained so far, in the order found
         self.found: list[tuple[int, Tacteme]] = []
 
@@ -129,7 +147,10 @@ class PivotRun:
         :func:`~taxelkit.smart.pivots.pivot_upper`), on frames turned
         more than ``turn_deg`` from the reference; in an arc from
         :func:`~taxelkit.smart.pivots.arc_ratio_limit` of the turn;
-        no verdict on lines drawn shorter than ``min_line_mm``. Each verdict
+        no verdict on lines drawn shorter than ``min_line_mm``; with
+        ``arc_max_turn`` (the run's) the arc's limit reads the largest turn so far where
+        the grid allows (:func:`~taxelkit.smart.pivots.arc_limit_turn_deg`,
+        :attr:`~taxelkit.smart.tactemes.TactemeConfig.pivot_arc_max_turn`). Each verdict
         is looked for until it is found (all three may be), as
         :func:`~taxelkit.smart.pivot_rules.pivot_tacteme` does.
         """
@@ -140,11 +161,16 @@ class PivotRun:
                 continue
             assert self.ref_angle is not None
             turned = turn_from(angle, self.ref_angle)
+            arc_turned = turned
+            if self.arc_max_turn:
+                largest = np.maximum.accumulate(np.maximum(turned, self.max_turn))
+                self.max_turn = float(largest[-1])
+                arc_turned = arc_limit_turn_deg(turned, largest, line_mm, pitch_mm, turn_deg)
             short = line_mm < min_line_mm
             ratio = np.where(short, np.nan, ratio)
             ready = turned > turn_deg
             arc = np.where(short, np.nan, arc_ratio) >= arc_ratio_limit(
-                turned, end_ratio, band, turn_deg, arc_turn_deg, line_mm, pitch_mm
+                arc_turned, end_ratio, band, turn_deg, arc_turn_deg, line_mm, pitch_mm
             )
             if not (ready.any() or arc.any()):  # no verdict can hold on these frames
                 for s in self.verdicts:
@@ -193,13 +219,21 @@ class LinePivot:
         Lines whose mean middle "in an arc" reads (:class:`PivotRun`).
     every : bool
         Every verdict, or only the first (:class:`PivotRun`).
+    arc_max_turn : bool
+        The arc's limit at the largest turn so far (:class:`PivotRun`).
     """
 
     def __init__(
-        self, w: int, hold: int, limits: tuple[float, ...], arc_w: int = 1, every: bool = True
+        self,
+        w: int,
+        hold: int,
+        limits: tuple[float, ...],
+        arc_w: int = 1,
+        every: bool = True,
+        arc_max_turn: bool = False,
     ) -> None:
         self.w, self.hold, self.limits, self.arc_w = w, hold, limits, arc_w
-        self.every = every
+        self.every, self.arc_max_turn = every, arc_max_turn
         self.run: PivotRun | None = None
         self._kept: list[tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]] = []
         self._kept_n = 0
@@ -234,7 +268,7 @@ class LinePivot:
         for lo, hi, a in stretches:
             run = self.run
             if run is None or (run.start != a and (turn_seg is None or a <= turn_seg)):
-                run = self.run = PivotRun(a, self.hold, self.arc_w, self.every)
+                run = self.run = PivotRun(a, self.hold, self.arc_w, self.every, self.arc_max_turn)
                 self._kept, self._kept_n = [], 0
             if run.complete:
                 continue

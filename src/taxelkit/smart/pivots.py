@@ -18,6 +18,7 @@ from taxelkit.smart.segment_runs import Runs
 from taxelkit.smart.track_geometry import drawn_half_mm
 
 __all__ = [
+    "arc_limit_turn_deg",
     "arc_ratio_limit",
     "drawn_lines",
     "drawn_pivot_fit",
@@ -366,4 +367,41 @@ def arc_ratio_limit(
     scale = np.maximum(1.0, full_turn_deg / np.where(counted, turn_deg, full_turn_deg))
     with np.errstate(over="ignore"):  # a tiny arc_turn_deg: an infinite limit, no arc
         out: NDArray[np.float64] = np.where(counted, end_ratio * band**scale, np.inf)
+    return out
+
+
+def arc_limit_turn_deg(
+    turn_deg: NDArray[np.float64],
+    largest_deg: NDArray[np.float64],
+    line_mm: NDArray[np.float64],
+    pitch_mm: float,
+    full_turn_deg: float,
+) -> NDArray[np.float64]:
+    """The turn "in an arc" reads its limit at: the largest so far, where the grid allows.
+
+    The pivot is fitted to every line so far, so its error is set by how far
+    the lines have spread (``largest_deg``), not by the turn now. Where the
+    grid alone can tilt the line by ``full_turn_deg`` (twice the angle one
+    taxel subtends over its drawn length, as in :func:`arc_ratio_limit`), a
+    line's largest turn may be the grid's and the turn now stands.
+
+    Parameters
+    ----------
+    turn_deg, largest_deg : (n,) float
+        Each frame's turn from the reference and the largest up to it, deg.
+    line_mm : (n,) float
+        Each frame's drawn line length, mm.
+    pitch_mm : float
+        Taxel pitch, mm; 0: unknown (the largest turn everywhere).
+    full_turn_deg : float
+        ``pivot_turn_deg``, deg.
+
+    Returns
+    -------
+    (n,) float
+    """
+    if pitch_mm <= 0:
+        return largest_deg
+    grid = 2.0 * np.rad2deg(np.arctan2(pitch_mm, np.where(line_mm > 0, line_mm, 0.0)))
+    out: NDArray[np.float64] = np.where(grid < full_turn_deg, largest_deg, turn_deg)
     return out

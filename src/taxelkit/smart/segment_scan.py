@@ -190,7 +190,14 @@ class SegmentScanner(SegmentHead):
         self._slide_decided = self._par_decided = False
         self._j_turn: int | None = None  # frame of LCMT
         self._j_turn_seg: int | None = None
-        self._piv = LinePivot(w, self.pivot_hold, limits, self._arc_w, cfg.pivot_every_verdict)
+        self._piv = LinePivot(
+            w,
+            self.pivot_hold,
+            limits,
+            self._arc_w,
+            cfg.pivot_every_verdict,
+            cfg.pivot_arc_max_turn,
+        )
 
     def _anchors(
         self,
