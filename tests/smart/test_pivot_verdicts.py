@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from taxelkit.frames import TactileFrames
-from taxelkit.smart.pivots import arc_limit_turn_deg
+from taxelkit.smart.pivot_limits import arc_limit_turn_deg
 from taxelkit.smart.recognise_chunks import ChunkRecogniser
 from taxelkit.smart.recogniser import SmartSensor, recognise
 from taxelkit.smart.tactemes import PAPER_LEVEL3, TactemeConfig
@@ -20,8 +20,6 @@ def end_then_arc_frames(far_mm: float) -> np.ndarray:
     virtual apex at ``far_mm`` = 16: pivot ratio 2.6); ``far_mm`` = 0 keeps the
     first pivot (a cone about its apex) throughout.
     """
-    ax = (np.arange(16) - 7.5) * PITCH
-    x, y = np.meshgrid(ax, ax)
     end = np.array([-9.0, -7.0])
     poses = [(end, 0.0, 0.0)] * 10
     poses += [(end, a, 0.0) for a in np.linspace(0.0, 30.0, 40)]
@@ -29,12 +27,20 @@ def end_then_arc_frames(far_mm: float) -> np.ndarray:
     pivot = end - far_mm * u
     poses += [(pivot, a, far_mm) for a in np.linspace(30.0, 70.0, 60)[1:]]
     poses += [poses[-1]] * 20
-    out = np.zeros((len(poses), 16, 16), dtype=bool)
-    for i, (p, deg, start) in enumerate(poses):
-        t = np.deg2rad(deg)
-        along = (x - p[0]) * np.cos(t) + (y - p[1]) * np.sin(t)
-        across = -(x - p[0]) * np.sin(t) + (y - p[1]) * np.cos(t)
-        out[i] = (np.abs(across) <= 0.9) & (along >= start) & (along <= start + 20.0)
+    return np.stack([bar(p, deg, start, 20.0) for p, deg, start in poses])
+
+
+def bar(pivot: np.ndarray, deg: float, start: float, length_mm: float) -> np.ndarray:
+    """The 16 x 16 taxels of a bar 1.8 mm wide at ``deg``, from ``start`` to ``start + length``.
+
+    Distances along the bar are from ``pivot`` (mm), which the bar's axis passes through.
+    """
+    ax = (np.arange(16) - 7.5) * PITCH
+    x, y = np.meshgrid(ax, ax)
+    t = np.deg2rad(deg)
+    along = (x - pivot[0]) * np.cos(t) + (y - pivot[1]) * np.sin(t)
+    across = -(x - pivot[0]) * np.sin(t) + (y - pivot[1]) * np.cos(t)
+    out: np.ndarray = (np.abs(across) <= 0.9) & (along >= start) & (along <= start + length_mm)
     return out
 
 
@@ -101,20 +107,12 @@ def arc_and_back_frames(rate_hz: float) -> np.ndarray:
     outside the band; its turn exceeds what the grid gives an 11 mm line (18
     deg) for about a quarter of a second only.
     """
-    ax = (np.arange(16) - 7.5) * PITCH
-    x, y = np.meshgrid(ax, ax)
     pivot, start = np.array([-16.0, -4.0]), 12.0
     n = round(0.6 * rate_hz)
     angles = [0.0] * round(0.1 * rate_hz)
     angles += np.linspace(0.0, 22.0, n).tolist() + np.linspace(22.0, 8.0, n)[1:].tolist()
     angles += [8.0] * round(0.8 * rate_hz)
-    out = np.zeros((len(angles), 16, 16), dtype=bool)
-    for i, deg in enumerate(angles):
-        t = np.deg2rad(deg)
-        along = (x - pivot[0]) * np.cos(t) + (y - pivot[1]) * np.sin(t)
-        across = -(x - pivot[0]) * np.sin(t) + (y - pivot[1]) * np.cos(t)
-        out[i] = (np.abs(across) <= 0.9) & (along >= start) & (along <= start + 11.0)
-    return out
+    return np.stack([bar(pivot, deg, start, 11.0) for deg in angles])
 
 
 def test_an_arc_read_at_the_largest_turn_survives_the_line_turning_back() -> None:

@@ -431,7 +431,7 @@ def test_about_one_end_waits_until_the_pivot_is_certain_enough() -> None:
 
 
 def test_the_arc_limit_widens_as_the_turn_shrinks() -> None:
-    from taxelkit.smart.pivots import arc_ratio_limit
+    from taxelkit.smart.pivot_limits import arc_ratio_limit
 
     turns = np.array([5.0, 10.0, 12.0, 20.0, 40.0])
     limit = arc_ratio_limit(turns, 1.32, 1.15, 20.0, 10.0)

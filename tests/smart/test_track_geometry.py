@@ -6,7 +6,8 @@ import numpy as np
 
 from taxelkit.smart.line_extents import line_extents
 from taxelkit.smart.moments import image_stats
-from taxelkit.smart.pivots import pivot_fit, pivot_ratios, pivot_upper, trailing_mean
+from taxelkit.smart.pivot_limits import pivot_upper
+from taxelkit.smart.pivots import pivot_fit, pivot_ratios, trailing_mean
 from taxelkit.smart.track_geometry import carried_shift
 
 

@@ -15,7 +15,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from taxelkit.smart.pivots import arc_limit_turn_deg, arc_ratio_limit, drawn_pivot_fit, pivot_upper
+from taxelkit.smart.pivot_limits import arc_limit_turn_deg, arc_ratio_limit, pivot_upper
+from taxelkit.smart.pivots import drawn_pivot_fit
 from taxelkit.smart.tacteme_config import TactemeConfig
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_geometry import drawn_half_mm, first, sustained, turn
@@ -113,7 +114,7 @@ def pivot_verdicts(
     pitch_mm : float
     largest_deg : (n,) float, optional
         The largest turn up to each frame, deg: "in an arc" reads its limit
-        there where the grid allows (:func:`~taxelkit.smart.pivots.arc_limit_turn_deg`,
+        there where the grid allows (:func:`~taxelkit.smart.pivot_limits.arc_limit_turn_deg`,
         ``config.pivot_arc_max_turn``); None: at ``turned_deg``.
 
     Returns

@@ -12,13 +12,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from taxelkit.smart.pivots import (
-    arc_limit_turn_deg,
-    arc_ratio_limit,
-    pivot_from_sums,
-    pivot_upper,
-    trailing_mean,
-)
+from taxelkit.smart.pivot_limits import arc_limit_turn_deg, arc_ratio_limit, pivot_upper
+from taxelkit.smart.pivots import pivot_from_sums, trailing_mean
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_stream import RunningSum, Sustained, drawn_length_mm, turn_from
 
@@ -144,12 +139,12 @@ class PivotRun:
 
         Spins below ``min_ratio`` half-lengths and about one end up to
         ``end_lo`` (the ratio plus ``end_sigmas`` times its error,
-        :func:`~taxelkit.smart.pivots.pivot_upper`), on frames turned
+        :func:`~taxelkit.smart.pivot_limits.pivot_upper`), on frames turned
         more than ``turn_deg`` from the reference; in an arc from
-        :func:`~taxelkit.smart.pivots.arc_ratio_limit` of the turn;
+        :func:`~taxelkit.smart.pivot_limits.arc_ratio_limit` of the turn;
         no verdict on lines drawn shorter than ``min_line_mm``; with
         ``arc_max_turn`` (the run's) the arc's limit reads the largest turn so far where
-        the grid allows (:func:`~taxelkit.smart.pivots.arc_limit_turn_deg`,
+        the grid allows (:func:`~taxelkit.smart.pivot_limits.arc_limit_turn_deg`,
         :attr:`~taxelkit.smart.tactemes.TactemeConfig.pivot_arc_max_turn`). Each verdict
         is looked for until it is found (all three may be), as
         :func:`~taxelkit.smart.pivot_rules.pivot_tacteme` does.

@@ -236,7 +236,7 @@ class TactemeConfig:
         ``pivot_turn_deg`` an arc needs a ratio of at least ``pivot_end_ratio
         x pivot_band ** (pivot_turn_deg / turn)`` (1.64 at 12 deg, 1.69 just
         above 10;
-        :func:`~taxelkit.smart.pivots.arc_ratio_limit`); "about one
+        :func:`~taxelkit.smart.pivot_limits.arc_ratio_limit`); "about one
         end" and "spins" still wait for ``pivot_turn_deg``. A truncated cone
         often stops rolling after 15-20 deg, its line already far from its
         pivot. Up to ``pivot_turn_deg`` the turn must also exceed what the
@@ -250,7 +250,7 @@ class TactemeConfig:
         wrong 14 -> 14 (16 without the grid's share).
         Equal to ``pivot_turn_deg`` (as in :data:`PAPER_LEVEL3`): no early arc.
     pivot_arc_max_turn : bool
-        "In an arc" reads its limit (:func:`~taxelkit.smart.pivots.arc_ratio_limit`)
+        "In an arc" reads its limit (:func:`~taxelkit.smart.pivot_limits.arc_ratio_limit`)
         at the largest turn the line has made since the turn's reference, not
         at its turn now: the pivot is fitted to every line so far, so its
         error is set by how far the lines have spread, and a line that turned
@@ -258,7 +258,7 @@ class TactemeConfig:
         and back; read at its turn now, its arc (ratio 2 and more, well
         outside the band) held for less than ``pivot_hold_s`` and the roll
         stayed undecided. Where the grid alone can tilt the line by
-        ``pivot_turn_deg`` (:func:`~taxelkit.smart.pivots.arc_limit_turn_deg`)
+        ``pivot_turn_deg`` (:func:`~taxelkit.smart.pivot_limits.arc_limit_turn_deg`)
         the turn now stands: without that, on the 8 x 8 array at 3.5 mm,
         cylinders and a cone whose lines the grid had tilted by 20 deg for a
         moment were called truncated cones. "About one end" and "spins" keep
