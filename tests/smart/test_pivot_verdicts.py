@@ -8,6 +8,7 @@ from taxelkit.frames import TactileFrames
 from taxelkit.smart.pivot_limits import arc_limit_turn_deg
 from taxelkit.smart.recognise_chunks import ChunkRecogniser
 from taxelkit.smart.recogniser import SmartSensor, recognise
+from taxelkit.smart.segment_runs import Runs
 from taxelkit.smart.tactemes import PAPER_LEVEL3, TactemeConfig
 
 PITCH = 1.7625
@@ -153,3 +154,10 @@ def test_the_largest_turn_stands_only_where_the_grid_cannot_tilt_the_line_as_far
     got = arc_limit_turn_deg(turn_now, largest, lines, 3.5, 20.0)
     assert got.tolist() == [8.0, 8.0, 22.0]
     assert arc_limit_turn_deg(turn_now, largest, lines, 0.0, 20.0).tolist() == [22.0] * 3
+
+
+def test_runs_cummax_is_each_segments_own_running_maximum() -> None:
+    """Segments laid end to end never carry a maximum into the next one."""
+    x = np.array([3.0, 1.0, 4.0, 0.5, 2.0, 1.0, 7.0])
+    got = Runs(np.array([3, 0, 2, 2])).cummax(x)
+    assert got.tolist() == [3.0, 3.0, 4.0, 0.5, 2.0, 1.0, 7.0]

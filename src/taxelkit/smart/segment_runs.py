@@ -60,6 +60,13 @@ class Runs:
         result: NDArray[np.float64] = out.reshape(x.shape)
         return result
 
+    def cummax(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``np.maximum.accumulate`` of every segment of ``x`` ``(N,)``, end to end (exact)."""
+        out = np.empty_like(x)
+        for a, b in self._bounds:
+            np.maximum.accumulate(x[a:b], out=out[a:b])
+        return out
+
     def rolling_mean(self, x: NDArray[np.float64], w: int) -> NDArray[np.float64]:
         """:func:`~taxelkit.smart.track_geometry.rolling_mean` of every segment of ``x``."""
         c = self.cumsum(x)  # laid out as x (columns contiguous stay so)

@@ -308,11 +308,7 @@ def _pivots(
     pitch = tracks[int(together[0])].pitch_mm
     ref_start = starts[together] + ref[starts[together] + first]  # each turn's reference row
     turned_now = np.abs((angle[rows] - angle[ref_start][part.seg] + 90.0) % 180.0 - 90.0)
-    largest = None
-    if config.pivot_arc_max_turn:  # the largest turn so far, run by run
-        largest = np.empty_like(turned_now)
-        for a, n in zip(part.starts.tolist(), part.lengths.tolist(), strict=True):
-            np.maximum.accumulate(turned_now[a : a + n], out=largest[a : a + n])
+    largest = part.cummax(turned_now) if config.pivot_arc_max_turn else None  # run by run
     verdicts = pivot_verdicts(config, ratio, error, arc_ratio, turned_now, line_mm, pitch, largest)
     holds = np.array(
         [
