@@ -21,12 +21,14 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 from numpy.typing import NDArray
 
+import taxelkit.smart.index_sums as index_sums_module
 import taxelkit.smart.moments as moments_module
 from taxelkit.errors import InputError
 from taxelkit.frames import TactileFrames
 from taxelkit.sensors.presets import BONNEVILLE_16X16
 from taxelkit.smart.area_moments import moments_central, moments_of_area
-from taxelkit.smart.index_sums import index_sums
+from taxelkit.smart.contact_classes import HAND_SET, _forward
+from taxelkit.smart.index_sums import ONE_THREAD_PRODUCT, index_sums, product_rows
 from taxelkit.smart.moments import (
     CELL_SECOND_MOMENT,
     ImageStats,
@@ -411,3 +413,34 @@ def test_large_arrays_sum_by_rows_exactly(shape: tuple[int, int]) -> None:
         [f.sum(axis=1)] + [f @ w.ravel() for w in (uu, vv, uu * uu, vv * vv, uu * vv)]
     )
     np.testing.assert_array_equal(index_sums(images), expected)
+
+
+@pytest.mark.parametrize("taxels", [1, 64, 256, 1024, 3600, 100_000])
+def test_products_stay_within_one_blas_thread(taxels: int) -> None:
+    """Every piece's product is within the bound (at least one row, at most 512)."""
+    rows = product_rows(taxels, 6)
+    assert 1 <= rows <= 512
+    assert rows == 1 or rows * taxels * 6 <= ONE_THREAD_PRODUCT
+    assert (rows + 1) * taxels * 6 > ONE_THREAD_PRODUCT or rows == 512
+    assert product_rows(taxels, 6, most=3) == min(3, rows)
+
+
+@pytest.mark.parametrize("bound", [1, 44, 5_000, 2**62])
+def test_piece_size_changes_no_bit(bound: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The index sums and the network's outputs are those of one product, in any pieces."""
+    rng = np.random.default_rng(bound % 97)
+    images = rng.random((700, 16, 16)) < 0.4
+    x = rng.normal(size=(3331, 2))  # 3331 = 10 x 333 + 1: a last piece of one row avoided
+    want_sums, (want_h, want_p) = index_sums(images), _forward(HAND_SET, x)
+    monkeypatch.setattr(index_sums_module, "ONE_THREAD_PRODUCT", bound)
+    np.testing.assert_array_equal(index_sums(images), want_sums)
+    h, p = _forward(HAND_SET, x)
+    np.testing.assert_array_equal(h, want_h)
+    np.testing.assert_array_equal(p, want_p)
+    assert _forward(HAND_SET, x[:0])[1].shape == (0, 3)
+
+
+def test_index_sums_docstring_examples() -> None:
+    result = doctest.testmod(index_sums_module, optionflags=doctest.ELLIPSIS)
+    assert result.attempted >= 1
+    assert result.failed == 0

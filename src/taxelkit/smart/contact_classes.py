@@ -67,6 +67,7 @@ Paper 001, Section 3, Level 2 and Figure 3.
 from __future__ import annotations
 
 import enum
+import itertools
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -87,6 +88,7 @@ from taxelkit.smart.contact_network import (
     ContactNetwork,
     hand_set_network,
 )
+from taxelkit.smart.index_sums import product_rows
 from taxelkit.smart.moments import ImageStats
 
 __all__ = [
@@ -204,9 +206,24 @@ def _inputs(f: NDArray[np.float64]) -> NDArray[np.float64]:
 def _forward(
     net: ContactNetwork, x: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Hidden activations ``(N, H)`` and softmax outputs ``(N, 3)`` for inputs ``x``."""
-    h = np.tanh(x @ net.w_hidden + net.b_hidden)
-    z = h @ net.w_output + net.b_output
+    """Hidden activations ``(N, H)`` and softmax outputs ``(N, 3)`` for inputs ``x``.
+
+    The products run over pieces of rows small enough for one BLAS thread
+    (:func:`~taxelkit.smart.index_sums.product_rows`), none of one row unless
+    ``N`` is 1: NumPy multiplies a single row as a vector, with sums rounded
+    otherwise, while a row's product in a matrix of rows is the same whatever
+    the piece.
+    """
+    n, (k, hidden), out = x.shape[0], net.w_hidden.shape, net.w_output.shape[1]
+    step = max(2, product_rows(max(k * hidden, hidden * out), 1, most=n))
+    cuts = [*range(0, n, step), n]
+    if len(cuts) > 2 and cuts[-1] - cuts[-2] == 1:
+        cuts[-2] -= 1  # the last piece gets two rows
+    h = np.empty((n, hidden))
+    z = np.empty((n, out))
+    for a, b in itertools.pairwise(cuts):
+        h[a:b] = np.tanh(x[a:b] @ net.w_hidden + net.b_hidden)
+        z[a:b] = h[a:b] @ net.w_output + net.b_output
     top = z[:, 0].copy()  # the largest output (exact, as z.max(axis=1), without a call per row)
     for k in range(1, z.shape[1]):
         np.maximum(top, z[:, k], out=top)

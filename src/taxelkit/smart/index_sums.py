@@ -19,17 +19,28 @@ from numpy.typing import NDArray
 
 __all__ = [
     "CHUNK_FRAMES",
+    "ONE_THREAD_PRODUCT",
     "SEPARABLE_MAX_COLS",
     "centred_index",
     "index_basis",
     "index_sums",
     "index_sums_by_rows",
+    "product_rows",
 ]
 
 #: Frames processed together: the float copy of a chunk of binary images stays
 #: in cache (0.5 MB for 16 x 16); measured 1.4 M frames/s against 1.0 M with
 #: chunks of 32768 (benchmarks/bench_smart.py).
 CHUNK_FRAMES = 512
+#: Largest product ``m * n * k`` that OpenBLAS computes on one thread whatever
+#: the number of cores: it splits a matrix product ``(m, k) @ (k, n)`` among
+#: ``m n k / 262144`` threads (65536 times its ``GEMM_MULTITHREAD_THRESHOLD``
+#: of 4), rounded down, so below twice that it uses one. Above it, on a 2-core
+#: machine, the threads' hand-offs made the 512-frame product of 16 x 16
+#: images 10 to 100 times slower (8 ms against 80 us): more than the rest of
+#: Levels 1-4 together, wherever ``OPENBLAS_NUM_THREADS`` was not set to 1
+#: (``benchmarks/bench_blas_threads.py``). Products here stay below it.
+ONE_THREAD_PRODUCT = 2 * 262_144 - 1
 #: Widest array whose row sums of ``u^2`` are exact in float32 (``cols^3 < 2^24``).
 SEPARABLE_MAX_COLS = 256
 
@@ -91,11 +102,27 @@ def index_sums(images: NDArray[np.bool_]) -> NDArray[np.float64]:
     basis_t = _basis(rows, cols, exact32)
     out = np.empty((6, n_t), dtype=np.float64)
     flat = images.reshape(n_t, rows * cols)
-    for a in range(0, n_t, CHUNK_FRAMES):
-        b = min(n_t, a + CHUNK_FRAMES)
+    step = product_rows(rows * cols, 6)
+    for a in range(0, n_t, step):
+        b = min(n_t, a + step)
         chunk: NDArray[np.floating[Any]] = flat[a:b].astype(dtype)
         out[:, a:b] = (chunk @ basis_t).T
     return out
+
+
+def product_rows(inner: int, outer: int, most: int = CHUNK_FRAMES) -> int:
+    """Rows of ``(rows, inner) @ (inner, outer)`` products that BLAS runs on one thread.
+
+    At most ``most`` and at least 1, so that ``rows * inner * outer`` stays
+    within :data:`ONE_THREAD_PRODUCT` (341 frames of 16 x 16 images with the
+    six sums, 85 of 32 x 32).
+
+    Examples
+    --------
+    >>> product_rows(16 * 16, 6), product_rows(32 * 32, 6), product_rows(8 * 8, 6)
+    (341, 85, 512)
+    """
+    return max(1, min(int(most), ONE_THREAD_PRODUCT // max(1, int(inner) * int(outer))))
 
 
 def index_sums_by_rows(
