@@ -48,16 +48,13 @@ from typing import Any  # noqa: E402
 import numpy as np  # noqa: E402
 
 from _record import add_record_option, record  # noqa: E402
+from _rolls import roll_images  # noqa: E402
 from taxelkit.experiments.readme_tables import span  # noqa: E402
 from taxelkit.frames import TactileFrames  # noqa: E402
-from taxelkit.motion.rolling import frames_from_scenario  # noqa: E402
-from taxelkit.motion.scenarios import make_scenario  # noqa: E402
 from taxelkit.sensors import BONNEVILLE_16X16  # noqa: E402
-from taxelkit.sensors.faults import fault_model  # noqa: E402
 from taxelkit.smart.bank import SensorBank  # noqa: E402
 from taxelkit.smart.recogniser import recognise  # noqa: E402
 from taxelkit.smart.streaming import SmartSensor  # noqa: E402
-from taxelkit.smart.tacteme_table import OBJECTS  # noqa: E402
 
 RATE_HZ = BONNEVILLE_16X16.max_rate_hz
 clock = time.process_time  # CPU time of this process: one core, whatever else runs
@@ -65,16 +62,7 @@ clock = time.process_time  # CPU time of this process: one core, whatever else r
 
 def roll_pool(n: int) -> list[np.ndarray]:
     """``n`` randomised rolls at 240 frames/s, faults 'all', as bool images."""
-    sensor, thr = BONNEVILLE_16X16, BONNEVILLE_16X16.contact_threshold_mm
-    out = []
-    for k in range(n):
-        rng = np.random.default_rng(k)
-        sc = make_scenario(OBJECTS[k % len(OBJECTS)], rng=rng, rate_hz=RATE_HZ)
-        rec = fault_model("all").apply(
-            frames_from_scenario(sensor, sc, rng=rng), threshold=thr, rng=k
-        )
-        out.append(rec.frames > thr)
-    return out
+    return roll_images(n, faults=True)
 
 
 def skin_frames(

@@ -40,24 +40,11 @@ def _rolls(n_frames: int) -> tuple[Any, Any]:
     """Binary frames ``(n, 16, 16)`` of randomised rolls (faults 'all') and their times."""
     import numpy as np
 
-    from taxelkit.motion.rolling import frames_from_scenario
-    from taxelkit.motion.scenarios import make_scenario
-    from taxelkit.sensors import BONNEVILLE_16X16
-    from taxelkit.sensors.faults import fault_model
-    from taxelkit.smart.tacteme_table import OBJECTS
+    from _rolls import RATE_HZ, roll_images
 
-    sensor, thr = BONNEVILLE_16X16, BONNEVILLE_16X16.contact_threshold_mm
-    chunks = []
-    for k in range(12):
-        rng = np.random.default_rng(k)
-        sc = make_scenario(OBJECTS[k % len(OBJECTS)], rng=rng, rate_hz=sensor.max_rate_hz)
-        rec = fault_model("all").apply(
-            frames_from_scenario(sensor, sc, rng=rng), threshold=thr, rng=k
-        )
-        chunks.append(rec.frames > thr)
-    one = np.concatenate(chunks)
+    one = np.concatenate(roll_images(12, faults=True))
     frames = np.concatenate([one] * (n_frames // one.shape[0] + 1))[:n_frames]
-    return frames, np.arange(n_frames) / sensor.max_rate_hz
+    return frames, np.arange(n_frames) / RATE_HZ
 
 
 def _timed(repeat: int, fn: Any) -> tuple[float, float]:

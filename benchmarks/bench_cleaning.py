@@ -27,15 +27,12 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 from _record import add_record_option, record  # noqa: E402
+from _rolls import roll_images  # noqa: E402
 from taxelkit.frames import TactileFrames  # noqa: E402
-from taxelkit.motion.rolling import frames_from_scenario  # noqa: E402
-from taxelkit.motion.scenarios import make_scenario  # noqa: E402
 from taxelkit.sensors import BONNEVILLE_16X16  # noqa: E402
-from taxelkit.sensors.faults import fault_model  # noqa: E402
 from taxelkit.smart.cleaning import clean_images  # noqa: E402
 from taxelkit.smart.cleaning_stream import ImageCleaner  # noqa: E402
 from taxelkit.smart.recogniser import recognise  # noqa: E402
-from taxelkit.smart.tacteme_table import OBJECTS  # noqa: E402
 
 
 def best_of(repeat: int, fn: object) -> float:
@@ -56,16 +53,7 @@ def main() -> None:
     add_record_option(ap)
     args = ap.parse_args()
     sensor = BONNEVILLE_16X16
-    thr = sensor.contact_threshold_mm
-    chunks = []
-    for k in range(args.scenarios):
-        rng = np.random.default_rng(k)
-        sc = make_scenario(OBJECTS[k % len(OBJECTS)], rng=rng, rate_hz=sensor.max_rate_hz)
-        rec = fault_model("all").apply(
-            frames_from_scenario(sensor, sc, rng=rng), threshold=thr, rng=k
-        )
-        chunks.append(rec.frames > thr)
-    images = np.concatenate(chunks)
+    images = np.concatenate(roll_images(args.scenarios, faults=True))
     t_s = np.arange(images.shape[0]) / sensor.max_rate_hz
     n = images.shape[0]
     cleaned = clean_images(images, t_s)

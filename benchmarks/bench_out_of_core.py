@@ -49,12 +49,10 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 from _record import add_record_option, record  # noqa: E402
+from _rolls import roll_images  # noqa: E402
 from taxelkit.experiments.readme_tables import span  # noqa: E402
 from taxelkit.io.chunked_write import RecordingAppender  # noqa: E402
-from taxelkit.motion.rolling import frames_from_scenario  # noqa: E402
-from taxelkit.motion.scenarios import make_scenario  # noqa: E402
 from taxelkit.sensors import BONNEVILLE_16X16  # noqa: E402
-from taxelkit.smart.tacteme_table import OBJECTS  # noqa: E402
 
 RATE_HZ = BONNEVILLE_16X16.max_rate_hz
 
@@ -131,14 +129,7 @@ print(json.dumps({"rc": rc, "seconds": time.process_time() - t0, "maxrss_mb": pe
 
 def base_block(n_scenarios: int) -> np.ndarray:
     """Contact frames of ``n_scenarios`` rolling scenarios, one after another."""
-    sensor = BONNEVILLE_16X16
-    blocks = []
-    for k in range(n_scenarios):
-        rng = np.random.default_rng(k)
-        sc = make_scenario(OBJECTS[k % len(OBJECTS)], rng=rng, rate_hz=RATE_HZ)
-        frames = frames_from_scenario(sensor, sc, rng=rng).frames
-        blocks.append(sensor.contact_from_displacement(frames))
-    return np.concatenate(blocks)
+    return np.concatenate(roll_images(n_scenarios, faults=False))
 
 
 def write_long(path: Path, block: np.ndarray, n_frames: int, chunk_frames: int) -> float:

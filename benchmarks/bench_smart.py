@@ -29,13 +29,11 @@ import numpy as np  # noqa: E402
 
 from _baselines import skimage_moments  # noqa: E402
 from _record import add_record_option, record  # noqa: E402
+from _rolls import roll_images  # noqa: E402
 from taxelkit.frames import TactileFrames  # noqa: E402
-from taxelkit.motion.rolling import frames_from_scenario  # noqa: E402
-from taxelkit.motion.scenarios import make_scenario  # noqa: E402
 from taxelkit.sensors import BONNEVILLE_16X16  # noqa: E402
 from taxelkit.smart.contact_classes import classify_features  # noqa: E402
 from taxelkit.smart.recogniser import SmartSensor, recognise  # noqa: E402
-from taxelkit.smart.tacteme_table import OBJECTS  # noqa: E402
 
 
 def baseline_levels12(frames: np.ndarray, pitch: float) -> np.ndarray:
@@ -62,14 +60,7 @@ def main() -> None:
     add_record_option(ap)
     args = ap.parse_args()
     sensor = BONNEVILLE_16X16
-    chunks = []
-    for k in range(args.scenarios):
-        rng = np.random.default_rng(k)
-        sc = make_scenario(OBJECTS[k % len(OBJECTS)], rng=rng, rate_hz=sensor.max_rate_hz)
-        chunks.append(
-            sensor.contact_from_displacement(frames_from_scenario(sensor, sc, rng=rng).frames)
-        )
-    frames = np.concatenate(chunks)
+    frames = np.concatenate(roll_images(args.scenarios, faults=False))
     t_s = np.arange(frames.shape[0]) / sensor.max_rate_hz
     rec = TactileFrames(frames, t_s, pitch_mm=sensor.array.pitch_mm)
     n = frames.shape[0]
