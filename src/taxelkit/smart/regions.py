@@ -263,8 +263,8 @@ def _repeated(unique: Regions, new: NDArray[np.bool_]) -> Regions:
     frame = np.repeat(np.arange(t), m)
     src = start_unique[frame_of[frame]] + (np.arange(start[-1]) - start[frame])
     offset = (start[:-1] - start_unique[frame_of]).astype(np.int32)
-    labels = unique.labels[frame_of]
-    labels += (labels > 0) * offset[:, None, None]
+    labels = np.take(unique.labels, frame_of, axis=0)
+    np.add(labels, offset[:, None, None], out=labels, where=labels > 0)  # no temporaries
     count = unique.n_taxels[src]
     taxel_start = np.concatenate([[0], np.cumsum(count)]).astype(np.intp)
     first = unique.taxel_start[src]
