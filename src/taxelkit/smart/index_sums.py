@@ -37,9 +37,10 @@ CHUNK_FRAMES = 512
 #: ``m n k / 262144`` threads (65536 times its ``GEMM_MULTITHREAD_THRESHOLD``
 #: of 4), rounded down, so below twice that it uses one. Above it, on a 2-core
 #: machine, the threads' hand-offs made the 512-frame product of 16 x 16
-#: images 10 to 100 times slower (8 ms against 80 us): more than the rest of
-#: Levels 1-4 together, wherever ``OPENBLAS_NUM_THREADS`` was not set to 1
-#: (``benchmarks/bench_blas_threads.py``). Products here stay below it.
+#: images up to 100 times slower (8 ms against 80 us, timed by hand), nearly
+#: half the time of Levels 1-4 out of core (profiled), wherever
+#: ``OPENBLAS_NUM_THREADS`` was not set to 1 (``benchmarks/bench_blas_threads.py``
+#: measures both ways). Products here stay below it.
 ONE_THREAD_PRODUCT = 2 * 262_144 - 1
 #: Widest array whose row sums of ``u^2`` are exact in float32 (``cols^3 < 2^24``).
 SEPARABLE_MAX_COLS = 256
