@@ -230,10 +230,11 @@ class ObjectRecogniser:
             live = self._live[tid]
             a = starts.get(tid, 0)
             b = ends.get(tid, t.size - 1)
-            seen = np.flatnonzero((pix[a : b + 1] == tid).reshape(b + 1 - a, -1).any(axis=1))
+            mine = pix[a : b + 1] == tid
+            seen = np.flatnonzero(mine.reshape(b + 1 - a, -1).any(axis=1))
             if seen.size:
                 live.last = n0 + a + int(seen[-1])
-            emitted = live.recogniser.push(pix[a : b + 1] == tid, t[a : b + 1])
+            emitted = live.recogniser.push(mine, t[a : b + 1])
             new = [self._tracked(tid, live, e) for e in emitted]
             live.events.extend(new)
             found.extend(new)
