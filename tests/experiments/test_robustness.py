@@ -100,6 +100,7 @@ def test_the_held_out_sweep_is_the_sweep_on_another_seed_marked_as_such() -> Non
         n_trials=1,
         engines=["kinematic"],
         rates_hz=[20.0],
+        untuned_rates_hz=[30.0],
         arrays=[],
         workers=1,
     )
@@ -121,7 +122,23 @@ def test_the_held_out_sweep_is_the_sweep_on_another_seed_marked_as_such() -> Non
 
     text = robustness_heldout_markdown({"robustness": same.to_json(), "robustness-heldout": doc})
     assert "| kinematic | cone |" in text and "held out" in text
-    assert text.count("\n| kinematic |") == 6
+    # the same motions at a rate outside the matrix: kept apart, one row per engine and rate
+    assert held.untuned is not None and held.untuned.rates_hz == (30.0,)
+    assert {o.rate_hz for o in held.untuned.outcomes} == {30.0}
+    extra = doc["untuned_rates"]
+    assert extra["rates_hz"] == [30.0] and {c["rate_hz"] for c in extra["cells"]} == {30.0}
+    assert len(held.untuned.outcomes) == len(same.outcomes)  # every motion, fault and object
+    assert text.count("\n| kinematic |") == 7
+    assert "| kinematic | 30 | " in text and "outside the matrix" in text
+
+
+def test_the_held_out_rates_outside_the_matrix_must_be_outside_it() -> None:
+    from taxelkit.experiments.robustness_heldout import run_robustness_heldout
+
+    with pytest.raises(InputError, match="both in the matrix and outside it"):
+        run_robustness_heldout(
+            n_trials=1, engines=["kinematic"], rates_hz=[20.0], untuned_rates_hz=[20.0]
+        )
 
 
 def test_the_misses_block_names_the_failing_rolls_and_the_wrong_names() -> None:

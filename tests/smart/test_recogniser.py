@@ -131,3 +131,44 @@ def test_recognise_rejects_a_bare_array_without_pitch() -> None:
         recognise(fig3_sequence())
     with pytest.raises(InputError, match="debounce_frames"):
         TactemeConfig(debounce_frames=0)
+
+
+def _jumping_line(step: int) -> np.ndarray:
+    """A line that jumps ``step`` columns every three frames (a cube tipping edge to edge)."""
+    frames = [blank()] * 2 + [line_v(c) for c in range(1, 15, step) for _ in range(3)]
+    return np.stack([*frames, blank(), blank()])
+
+
+@pytest.mark.parametrize("rate_hz", [1.0, 2.0])
+def test_sparse_frames_between_which_the_contact_jumped_give_no_motion(rate_hz: float) -> None:
+    frames = _jumping_line(4)  # 4 pitches, 7 mm, from frame to frame
+    t_s = np.arange(len(frames)) / rate_hz
+    rec = TactileFrames(frames, t_s, pitch_mm=PITCH)
+    followed = recognise(rec, cleaning=None, config=TactemeConfig(max_motion_gap_s=0.0))
+    assert "LCMP" in [n for n, _ in followed.tactemes]  # read as a cylinder rolling
+    assert followed.identified == "cylinder" and followed.verdict.unread_gap_s is None
+    sparse = recognise(rec, cleaning=None)
+    assert not {"LCM", "LCMP"} & {n for n, _ in sparse.tactemes}
+    assert sparse.identified is None
+    assert sparse.verdict.unread_gap_s == pytest.approx(1.0 / rate_hz)
+    assert "too far apart to follow its motion" in sparse.verdict.sentence()
+    assert sparse.verdict.to_json()["unread_gap_s"] == pytest.approx(1.0 / rate_hz)
+    # streamed, one frame at a time or in chunks: the same events
+    for batch in (1, 5):
+        sensor = SmartSensor((N, N), pitch_mm=PITCH, cleaning=None, batch_frames=batch)
+        for f, t in zip(frames, t_s, strict=True):
+            sensor.push(f, float(t))
+        assert list(sensor.result().events) == list(sparse.events)
+        assert sensor.result().verdict.unread_gap_s == sparse.verdict.unread_gap_s
+
+
+def test_sparse_frames_that_follow_the_contact_and_dense_frames_keep_their_motion() -> None:
+    slow = _jumping_line(1)  # a pitch per three frames at one frame a second (paper 001's rate)
+    rec = recognise(TactileFrames(slow, pitch_mm=PITCH), cleaning=None)
+    assert rec.identified == "cylinder" and rec.verdict.unread_gap_s is None
+    jumps = _jumping_line(4)  # the same jumps at 20 frames/s: the rule does not apply
+    dense = TactileFrames(jumps, np.arange(len(jumps)) / 20.0, pitch_mm=PITCH)
+    off = TactemeConfig(max_motion_gap_s=0.0)
+    assert (
+        recognise(dense, cleaning=None).events == recognise(dense, cleaning=None, config=off).events
+    )

@@ -8,22 +8,34 @@ same sweep on motions, noise and imperfections drawn from another seed,
 ``S + HELD_OUT_OFFSET``, measures what those choices are worth on trials
 they were not chosen on. Nothing else differs: the engines, rates,
 imperfections, objects and arrays are the main sweep's.
+
+The held-out motions are also seen at frame rates the matrix does not hold
+(:data:`UNTUNED_RATES_HZ`), which no threshold was ever looked at on: the
+same simulation sampled at more rates (the matrix's rates come first, so
+their frames, imperfections and outcomes are those of the sweep without the
+extra rates). Their outcomes are kept apart from the matrix's
+(:attr:`HeldOut.untuned`), so the held-out matrix compares cell for cell
+with the tuned one.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
+from taxelkit.errors import InputError
 from taxelkit.experiments.robustness import (
     OTHER_ARRAYS,
     RATES_HZ,
+    RobustnessResult,
     run_robustness,
 )
+from taxelkit.experiments.robustness_outcomes import MAIN_ARRAY
 
 __all__ = [
     "HELD_OUT_OFFSET",
+    "UNTUNED_RATES_HZ",
     "HeldOut",
     "HeldOutRobustness",
     "held_out_json",
@@ -32,6 +44,11 @@ __all__ = [
 
 #: Offset of the held-out seed from the seed the thresholds were set on.
 HELD_OUT_OFFSET = 11
+
+#: Frame rates outside the matrix's (5, 20, 100 and 240 frames/s) at which the
+#: held-out motions are also seen: common camera and array rates that no
+#: threshold was set on, from the slowest the imperfection models allow.
+UNTUNED_RATES_HZ: tuple[float, ...] = (1.0, 2.0, 3.0, 10.0, 30.0, 60.0, 120.0)
 
 
 def held_out_json(
@@ -74,15 +91,28 @@ class HeldOut:
         The seed the thresholds were set on; the run used ``seed + HELD_OUT_OFFSET``.
     experiment : str
         The held-out experiment's registry name.
+    untuned : RobustnessResult, optional
+        The same motions at frame rates outside the matrix (``robustness-heldout``).
     """
 
     result: Any
     seed: int
     experiment: str = "robustness-heldout"
+    untuned: RobustnessResult | None = None
 
     def to_json(self) -> dict[str, Any]:
-        """The experiment's document marked as held out (:func:`held_out_json`)."""
-        return held_out_json(self.result.to_json(), self.seed, experiment=self.experiment)
+        """The experiment's document marked as held out (:func:`held_out_json`).
+
+        With :attr:`untuned`, its cells, summaries and totals under
+        ``untuned_rates`` (keys ``rates_hz``, ``cells``, ``summary``,
+        ``overall``, ``sliding``).
+        """
+        doc = held_out_json(self.result.to_json(), self.seed, experiment=self.experiment)
+        if self.untuned is not None:
+            extra = self.untuned.to_json()
+            keys = ("rates_hz", "cells", "summary", "overall", "sliding")
+            doc["untuned_rates"] = {k: extra[k] for k in keys}
+        return doc
 
 
 #: The robustness sweep on the held-out seed (``result``: a RobustnessResult).
@@ -95,6 +125,7 @@ def run_robustness_heldout(
     n_trials: int = 50,
     engines: Sequence[str] | None = None,
     rates_hz: Sequence[float] = RATES_HZ,
+    untuned_rates_hz: Sequence[float] = UNTUNED_RATES_HZ,
     arrays: Sequence[tuple[int, float]] = OTHER_ARRAYS,
     array_trials: int | None = None,
     workers: int | None = None,
@@ -112,20 +143,50 @@ def run_robustness_heldout(
         cells compare one to one).
     engines, rates_hz, arrays, array_trials, workers, scheduler, progress
         As :func:`~taxelkit.experiments.robustness.run_robustness`.
+    untuned_rates_hz : sequence of float
+        Frame rates outside the matrix at which the same motions are also seen
+        (empty: none); their outcomes go to :attr:`HeldOut.untuned`.
 
     Returns
     -------
     HeldOutRobustness
+
+    Raises
+    ------
+    InputError
+        For a rate in both ``rates_hz`` and ``untuned_rates_hz``.
     """
+    matrix = tuple(float(r) for r in rates_hz)
+    extra = tuple(float(r) for r in untuned_rates_hz)
+    both = sorted(set(matrix) & set(extra))
+    if both:
+        raise InputError(f"rates {both} are both in the matrix and outside it")
     result = run_robustness(
         seed=int(seed) + HELD_OUT_OFFSET,
         n_trials=n_trials,
         engines=engines,
-        rates_hz=rates_hz,
+        rates_hz=(*matrix, *extra),  # the matrix's first: its outcomes do not change
         arrays=arrays,
         array_trials=array_trials,
         workers=workers,
         scheduler=scheduler,
         progress=progress,
     )
-    return HeldOut(result, int(seed))
+    if not extra:
+        return HeldOut(result, int(seed))
+    main, untuned = _split(result, matrix)
+    return HeldOut(main, int(seed), untuned=untuned)
+
+
+def _split(
+    result: RobustnessResult, matrix: tuple[float, ...]
+) -> tuple[RobustnessResult, RobustnessResult]:
+    """The outcomes at the matrix's rates (and on other arrays), and those at the others."""
+    keep = set(matrix)
+    inside = tuple(o for o in result.outcomes if o.rate_hz in keep or o.array != MAIN_ARRAY)
+    outside = tuple(o for o in result.outcomes if o.rate_hz not in keep and o.array == MAIN_ARRAY)
+    rates = tuple(r for r in result.rates_hz if r not in keep)
+    return (
+        replace(result, outcomes=inside, rates_hz=matrix),
+        replace(result, outcomes=outside, rates_hz=rates),
+    )

@@ -157,6 +157,10 @@ class Verdict:
         Tactemes seen that the only candidate left produces only rarely
         (:attr:`~taxelkit.smart.object_table.ObjectRow.rare`): it is not
         named (empty otherwise).
+    unread_gap_s : float or None
+        The contact's frames came this far apart, s, beyond
+        :attr:`~taxelkit.smart.tactemes.TactemeConfig.max_motion_gap_s`: the
+        motion tactemes seen in them were not read (None: every one was).
     """
 
     outcome: str | None
@@ -165,6 +169,7 @@ class Verdict:
     deciders: tuple[tuple[str, tuple[str, ...], str], ...]
     slid: bool = False
     rare: tuple[str, ...] = ()
+    unread_gap_s: float | None = None
 
     @property
     def reason(self) -> str | None:
@@ -196,7 +201,13 @@ class Verdict:
                 f"{', '.join(self.rare)}, which it produces only rarely (not named)"
             )
         options = "; ".join(f"{t} would leave {', '.join(left)}" for t, left, _ in self.deciders)
-        return f"undecided between {', '.join(self.candidates)}" + (
+        sparse = (
+            f"; its frames came {self.unread_gap_s:.3g} s apart, too far apart to follow its "
+            "motion (the motion tactemes seen were not read)"
+            if self.unread_gap_s is not None
+            else ""
+        )
+        return f"undecided between {', '.join(self.candidates)}{sparse}" + (
             f"; {options}" if options else ""
         )
 
@@ -216,6 +227,7 @@ class Verdict:
                 {"tacteme": t, "leaves": list(left), "reason": r} for t, left, r in self.deciders
             ],
             "rare": list(self.rare),
+            "unread_gap_s": self.unread_gap_s,
         }
 
 
@@ -225,6 +237,7 @@ def explain(
     objects: tuple[str, ...] = OBJECTS,
     slid: bool = False,
     table: ObjectTable | None = None,
+    unread_gap_s: float | None = None,
 ) -> Verdict:
     """The verdict and its reasons from the tactemes of one contact, in order.
 
@@ -237,6 +250,9 @@ def explain(
         The contact slipped.
     table : ObjectTable, optional
         Rows by object (default: Table 1, the six objects of paper 001).
+    unread_gap_s : float, optional
+        The contact's frames were too sparse for its motion tactemes to be
+        read (:attr:`Verdict.unread_gap_s`).
     """
     from taxelkit.smart.tacteme_table import ALL_ROWS, TABLE, TactemeRow
 
@@ -275,4 +291,6 @@ def explain(
             keep = tuple(o for o in left if o not in row.eliminates)
             if keep and len(keep) < len(left):
                 deciders.append((row.tacteme.value, keep, row.reason))
-    return Verdict(outcome, tuple(left), tuple(eliminated), tuple(deciders), bool(slid), rare)
+    return Verdict(
+        outcome, tuple(left), tuple(eliminated), tuple(deciders), bool(slid), rare, unread_gap_s
+    )

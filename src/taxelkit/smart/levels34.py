@@ -62,6 +62,8 @@ class Segment(Protocol):
     last_frame: int
 
     def frames_for(self, seconds: float, k: int, *, minimum: int | None = None) -> int: ...
+    def frame_interval_s(self, k: int) -> float: ...
+    def jump_frame(self) -> int | None: ...
     def frame_at(self, i: int) -> int: ...
     def mean_axis_deg(self, stop: int | None = None) -> float: ...
     def mean_centre_mm(self, stop: int) -> tuple[float, float]: ...
@@ -126,8 +128,10 @@ class Levels34:
     config : TactemeConfig
     """
 
-    def __init__(self, config: TactemeConfig) -> None:
+    def __init__(self, config: TactemeConfig, frame_interval_s: float | None = None) -> None:
         self.config = config
+        # the recording's frame interval (its first), s: None until known
+        self.frame_interval_s = frame_interval_s
         self.k = int(config.debounce_frames)
         self.elim = Eliminator.for_table(config.objects)
         self.history: list[tuple[int, float]] = []
@@ -146,6 +150,9 @@ class Levels34:
         self._seg: Segment | None = None
         self._slips_seen: dict[int, Slip] = {}  # the open segment's, by detection frame
         self.slips: dict[int, Slip] = {}  # every slip by detection frame (latest state)
+        # the frame interval of the current (or last) contact's segments whose motion was
+        # not read (TactemeConfig.max_motion_gap_s), s; None: every segment's was
+        self.unread_gap_s: float | None = None
 
     def open_run(self, cls: int, accept: int, seg: Segment | None) -> None:
         """A new class was accepted at frame ``accept``; ``seg`` holds its frames so far."""
@@ -160,6 +167,8 @@ class Levels34:
                 self.in_contact = False
             return
         assert seg is not None  # a contact class always has frames
+        if not self.in_contact:
+            self.unread_gap_s = None
         self.in_contact = True
         self.events.append(Event("contact", accept, ContactClass(cls).name.lower()))
         self.history.append((cls, seg.mean_axis_deg(self.k)))
@@ -212,6 +221,13 @@ class Levels34:
             for tac in found:
                 self.events.extend(self.elim.apply(tac, at))
         motions = [(frame, 1, tac) for tac, frame in seg.tactemes() if tac not in done]
+        dt, gap = self.frame_interval_s, self.config.max_motion_gap_s
+        jump = seg.jump_frame() if motions and gap > 0 and dt is not None and dt > gap else None
+        if jump is not None:  # sparse frames, between which the contact jumped: not followed
+            kept = [m for m in motions if m[0] < jump]
+            if len(kept) < len(motions):
+                self.unread_gap_s = seg.frame_interval_s(self.k)
+            motions = kept
         done.update(tac for _, _, tac in motions)
         self._apply_in_order(motions, self._new_slips(seg.slips()))
         self._len = seg.size
@@ -280,11 +296,13 @@ def finish(
     slips: list[Slip] | None = None,
     *,
     objects: ObjectTable | None = None,
+    unread_gap_s: float | None = None,
 ) -> Recognition:
     """Summarise: the outcome is that of the current contact, or of the last one lifted.
 
     ``slips``: the slip phases found; ``objects``: the object table the events
-    were found with (None: the six).
+    were found with (None: the six); ``unread_gap_s``: that contact's frames
+    were too sparse for its motion to be read (:attr:`Levels34.unread_gap_s`).
     """
     tactemes = tuple((str(e.value), e.frame) for e in events if e.kind == "tacteme")
     state = Eliminator.for_table(objects)
@@ -305,7 +323,9 @@ def finish(
             seen.append((str(e.value), e.frame))
     final = current if current is not None else lifted
     state.candidates = state.objects if final is None else final
-    verdict = explain(seen, objects=state.objects, slid=slid, table=objects)
+    verdict = explain(
+        seen, objects=state.objects, slid=slid, table=objects, unread_gap_s=unread_gap_s
+    )
     assert verdict.candidates == state.candidates  # the same elimination, told twice
     return Recognition(
         classes,

@@ -55,6 +55,7 @@ def _levels34_for_runs(
     runs: list[tuple[int, int, NDArray[np.intp]]],
     track_of: Any,
     config: TactemeConfig,
+    frame_interval_s: float | None = None,
 ) -> Levels34:
     """Levels 3-4 over the accepted runs of a whole recording (batch).
 
@@ -62,7 +63,7 @@ def _levels34_for_runs(
     (:func:`~taxelkit.smart.levels34.track_segments`), so that their tracks
     are not all held at once.
     """
-    state = Levels34(config)
+    state = Levels34(config, frame_interval_s)
     for a in range(0, len(runs), _RUNS_TOGETHER):
         part = runs[a : a + _RUNS_TOGETHER]
         contact = [i for i, (cls, _, _) in enumerate(part) if cls != _NONE]
@@ -162,7 +163,14 @@ def recognise(
             float(pitch),
         )
 
-    k, k_none = debounce_counts(cfg, float(t_s[1] - t_s[0]) if t_s.size > 1 else None)
+    dt = float(t_s[1] - t_s[0]) if t_s.size > 1 else None
+    k, k_none = debounce_counts(cfg, dt)
     runs = accepted_runs(classes, k, k_none=k_none)
-    state = _levels34_for_runs(runs, track_of, cfg)
-    return finish(classes, state.events, list(state.slips.values()), objects=cfg.objects)
+    state = _levels34_for_runs(runs, track_of, cfg, dt)
+    return finish(
+        classes,
+        state.events,
+        list(state.slips.values()),
+        objects=cfg.objects,
+        unread_gap_s=state.unread_gap_s,
+    )

@@ -96,6 +96,11 @@ class SegmentHead:
         self._head_cap: int | None = None
         self._dt: dict[int, float] = {}  # frame interval of the first frames, per k
         self._axis_sum = RunningSum(2)
+        # frames too sparse to follow the contact (TactemeConfig.max_motion_gap_s): the
+        # first frame its centre jumped to; watched until the rate is known to be dense
+        self._jump: int | None = None
+        self._last_centre: NDArray[np.float64] | None = None
+        self._dense = config.max_motion_gap_s <= 0.0
         self._slip = (
             None
             if config.slip is None
@@ -134,6 +139,40 @@ class SegmentHead:
         if dt is None:
             dt = self._dt[k] = self._timing().frame_interval_s(k)
         return frames_for_interval(dt, seconds, k if minimum is None else minimum)
+
+    def frame_interval_s(self, k: int) -> float:
+        """The segment's frame interval from its first ``k`` frames (at least 2), s."""
+        if self._head_n < max(2, k):  # the rate is not yet fixed
+            return self._timing().frame_interval_s(k)
+        dt = self._dt.get(k)
+        if dt is None:
+            dt = self._dt[k] = self._timing().frame_interval_s(k)
+        return dt
+
+    def jump_frame(self) -> int | None:
+        """First frame to which the contact jumped between two sparse frames (None: none).
+
+        Watched only while the frames come more than ``max_motion_gap_s``
+        apart: the centre moved more than ``motion_step_mm`` from the
+        segment's frame before.
+        """
+        return self._jump
+
+    def _watch(self, frames: NDArray[np.intp], rows: NDArray[np.float64]) -> None:
+        """Look for a jump of the centre in new frames ``(m,)`` and rows ``(m, 9)``."""
+        if self._dense or self._jump is not None or frames.size == 0:
+            return
+        k, gap = self.k, self.config.max_motion_gap_s
+        if self._head_n >= max(2, k) and self.frame_interval_s(k) <= gap:
+            self._dense = True  # fixed once the first frames are in: nothing to watch
+            return
+        c = rows[:, 0:2]
+        before = c[:-1] if self._last_centre is None else np.vstack([self._last_centre, c[:-1]])
+        after, at = (c[1:], frames[1:]) if self._last_centre is None else (c, frames)
+        hits = np.flatnonzero(np.hypot(*(after - before).T) > self.config.motion_step_mm)
+        if hits.size:
+            self._jump = int(at[hits[0]])
+        self._last_centre = c[-1].copy()
 
     def frame_at(self, i: int) -> int:
         """Frame number of the segment's ``i``-th frame (``i`` within the first frames kept)."""

@@ -118,6 +118,7 @@ class SegmentScanner(SegmentHead):
         cap = self._head_cap
         # before the rate is fixed, only the frames that fix it (then the cap is known)
         self._keep_head(frames, rows, max(2, self.k) if cap is None else cap, 0)
+        self._watch(frames, rows)
         self.size += m
         if not self._ready:
             self._early.append((frames, rows, axes))

@@ -105,6 +105,7 @@ class ArrayStream:
                 self._dt = t1 - t0
         elif self._dt is None:
             self._dt = t0 - self._t_first
+        self.state.frame_interval_s = self._dt  # as recognise's: the first interval
 
     # -- one frame --------------------------------------------------------------------------
     def push_one(self, cls: int, row: tuple[float, ...], t_s: float) -> list[Event]:
@@ -392,4 +393,5 @@ class ArrayStream:
             list(state.events),
             list(state.slips.values()),
             objects=self.config.objects,
+            unread_gap_s=state.unread_gap_s,
         )

@@ -189,6 +189,35 @@ class TactemeConfig:
         Centres, orientations, areas and elongations are averaged over the
         last ``max(k frames, smooth_s)`` before they are compared, s: three
         frames at 20 Hz, as the debounce; 36 at 240 Hz.
+    max_motion_gap_s : float
+        Frames further apart than this, s, may not follow a contact from one
+        to the next: in a recording whose frames come this sparse (its first
+        frame interval, as the debounce reads it; and the segment's own first
+        frames), a jump of a contact's centre by more than ``motion_step_mm``
+        between two of its segment's frames ends the reading of its motion
+        tactemes (moves, turns, pivots, slides, face shapes) from that frame
+        on. A cube or tetrahedron tipping from edge to edge between two frames
+        otherwise reads as one edge that moved or turned (a cube named cone or cylinder, a
+        tetrahedron cone). The segment still gives its contact class and the
+        transitions between classes, and the verdict says why
+        (:attr:`~taxelkit.smart.elimination.Verdict.unread_gap_s`). 0: no
+        limit (as in :data:`PAPER_LEVEL3`). Paper 001 sampled once a second
+        while rolling by hand, slowly enough to follow; the simulated rolls
+        move a face width or more in a second. 0.3 s leaves every rate of the
+        ``robustness`` matrix (5 frames/s and above) as it was.
+    motion_step_mm : float
+        The largest move of a contact's centre between two sparse frames
+        (``max_motion_gap_s``) that still follows it, mm. Set on the
+        ``robustness`` motions of seed 0 (both engines, every object, 30
+        rolls each, no imperfection and every one at once) seen at 1, 1.5, 2
+        and 3 frames/s, against no limit: MuJoCo rolls named wrongly at 1
+        frame/s 11 -> 0 of 360 (identified 177 -> 146), at 1.5 frames/s
+        12 -> 0 (213 -> 205); kinematic rolls identified at 1 frame/s
+        306 -> 273, none named wrongly either way; at 2 and 3 frames/s the
+        same wrong names (one each, an edge angle and a pivot) and as many
+        identified within 5. 3.5 mm cut as many wrong names and identified
+        far fewer (1 frame/s, MuJoCo: 52); 7 mm left 2 wrong at each of 1
+        and 1.5 frames/s.
     pivot_band : float
         Factor of doubt around ``pivot_end_ratio``: "about one end" needs a
         ratio below ``pivot_end_ratio / pivot_band`` (with
@@ -332,6 +361,8 @@ class TactemeConfig:
     pivot_min_line_taxels: float = 4.0
     pivot_every_verdict: bool = True
     smooth_s: float = 0.15
+    max_motion_gap_s: float = 0.3
+    motion_step_mm: float = 5.0
     slip: SlipConfig | None = DEFAULT_SLIP
     face_shapes: bool = False
     face_min_area_mm2: float = 60.0
@@ -348,6 +379,7 @@ class TactemeConfig:
             raise InputError(f"debounce_frames must be >= 1, got {self.debounce_frames!r}")
         check_positive("debounce_s", self.debounce_s, allow_zero=True)
         check_positive("smooth_s", self.smooth_s, allow_zero=True)
+        check_positive("max_motion_gap_s", self.max_motion_gap_s, allow_zero=True)
         check_positive("lift_grace_s", self.lift_grace_s, allow_zero=True)
         check_positive("edge_angle_doubt_deg", self.edge_angle_doubt_deg, allow_zero=True)
         check_positive("pivot_min_line_taxels", self.pivot_min_line_taxels, allow_zero=True)
@@ -355,6 +387,7 @@ class TactemeConfig:
         check_positive("corner_step_mm", self.corner_step_mm, allow_zero=True)
         for name in (
             "move_mm",
+            "motion_step_mm",
             "parallel_move_mm",
             "parallel_tol_deg",
             "turn_deg",
@@ -399,6 +432,7 @@ PAPER_LEVEL3 = TactemeConfig(
     debounce_s=0.0,
     lift_grace_s=0.0,
     smooth_s=0.0,
+    max_motion_gap_s=0.0,
     pivot_arc_turn_deg=20.0,
     pivot_arc_max_turn=False,
     parallel_tol_deg=4.0,

@@ -70,6 +70,7 @@ class TrackSegment:
         line_mm: NDArray[np.float64] | None = None,
     ) -> None:
         self.track = track
+        self._config = config
         self._axis_sums = axis_sums
         self._line_mm = line_mm
         self._dt: dict[int, float] = {}  # frame interval by k, s (fixed once accepted)
@@ -85,10 +86,25 @@ class TrackSegment:
                 self._slip.extend(track.frames, rows_from_track(track))
 
     def frames_for(self, seconds: float, k: int, *, minimum: int | None = None) -> int:
+        return frames_for_interval(
+            self.frame_interval_s(k), seconds, k if minimum is None else minimum
+        )
+
+    def frame_interval_s(self, k: int) -> float:
         dt = self._dt.get(k)
         if dt is None:
             dt = self._dt[k] = self.track.frame_interval_s(k)
-        return frames_for_interval(dt, seconds, k if minimum is None else minimum)
+        return dt
+
+    def jump_frame(self) -> int | None:
+        """First frame the contact jumped to between sparse frames (``SegmentHead.jump_frame``)."""
+        cfg = self._config
+        gap = cfg.max_motion_gap_s
+        if gap <= 0.0 or self.frame_interval_s(cfg.debounce_frames) <= gap or self.size < 2:
+            return None
+        step = np.hypot(*np.diff(self.track.centre_mm, axis=0).T)
+        hits = np.flatnonzero(step > cfg.motion_step_mm)
+        return int(self.track.frames[hits[0] + 1]) if hits.size else None
 
     def frame_at(self, i: int) -> int:
         return int(self.track.frames[i])
