@@ -172,3 +172,20 @@ def test_sparse_frames_that_follow_the_contact_and_dense_frames_keep_their_motio
     assert (
         recognise(dense, cleaning=None).events == recognise(dense, cleaning=None, config=off).events
     )
+
+
+def test_a_line_that_jumped_between_sparse_frames_gives_no_edge_angle() -> None:
+    def line_h(r: int) -> np.ndarray:
+        f = blank()
+        f[r, 3:13] = True
+        return f
+
+    frames = [blank()] * 2 + [line_v(3)] * 3 + [line_v(10)] * 3  # two edges read as one line
+    frames += [area()] * 3 + [line_h(8)] * 3 + [blank()] * 2
+    rec = TactileFrames(np.stack(frames), pitch_mm=PITCH)  # one frame a second
+    square = "LC -> AC -> LC (parallel or 90 deg)"
+    off = recognise(rec, cleaning=None, config=TactemeConfig(max_motion_gap_s=0.0))
+    assert square in [n for n, _ in off.tactemes]
+    on = recognise(rec, cleaning=None)
+    names = [n for n, _ in on.tactemes]
+    assert square not in names and "AC -> LC" in names  # the transition, without its angle

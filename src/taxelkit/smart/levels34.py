@@ -9,6 +9,7 @@ a chunk at a time. The state machine below does not know which.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Protocol
 
@@ -189,6 +190,9 @@ class Levels34:
         if self._open is None:
             return
         cls, done = self._open
+        # sparse frames (max_motion_gap_s): the first frame the contact jumped to
+        dt, gap = self.frame_interval_s, self.config.max_motion_gap_s
+        jump = seg.jump_frame() if gap > 0 and dt is not None and dt > gap else None
         # Transitions need a held edge (2 k frames of line): a round face tipping
         # onto its rim shrinks through a lens that reads as a line for a moment.
         held = seg.frames_for(self.config.edge_hold_s, self.k)
@@ -204,6 +208,8 @@ class Levels34:
                 self.history[-1] = (cls, seg.mean_axis_deg(held))
                 self.centres[-1] = seg.mean_centre_mm(held)
                 self.wobbles[-1] = seg.grid_wobble_deg(held)
+                if jump is not None and jump <= seg.frame_at(min(seg.size, held) - 1):
+                    self.wobbles[-1] = math.inf  # two edges, not one: no angle read
             at = (
                 seg.frame_at(min(seg.size, held) - 1)
                 if cls == ContactClass.LINE
@@ -221,9 +227,7 @@ class Levels34:
             for tac in found:
                 self.events.extend(self.elim.apply(tac, at))
         motions = [(frame, 1, tac) for tac, frame in seg.tactemes() if tac not in done]
-        dt, gap = self.frame_interval_s, self.config.max_motion_gap_s
-        jump = seg.jump_frame() if motions and gap > 0 and dt is not None and dt > gap else None
-        if jump is not None:  # sparse frames, between which the contact jumped: not followed
+        if jump is not None and motions:  # sparse frames, the contact jumped: not followed
             kept = [m for m in motions if m[0] < jump]
             if len(kept) < len(motions):
                 self.unread_gap_s = seg.frame_interval_s(self.k)
@@ -234,6 +238,8 @@ class Levels34:
         self._held = held
         # a line's direction over all its frames (held still, an edge dominates its tips)
         self.history[-1] = (cls, seg.mean_axis_deg())
+        if jump is not None and cls == ContactClass.LINE:
+            self.wobbles[-1] = math.inf  # it jumped: no angle read from it as the edge before
         self._last_frame = seg.last_frame
 
     def _new_slips(self, slips: list[Slip]) -> list[tuple[int, int, Event]]:

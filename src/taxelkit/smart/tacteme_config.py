@@ -197,9 +197,12 @@ class TactemeConfig:
         between two of its segment's frames ends the reading of its motion
         tactemes (moves, turns, pivots, slides, face shapes) from that frame
         on. A cube or tetrahedron tipping from edge to edge between two frames
-        otherwise reads as one edge that moved or turned (a cube named cone or cylinder, a
-        tetrahedron cone). The segment still gives its contact class and the
-        transitions between classes, and the verdict says why
+        otherwise reads as one edge that moved or turned (a cube named cone or
+        cylinder, a tetrahedron cone). Such a line is two edges, so it gives
+        no angle to the transitions either ("LC -> AC -> LC" with 60 or 90
+        deg): a tetrahedron's two edges read as one gave a square's angle. The
+        segment still gives its contact class and the transitions between
+        classes, and the verdict says why
         (:attr:`~taxelkit.smart.elimination.Verdict.unread_gap_s`). 0: no
         limit (as in :data:`PAPER_LEVEL3`). Paper 001 sampled once a second
         while rolling by hand, slowly enough to follow; the simulated rolls
