@@ -230,8 +230,8 @@ def _untuned_rates(held: dict[str, Any]) -> list[str]:
         return []
     lines = [
         "",
-        f"The held-out motions seen at frame rates outside the matrix, which no threshold was "
-        f"set at (seed {held['held_out_seed']}, every imperfection and object):",
+        f"The held-out motions seen at frame rates outside the matrix (seed "
+        f"{held['held_out_seed']}, every imperfection and object):",
         "",
         "| engine | frames/s | cells >= 0.98 | identified | wrong identities | undecided "
         "| unknown | sliding identified |",
