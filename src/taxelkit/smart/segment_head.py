@@ -133,12 +133,9 @@ class SegmentHead:
 
     def frames_for(self, seconds: float, k: int, *, minimum: int | None = None) -> int:
         """As :meth:`SegmentTrack.frames_for <taxelkit.smart.tactemes.SegmentTrack.frames_for>`."""
-        if self._head_n < max(2, k):  # the rate is not yet fixed
-            return self._timing().frames_for(seconds, k, minimum=minimum)
-        dt = self._dt.get(k)
-        if dt is None:
-            dt = self._dt[k] = self._timing().frame_interval_s(k)
-        return frames_for_interval(dt, seconds, k if minimum is None else minimum)
+        return frames_for_interval(
+            self.frame_interval_s(k), seconds, k if minimum is None else minimum
+        )
 
     def frame_interval_s(self, k: int) -> float:
         """The segment's frame interval from its first ``k`` frames (at least 2), s."""
