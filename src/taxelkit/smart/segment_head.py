@@ -18,7 +18,7 @@ from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_config import TactemeConfig
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import SegmentTrack, frames_for_interval
-from taxelkit.smart.track_geometry import grid_wobble_deg
+from taxelkit.smart.track_geometry import first_jump, grid_wobble_deg
 from taxelkit.smart.track_stream import RunningSum, drawn_length_mm, mean_axis_deg
 
 __all__ = ["ROW_COLUMNS", "SegmentHead", "SlipInputs", "rows_from_track", "track_from_rows"]
@@ -164,11 +164,7 @@ class SegmentHead:
             self._dense = True  # fixed once the first frames are in: nothing to watch
             return
         c = rows[:, 0:2]
-        before = c[:-1] if self._last_centre is None else np.vstack([self._last_centre, c[:-1]])
-        after, at = (c[1:], frames[1:]) if self._last_centre is None else (c, frames)
-        hits = np.flatnonzero(np.hypot(*(after - before).T) > self.config.motion_step_mm)
-        if hits.size:
-            self._jump = int(at[hits[0]])
+        self._jump = first_jump(c, frames, self.config.motion_step_mm, self._last_centre)
         self._last_centre = c[-1].copy()
 
     def frame_at(self, i: int) -> int:

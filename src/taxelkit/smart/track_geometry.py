@@ -22,6 +22,7 @@ __all__ = [
     "corner_turn",
     "drawn_half_mm",
     "first",
+    "first_jump",
     "grid_wobble_deg",
     "orthogonal_turn",
     "rolling_mean",
@@ -308,3 +309,35 @@ def corner_turn(
     lo, hi = np.cos(np.deg2rad(window_deg[1])), np.cos(np.deg2rad(window_deg[0]))
     hits = b[ok & (cos >= lo) & (cos <= hi)]
     return None if hits.size == 0 else start + int(rows[hits.min()])
+
+
+def first_jump(
+    centre_mm: NDArray[np.float64],
+    frames: NDArray[np.intp],
+    limit_mm: float,
+    before: NDArray[np.float64] | None = None,
+) -> int | None:
+    """First frame whose centre moved more than ``limit_mm`` from the frame before.
+
+    Parameters
+    ----------
+    centre_mm : (m, 2) float
+        Centres of consecutive frames of a segment, mm.
+    frames : (m,) int
+        Their frame numbers.
+    limit_mm : float
+        Largest step that is not a jump, mm.
+    before : (2,) float, optional
+        Centre of the frame before the first (None: the first frame has none).
+
+    Returns
+    -------
+    int or None
+        The frame number jumped to, None if no step exceeds ``limit_mm``.
+    """
+    if before is None:
+        prev, after, at = centre_mm[:-1], centre_mm[1:], frames[1:]
+    else:
+        prev, after, at = np.vstack([before, centre_mm[:-1]]), centre_mm, frames
+    hits = np.flatnonzero(np.hypot(*(after - prev).T) > limit_mm)
+    return int(at[hits[0]]) if hits.size else None

@@ -28,7 +28,7 @@ from taxelkit.smart.tactemes import (
     segment_tactemes,
 )
 from taxelkit.smart.tactemes_batch import batch_tactemes
-from taxelkit.smart.track_geometry import drawn_half_mm, grid_wobble_deg
+from taxelkit.smart.track_geometry import drawn_half_mm, first_jump, grid_wobble_deg
 
 __all__ = ["TrackSegment", "track_segments"]
 
@@ -71,6 +71,8 @@ class TrackSegment:
     ) -> None:
         self.track = track
         self._config = config
+        self._jump: int | None = None  # jump_frame(), once computed
+        self._jump_known = False
         self._axis_sums = axis_sums
         self._line_mm = line_mm
         self._dt: dict[int, float] = {}  # frame interval by k, s (fixed once accepted)
@@ -98,13 +100,14 @@ class TrackSegment:
 
     def jump_frame(self) -> int | None:
         """First frame the contact jumped to between sparse frames (``SegmentHead.jump_frame``)."""
-        cfg = self._config
-        gap = cfg.max_motion_gap_s
-        if gap <= 0.0 or self.frame_interval_s(cfg.debounce_frames) <= gap or self.size < 2:
-            return None
-        step = np.hypot(*np.diff(self.track.centre_mm, axis=0).T)
-        hits = np.flatnonzero(step > cfg.motion_step_mm)
-        return int(self.track.frames[hits[0] + 1]) if hits.size else None
+        if not self._jump_known:  # computed once: the whole track is known
+            self._jump_known = True
+            cfg = self._config
+            gap = cfg.max_motion_gap_s
+            sparse = gap > 0.0 and self.frame_interval_s(cfg.debounce_frames) > gap
+            t = self.track
+            self._jump = first_jump(t.centre_mm, t.frames, cfg.motion_step_mm) if sparse else None
+        return self._jump
 
     def frame_at(self, i: int) -> int:
         return int(self.track.frames[i])
