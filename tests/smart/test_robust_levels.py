@@ -493,6 +493,63 @@ def test_an_edge_angle_midway_between_60_and_90_reads_as_neither(
     assert PAPER_LEVEL3.edge_angle_doubt_deg == 0.0
 
 
+@pytest.mark.parametrize(
+    ("angle_deg", "wobble_deg", "expected"),
+    [
+        (69.0, 6.0, "LC -> AC -> LC (60 or 120 deg)"),  # 90 - 12 = 78: a triangle
+        (69.0, 13.5, None),  # 90 - 27 = 63: a square's 90 tilted twice by the grid
+        (62.0, 13.5, "LC -> AC -> LC (60 or 120 deg)"),
+        (80.0, 13.5, None),  # 60 + 27 = 87: a triangle's 60 tilted twice by the grid
+        (88.0, 13.5, "LC -> AC -> LC (parallel or 90 deg)"),
+        (80.0, 6.0, "LC -> AC -> LC (parallel or 90 deg)"),
+    ],
+)
+def test_an_edge_angle_allows_for_the_grid_tilting_both_edges(
+    angle_deg: float, wobble_deg: float, expected: str | None
+) -> None:
+    from taxelkit.smart.transitions import transition_tactemes
+
+    line, area = int(ContactClass.LINE), int(ContactClass.AREA)
+    history = [(line, 10.0), (area, 0.0), (line, 10.0 + angle_deg)]
+    wobbles = [wobble_deg, 0.0, wobble_deg]
+    found = transition_tactemes(history, TactemeConfig(), wobbles_deg=wobbles)
+    assert {t.value for t in found} - {"AC -> LC"} == ({expected} if expected else set())
+    # the paper's windows: no allowance, 69 deg is a triangle's whatever the wobbles
+    paper = transition_tactemes(history, PAPER_LEVEL3, wobbles_deg=wobbles)
+    assert PAPER_LEVEL3.edge_angle_grid_sum is False
+    assert ("LC -> AC -> LC (60 or 120 deg)" in {t.value for t in paper}) is (angle_deg < 75.0)
+
+
+@pytest.mark.parametrize(
+    ("across_mm", "square"),
+    [(0.4, False), (3.0, False), (3.6, True), (12.0, True), (-12.0, True)],
+)
+def test_the_same_edge_rocked_back_onto_is_not_a_parallel_edge(
+    across_mm: float, square: bool
+) -> None:
+    """Edge, face, edge again at 2 pitches (3.5 mm) or less across: the same edge."""
+    from taxelkit.smart.transitions import transition_tactemes
+
+    line, area = int(ContactClass.LINE), int(ContactClass.AREA)
+    history = [(line, 30.0), (area, 0.0), (line, 31.0)]
+    t = np.deg2rad(30.0)
+    # 5 mm further along the edge and ``across_mm`` across it
+    second = (
+        2.0 - across_mm * np.sin(t) + 5.0 * np.cos(t),
+        1.0 + across_mm * np.cos(t) + 5.0 * np.sin(t),
+    )
+    centres = [(2.0, 1.0), (6.0, -4.0), (float(second[0]), float(second[1]))]
+    kw = {"centres": centres, "pitch_mm": 1.75}
+    found = transition_tactemes(history, TactemeConfig(), **kw)
+    assert ("LC -> AC -> LC (parallel or 90 deg)" in {t.value for t in found}) is square
+    # pitch unknown, or the paper's rule: parallel edges are a square's wherever they lie
+    for cfg, pitch in ((TactemeConfig(), 0.0), (PAPER_LEVEL3, 1.75)):
+        found = transition_tactemes(history, cfg, centres=centres, pitch_mm=pitch)
+        assert "LC -> AC -> LC (parallel or 90 deg)" in {t.value for t in found}
+    with pytest.raises(InputError, match="edge_apart_pitches"):
+        TactemeConfig(edge_apart_pitches=-1.0)
+
+
 def flickering_arc_frames(turns_deg: np.ndarray) -> np.ndarray:
     """A line turning about a pivot 6.5 mm beyond its near end, its far end 8 mm short every
     other frame: its middle jumps by 4 mm, the current line's pivot ratio by about 0.5."""

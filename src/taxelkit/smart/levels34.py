@@ -62,6 +62,9 @@ class Segment(Protocol):
     first_frame: int
     last_frame: int
 
+    @property
+    def pitch_mm(self) -> float: ...
+
     def frames_for(self, seconds: float, k: int, *, minimum: int | None = None) -> int: ...
     def frame_interval_s(self, k: int) -> float: ...
     def jump_frame(self) -> int | None: ...
@@ -223,6 +226,7 @@ class Levels34:
                 max_gap_frames=max_gap,
                 centres=self.centres,
                 wobbles_deg=self.wobbles,
+                pitch_mm=seg.pitch_mm,
             )
             for tac in found:
                 self.events.extend(self.elim.apply(tac, at))

@@ -109,6 +109,11 @@ class TrackSegment:
             self._jump = first_jump(t.centre_mm, t.frames, cfg.motion_step_mm) if sparse else None
         return self._jump
 
+    @property
+    def pitch_mm(self) -> float:
+        """The track's taxel pitch, mm (0: unknown)."""
+        return float(self.track.pitch_mm)
+
     def frame_at(self, i: int) -> int:
         return int(self.track.frames[i])
 

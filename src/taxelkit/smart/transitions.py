@@ -29,6 +29,7 @@ def transition_tactemes(
     max_gap_frames: int | None = None,
     centres: list[tuple[float, float]] | None = None,
     wobbles_deg: list[float] | None = None,
+    pitch_mm: float = 0.0,
 ) -> list[Tacteme]:
     """Tactemes of the latest change of accepted class.
 
@@ -60,6 +61,15 @@ def transition_tactemes(
         when both wobbles are within ``edge_angle_tol_deg``: an edge three
         taxels long on a coarse array reads 60 deg from a square's 90. An
         angle within ``edge_angle_doubt_deg`` of 75 deg reads as neither.
+        With ``config.edge_angle_grid_sum`` an angle reads as a triangle's
+        only below ``90 - (w1 + w2)`` and as a square's only above
+        ``60 + (w1 + w2)``, the wobbles of the two edges: the grid can tilt
+        both edges at once.
+    pitch_mm : float
+        Taxel pitch, mm (0: unknown). With ``config.edge_apart_pitches``, two
+        parallel edges (with ``centres``) read as a square's only when they
+        lie that many pitches apart across their direction: a polyhedron
+        rocked back over the edge it tipped onto shows the same edge again.
 
     Returns
     -------
@@ -92,8 +102,32 @@ def transition_tactemes(
         if edges and (wobbles_deg is None or max(wobbles_deg[-3], wobbles_deg[-1]) <= tol):
             d = float(axis_difference_deg(np.array([o2]), history[-3][1])[0])
             doubt = config.edge_angle_doubt_deg  # about 75 deg, between 60 and 90
-            if d <= tol or d >= max(90.0 - tol, 75.0 + doubt):
+            both = 0.0  # how far the grid can move the angle between the two edges
+            if config.edge_angle_grid_sum and wobbles_deg is not None:
+                both = wobbles_deg[-3] + wobbles_deg[-1]
+            if d <= tol:
+                if not _same_edge(history, centres, config.edge_apart_pitches * pitch_mm):
+                    out.append(Tacteme.LC_AC_LC_SQUARE)
+            elif d >= max(90.0 - tol, 75.0 + doubt, 60.0 + both):
                 out.append(Tacteme.LC_AC_LC_SQUARE)
-            elif abs(d - 60.0) <= tol and d <= 75.0 - doubt:
+            elif abs(d - 60.0) <= tol and d <= min(75.0 - doubt, 90.0 - both):
                 out.append(Tacteme.LC_AC_LC_TRIANGLE)
     return out
+
+
+def _same_edge(
+    history: list[tuple[int, float]],
+    centres: list[tuple[float, float]] | None,
+    apart_mm: float,
+) -> bool:
+    """Whether the last two edges of ``history`` (parallel) are less than ``apart_mm`` apart.
+
+    The distance is across the first edge's axis, between the two lines'
+    centres. False where it cannot be measured (no centres, ``apart_mm`` 0).
+    """
+    if centres is None or apart_mm <= 0.0 or len(centres) < 3:
+        return False
+    t = math.radians(history[-3][1])
+    normal = np.array([-math.sin(t), math.cos(t)])
+    across = float(normal @ (np.asarray(centres[-1]) - np.asarray(centres[-3])))
+    return abs(across) < apart_mm
