@@ -550,6 +550,28 @@ def test_the_same_edge_rocked_back_onto_is_not_a_parallel_edge(
         TactemeConfig(edge_apart_pitches=-1.0)
 
 
+def test_a_polyhedron_rocked_back_onto_its_edge_is_not_named_a_cube() -> None:
+    """Face, edge, the other face, the same edge again: no square's parallel edges."""
+    left, right, bar = (np.zeros((16, 16), bool) for _ in range(3))
+    left[5:12, 2:8] = right[5:12, 8:14] = bar[3:13, 7:9] = True
+    empty = np.zeros((16, 16), bool)
+    seq = [empty] * 4 + [left] * 6 + [bar] * 6 + [right] * 6 + [bar] * 6 + [right] * 6
+    frames = np.array([*seq, *[empty] * 4])
+    rec = TactileFrames(frames, t_s=np.arange(frames.shape[0]) / 10.0, pitch_mm=PITCH)
+    res = recognise(rec, cleaning=None)
+    names = [n for n, _ in res.tactemes]
+    assert names.count("LC") == 2 and "LC -> AC -> LC (parallel or 90 deg)" not in names
+    assert res.identified is None and res.candidates == ("cube", "tetrahedron")
+    # without the rule the same edge read twice names a cube
+    loose = recognise(rec, cleaning=None, config=TactemeConfig(edge_apart_pitches=0.0))
+    assert loose.identified == "cube"
+    # streamed frame by frame, the segment's pitch reaches the rule too
+    sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None)
+    for f, t in zip(rec.frames, rec.t_s, strict=True):
+        sensor.push(f, t)
+    assert list(sensor.result().events) == list(res.events)
+
+
 def flickering_arc_frames(turns_deg: np.ndarray) -> np.ndarray:
     """A line turning about a pivot 6.5 mm beyond its near end, its far end 8 mm short every
     other frame: its middle jumps by 4 mm, the current line's pivot ratio by about 0.5."""
