@@ -483,14 +483,21 @@ def test_an_edge_angle_is_read_only_where_the_grid_cannot_fake_it() -> None:
 def test_an_edge_angle_midway_between_60_and_90_reads_as_neither(
     angle_deg: float, doubt_deg: float, expected: str | None
 ) -> None:
+    angles = edge_angle_tactemes(angle_deg, TactemeConfig(edge_angle_doubt_deg=doubt_deg))
+    assert angles == ({expected} if expected else set())
+    assert PAPER_LEVEL3.edge_angle_doubt_deg == 0.0
+
+
+def edge_angle_tactemes(
+    angle_deg: float, config: TactemeConfig, wobbles_deg: list[float] | None = None
+) -> set[str]:
+    """The edge-angle tactemes of an edge, a face and an edge ``angle_deg`` from the first."""
     from taxelkit.smart.transitions import transition_tactemes
 
     line, area = int(ContactClass.LINE), int(ContactClass.AREA)
     history = [(line, 10.0), (area, 0.0), (line, 10.0 + angle_deg)]
-    found = transition_tactemes(history, TactemeConfig(edge_angle_doubt_deg=doubt_deg))
-    angles = {t.value for t in found} - {"AC -> LC"}
-    assert angles == ({expected} if expected else set())
-    assert PAPER_LEVEL3.edge_angle_doubt_deg == 0.0
+    found = transition_tactemes(history, config, wobbles_deg=wobbles_deg)
+    return {t.value for t in found} - {"AC -> LC"}
 
 
 @pytest.mark.parametrize(
@@ -507,17 +514,13 @@ def test_an_edge_angle_midway_between_60_and_90_reads_as_neither(
 def test_an_edge_angle_allows_for_the_grid_tilting_both_edges(
     angle_deg: float, wobble_deg: float, expected: str | None
 ) -> None:
-    from taxelkit.smart.transitions import transition_tactemes
-
-    line, area = int(ContactClass.LINE), int(ContactClass.AREA)
-    history = [(line, 10.0), (area, 0.0), (line, 10.0 + angle_deg)]
     wobbles = [wobble_deg, 0.0, wobble_deg]
-    found = transition_tactemes(history, TactemeConfig(), wobbles_deg=wobbles)
-    assert {t.value for t in found} - {"AC -> LC"} == ({expected} if expected else set())
+    found = edge_angle_tactemes(angle_deg, TactemeConfig(), wobbles)
+    assert found == ({expected} if expected else set())
     # the paper's windows: no allowance, 69 deg is a triangle's whatever the wobbles
-    paper = transition_tactemes(history, PAPER_LEVEL3, wobbles_deg=wobbles)
+    paper = edge_angle_tactemes(angle_deg, PAPER_LEVEL3, wobbles)
     assert PAPER_LEVEL3.edge_angle_grid_sum is False
-    assert ("LC -> AC -> LC (60 or 120 deg)" in {t.value for t in paper}) is (angle_deg < 75.0)
+    assert ("LC -> AC -> LC (60 or 120 deg)" in paper) is (angle_deg < 75.0)
 
 
 @pytest.mark.parametrize(
