@@ -14,7 +14,9 @@ The held-out motions are also seen at frame rates the matrix does not hold
 looked at (the rule for sparse frames, ``TactemeConfig.max_motion_gap_s``,
 was set on seed 0's motions at 1 to 3 frames/s after this leg's first run
 found wrong names there; seed 11's results at 2 and 3 frames/s prompted
-its edge-angle part): the same simulation sampled at more rates (the matrix's rates come first, so
+its edge-angle part, and its MuJoCo tetrahedra at 2 frames/s
+``TactemeConfig.edge_apart_pitches``, so those rates are not strictly held
+out for these rules): the same simulation sampled at more rates (the matrix's rates come first, so
 their frames, imperfections and outcomes are those of the sweep without the
 extra rates). Their outcomes are kept apart from the matrix's
 (:attr:`HeldOut.untuned`), so the held-out matrix compares cell for cell
