@@ -200,6 +200,74 @@ def test_a_three_taxel_bar_is_no_edge_but_a_long_line_is() -> None:
     assert paper[20] == LINE and robust[20] == LINE
 
 
+def test_an_edge_tipped_onto_a_vertex_does_not_hold_the_line() -> None:
+    # an edge (seven taxels, 12.3 mm) tips onto a vertex that reads as a bar of three
+    # taxels (5.3 mm, inside the hysteresis band) across it, then lifts
+    frames = np.zeros((50, 16, 16), bool)
+    frames[2:20, 6, 4:11] = True
+    frames[20:40, 10:13, 12] = True
+    rec = TactileFrames(frames, t_s=np.arange(50) / 20.0, pitch_mm=PITCH)
+    robust = recognise(rec, cleaning=None)
+    assert robust.classes[10] == LINE and LINE not in robust.classes[20:40].tolist()
+    assert "LCMT" not in [n for n, _ in robust.tactemes]  # no line "turned" onto the vertex
+    held = recognise(rec, cleaning=None, limits=ContactLimits(line_drop=0.0))
+    assert set(held.classes[20:40].tolist()) == {LINE}  # the hysteresis held the bar
+    assert "LCMT" in [n for n, _ in held.tactemes]
+    _paths_agree(rec, robust.classes, 10)
+    # a line that shortens by a taxel or two stays one
+    short = np.zeros((30, 16, 16), bool)
+    short[2:14, 8, 4:10] = True  # 10.6 mm
+    short[14:28, 8, 5:8] = True  # 5.3 mm: above half of it
+    rec = TactileFrames(short, t_s=np.arange(30) / 20.0, pitch_mm=PITCH)
+    assert set(recognise(rec, cleaning=None).classes[14:28].tolist()) == {LINE}
+    with pytest.raises(InputError, match="line_drop"):
+        ContactLimits(line_drop=1.5)
+
+
+def test_the_line_drop_is_the_same_in_every_limits_path() -> None:
+    from taxelkit.smart.limits_rows import limits_rows
+
+    rng = np.random.default_rng(7)
+    m = 400
+    classes = rng.choice([POINT, INDET, LINE], m).astype(np.int8)
+    n = rng.integers(0, 14, m) * (rng.random(m) < 0.9)
+    length = rng.choice([3.0, 5.3, 5.8, 7.0, 10.6, 12.3, 14.0], m)
+    elong = rng.uniform(1.0, 4.0, m)
+    area = rng.uniform(5.0, 30.0, m)
+    t = np.cumsum(rng.choice([0.01, 0.05], m))
+    lim = ContactLimits()
+    batch = apply_limits(classes, n, length, elong, lim, area_mm2=area, t_s=t)
+    no_drop = ContactLimits(line_drop=0.0)
+    off = apply_limits(classes, n, length, elong, no_drop, area_mm2=area, t_s=t)
+    assert np.any(batch != off)  # the rule bites on this sequence
+    state = LimitState()
+    pieces = [
+        apply_limits(classes[i : i + 9], n[i : i + 9], length[i : i + 9], elong[i : i + 9], lim,
+                     area_mm2=area[i : i + 9], state=state, t_s=t[i : i + 9])
+        for i in range(0, m, 9)
+    ]  # fmt: skip
+    np.testing.assert_array_equal(batch, np.concatenate(pieces))
+    one = LimitState()
+    scalar = [
+        limit_one(int(c), int(k), float(x), float(e), float(ar), lim, one, float(ts))
+        for c, k, x, e, ar, ts in zip(classes, n, length, elong, area, t, strict=True)
+    ]
+    np.testing.assert_array_equal(batch, scalar)
+    rows_state = (
+        np.zeros(1, bool), np.zeros(1, bool), np.zeros(1, np.int64), np.full(1, np.nan),
+        np.zeros(1, np.int64), np.zeros(1),
+    )  # fmt: skip
+    got = []
+    for i in range(0, m, 16):
+        out, rows_state = limits_rows(
+            classes[None, i : i + 16], n[None, i : i + 16], area[None, i : i + 16],
+            elong[None, i : i + 16], 0.5 * length[None, i : i + 16], t[None, i : i + 16],
+            lim, rows_state,
+        )  # fmt: skip
+        got.append(out[0])
+    np.testing.assert_array_equal(batch, np.concatenate(got))
+
+
 def test_a_two_by_two_point_is_a_point_at_a_coarse_pitch() -> None:
     frames = np.zeros((10, 8, 8), bool)
     frames[1:9, 3:5, 3:5] = True

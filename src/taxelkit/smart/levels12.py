@@ -128,6 +128,7 @@ class ChunkLevels12:
         self._run = np.zeros(self.n, np.int64)  # frames in a row over the area's higher mark
         self._t_prev = np.full(self.n, np.nan)  # each array's last frame time, s
         self._line_run = np.zeros(self.n, np.int64)  # frames in a row over the line's length
+        self._length = np.zeros(self.n)  # each array's last frame's length, mm (0: no contact)
 
     def _levels(
         self,
@@ -240,10 +241,11 @@ class ChunkLevels12:
             self._run[sel],
             self._t_prev[sel],
             self._line_run[sel],
+            self._length[sel],
         )
         out, after = limits_rows(classes, taxels, area, elong, half, t_s, self.limits, state)
         self._long[sel], self._big[sel], self._run[sel], self._t_prev[sel] = after[:4]
-        self._line_run[sel] = after[4]
+        self._line_run[sel], self._length[sel] = after[4], after[5]
         return out
 
     def process(
@@ -405,6 +407,7 @@ class ChunkLevels12:
         self._big[quiet] = False
         self._run[quiet] = 0
         self._line_run[quiet] = 0
+        self._length[quiet] = 0.0
         if t:
             self._t_prev[quiet] = np.asarray(t_s, dtype=np.float64)[quiet, -1]
         return classes, rows

@@ -15,15 +15,25 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import AREA_MIN_AREA_MM2, ContactClass
-from taxelkit.smart.contact_limits import ContactLimits, _length_thresholds, line_lengths
+from taxelkit.smart.contact_limits import (
+    ContactLimits,
+    _length_thresholds,
+    line_dropped,
+    line_lengths,
+)
 from taxelkit.smart.hysteresis import held_high_rows
 
 __all__ = ["limits_rows", "schmitt_rows"]
 
 _LINE, _AREA = int(ContactClass.LINE), int(ContactClass.AREA)
-#: Each row's limit state: long, big, area run, last time (s), line run.
+#: Each row's limit state: long, big, area run, last time (s), line run, last length (mm).
 _State = tuple[
-    NDArray[np.bool_], NDArray[np.bool_], NDArray[np.int64], NDArray[np.float64], NDArray[np.int64]
+    NDArray[np.bool_],
+    NDArray[np.bool_],
+    NDArray[np.int64],
+    NDArray[np.float64],
+    NDArray[np.int64],
+    NDArray[np.float64],
 ]
 _POINT, _INDET = int(ContactClass.POINT), int(ContactClass.INDETERMINATE)
 
@@ -64,25 +74,26 @@ def limits_rows(
     t_s : (m, T) float, s
         The frames' times.
     limits : ContactLimits
-    state : ((m,) bool, (m,) bool, (m,) int, (m,) float, (m,) int)
+    state : ((m,) bool, (m,) bool, (m,) int, (m,) float, (m,) int, (m,) float)
         Each row's state before its first frame: long enough for a line, big
         enough for an area, frames in a row over the area's higher mark, the
-        last frame's time (s; NaN: none) and frames in a row over the line's
-        length.
+        last frame's time (s; NaN: none), frames in a row over the line's
+        length and the last frame's length (mm; 0: no contact).
 
     Returns
     -------
     classes : (m, T) int8
     state : as the parameter, after the last frame
     """
-    long0, big0, run0, t_prev0, line_run0 = state
+    long0, big0, run0, t_prev0, line_run0, length0 = state
     length = np.where(taxels > 0, 2.0 * half, 0.0)
     high, low = _length_thresholds(limits)
     as_line = line_lengths(classes, length, limits)  # only a line's length makes a line
     held_l, line_run, _ = held_high_rows(
         as_line, high, t_s, limits.line_enter_s, line_run0, t_prev0, limits.line_confirm_mm
     )
-    long = schmitt_rows(held_l, length < low, long0)
+    before = np.concatenate([length0[:, None], length[:, :-1]], axis=1)
+    long = schmitt_rows(held_l, (length < low) | line_dropped(length, before, limits), long0)
     enter = AREA_MIN_AREA_MM2 * (1.0 + limits.area_hysteresis)
     held, run, t_last = held_high_rows(area, enter, t_s, limits.area_enter_s, run0, t_prev0)
     big = schmitt_rows(held, area < AREA_MIN_AREA_MM2, big0)
@@ -95,4 +106,4 @@ def limits_rows(
         out[compact & (out == _INDET)] = _POINT
     few = (taxels > 0) & (taxels <= limits.point_max_taxels) & (elong <= 2.0)
     out[few & (out != _LINE)] = _POINT
-    return out, (long[:, -1], big[:, -1], run, t_last, line_run)
+    return out, (long[:, -1], big[:, -1], run, t_last, line_run, length[:, -1].copy())

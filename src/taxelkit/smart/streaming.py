@@ -102,6 +102,7 @@ class _FrameLevels12:
             self._limit_state.big = False
             self._limit_state.run = 0  # no area either
             self._limit_state.line_run = 0
+            self._limit_state.length_mm = 0.0
             self._limit_state.t_prev = t_s
             return int(ContactClass.NONE), ()
         p = self.pitch_mm
