@@ -12,6 +12,15 @@ meant for the few small products on such paths, not for large arrays. A
 single small vector or matrix (a physics step's 3 x 3 products) is multiplied
 in Python floats, in the same order and with the same bits as the array code
 but without its per-call overhead.
+
+NumPy's own loops are chosen by CPU too: on a CPU with AVX-512 (``X86_V4``)
+its ``arctan2`` and ``arccos`` (and ``exp``, ``log``, ``arcsin``,
+``arctan``) come from vectorised approximations that differ in the last bit
+from the C library's, which NumPy calls elsewhere. :func:`arctan2` and
+:func:`arccos` here call the C library element by element (``math.atan2``,
+``math.acos``), for the angles the motion scripts and the rollouts'
+sampling decide on: one such bit made a MuJoCo truncated cone's script take
+another path.
 """
 
 from __future__ import annotations
@@ -22,7 +31,17 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["dot", "matmul", "matvec", "norm", "rotate_points", "scalar_dot", "scalar_norm"]
+__all__ = [
+    "arccos",
+    "arctan2",
+    "dot",
+    "matmul",
+    "matvec",
+    "norm",
+    "rotate_points",
+    "scalar_dot",
+    "scalar_norm",
+]
 
 
 #: Largest single matrix (elements) multiplied in Python floats.
@@ -154,3 +173,39 @@ def scalar_dot(a: ArrayLike, b: ArrayLike) -> float:
 def scalar_norm(v: ArrayLike) -> float:
     """:func:`norm` of one vector as a Python float."""
     return math.sqrt(scalar_dot(v, v))
+
+
+_ATAN2 = np.frompyfunc(math.atan2, 2, 1)
+_ACOS = np.frompyfunc(math.acos, 1, 1)
+
+
+def arctan2(y: ArrayLike, x: ArrayLike) -> NDArray[np.float64]:
+    """``np.arctan2(y, x)`` (radians), element by element with the C library's ``atan2``.
+
+    The same bits on every CPU (NumPy's AVX-512 loop differs in the last
+    place). For the small arrays of the motion scripts, not for images.
+
+    Parameters
+    ----------
+    y, x : array_like of float
+        Broadcast together.
+
+    Returns
+    -------
+    ndarray of float64
+        Shaped as ``y`` and ``x`` broadcast.
+    """
+    out: NDArray[np.float64] = np.asarray(
+        _ATAN2(np.asarray(y, dtype=np.float64), np.asarray(x, dtype=np.float64)), dtype=np.float64
+    )
+    return out
+
+
+def arccos(x: ArrayLike) -> NDArray[np.float64]:
+    """``np.arccos(x)`` (radians), element by element with the C library's ``acos``.
+
+    ``x`` must lie in [-1, 1] (clip it first): ``math.acos`` raises where
+    NumPy would give NaN.
+    """
+    out: NDArray[np.float64] = np.asarray(_ACOS(np.asarray(x, dtype=np.float64)), dtype=np.float64)
+    return out

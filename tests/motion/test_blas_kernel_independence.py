@@ -151,3 +151,57 @@ def test_learnt_mesh_rolls_do_not_depend_on_the_blas_kernel() -> None:
     # square pyramid's tips differed in their poses before their products were
     # summed in a fixed order
     assert _digest(_MESH) == _digest(_MESH, OPENBLAS_CORETYPE="Prescott")
+
+
+#: The motion drawn for a MuJoCo truncated cone of the robustness experiment
+#: (seed 0, trial 15), seen at 20 frames/s alone: its script took another path
+#: where NumPy's AVX-512 ``arctan2`` rounded one angle differently.
+_MUJOCO_ANGLES = """
+import hashlib, numpy as np
+from taxelkit.experiments.robustness import _units
+from taxelkit.motion.engines import scenarios_from_engine
+from taxelkit.motion.rolling import frames_from_scenario
+from taxelkit.sensors.presets import BONNEVILLE_16X16
+unit = [u for u in _units(["mujoco"], (20.0,), 16, 0)
+        if u.truth == "truncated-cone" and u.trial == 15 and u.array is None][0]
+motion, noise, _ = np.random.SeedSequence([unit.entropy, unit.trial]).spawn(3)
+rng = np.random.default_rng(motion)
+sc = scenarios_from_engine("mujoco", unit.truth, rates_hz=(20.0,), rng=rng)[0]
+h = hashlib.sha256()
+h.update(np.ascontiguousarray(sc.rotations))
+h.update(np.ascontiguousarray(frames_from_scenario(BONNEVILLE_16X16, sc, rng=0).frames))
+print(h.hexdigest())
+"""
+
+
+def _avx512_loops() -> str:
+    """The AVX-512 targets NumPy dispatches to here, as ``NPY_DISABLE_CPU_FEATURES`` takes them."""
+    from numpy._core._multiarray_umath import __cpu_features__ as features
+
+    return " ".join(f for f in ("X86_V4", "AVX512_ICL", "AVX512_SPR") if features.get(f))
+
+
+def test_simulated_motion_does_not_depend_on_numpy_simd_loops() -> None:
+    # NumPy's AVX-512 arctan2 differs from the C library's in the last bit; the
+    # scripts' and the rollouts' sampling angles now come from the C library
+    off = _avx512_loops()
+    if not off:
+        pytest.skip("NumPy dispatches no AVX-512 loops on this CPU: nothing to switch off")
+    assert _digest(_KINEMATIC) == _digest(_KINEMATIC, NPY_DISABLE_CPU_FEATURES=off)
+    if importlib.util.find_spec("mujoco") is not None:
+        assert _digest(_MUJOCO_ANGLES) == _digest(_MUJOCO_ANGLES, NPY_DISABLE_CPU_FEATURES=off)
+
+
+def test_fixed_order_angles_are_the_c_librarys() -> None:
+    import math
+
+    rng = np.random.default_rng(5)
+    y, x = rng.normal(size=(4, 3)), rng.normal(size=3)
+    got = fo.arctan2(y, x)
+    assert got.shape == (4, 3) and got.dtype == np.float64
+    for i in range(4):
+        for j in range(3):
+            assert got[i, j] == math.atan2(y[i, j], x[j])  # bit for bit
+    c = np.clip(rng.normal(size=5), -1.0, 1.0)
+    assert fo.arccos(c).tolist() == [math.acos(v) for v in c.tolist()]
+    assert fo.arctan2(np.zeros(0), np.zeros(0)).shape == (0,)

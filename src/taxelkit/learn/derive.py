@@ -38,6 +38,7 @@ there, so the rules err on the side of more (angles within
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
 import numpy as np
@@ -72,7 +73,7 @@ def _edge_angles(face: FlatFace) -> list[float]:
     for i in range(len(d)):
         for j in range(i + 1, len(d)):
             c = abs(float(d[i] @ d[j]))
-            out.append(float(np.degrees(np.arccos(min(1.0, c)))))
+            out.append(math.degrees(math.acos(min(1.0, c))))
     return out
 
 

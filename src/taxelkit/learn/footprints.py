@@ -14,6 +14,7 @@ recording. The union over the placements is what the face can produce.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -51,7 +52,7 @@ def rest_rotation(normal: NDArray[np.float64]) -> NDArray[np.float64]:
     s, c = float(np.linalg.norm(axis)), float(-n[2])
     if s < 1e-9:
         return np.eye(3) if c > 0 else matrix_from_axis_angle([1.0, 0.0, 0.0], np.pi)
-    out: NDArray[np.float64] = matrix_from_axis_angle(axis / s, float(np.arctan2(s, c)))
+    out: NDArray[np.float64] = matrix_from_axis_angle(axis / s, math.atan2(s, c))
     return out
 
 

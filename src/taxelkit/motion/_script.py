@@ -187,7 +187,7 @@ def bottom_polygon(solid: Cube | Tetrahedron, pose: Pose) -> NDArray[np.float64]
     v = pose.world_mm(solid.vertices_mm)
     low = v[v[:, 2] <= v[:, 2].min() + 1e-6]
     mid = low.mean(axis=0)
-    order = np.argsort(np.arctan2(low[:, 1] - mid[1], low[:, 0] - mid[0]))
+    order = np.argsort(fo.arctan2(low[:, 1] - mid[1], low[:, 0] - mid[0]))
     out: NDArray[np.float64] = low[order]
     return out
 
@@ -214,7 +214,7 @@ def landing_angle(
     k = np.cross(E_Z, u)
     q = points - pivot
     off_line = fo.norm(q - np.outer(fo.dot(q, k), k)) > 1e-6
-    angles = np.mod(np.arctan2(q[off_line, 2], fo.dot(q[off_line], u)), 2.0 * math.pi)
+    angles = np.mod(fo.arctan2(q[off_line, 2], fo.dot(q[off_line], u)), 2.0 * math.pi)
     return float(np.min(angles))
 
 

@@ -145,7 +145,7 @@ def _pick_edge(
     v = pose.world_mm(solid.vertices_mm)
     low = v[v[:, 2] <= v[:, 2].min() + FACE_TIE_MM]
     mid = low.mean(axis=0)
-    poly = low[np.argsort(np.arctan2(low[:, 1] - mid[1], low[:, 0] - mid[0]))]
+    poly = low[np.argsort(fo.arctan2(low[:, 1] - mid[1], low[:, 0] - mid[0]))]
     mids = 0.5 * (poly + np.roll(poly, -1, axis=0))
     options = list(range(len(poly)))
     if avoid_xy_mm is not None:

@@ -39,6 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from taxelkit import _fixed_order as fo
 from taxelkit.motion.array_placement import EDGE_MARGIN_MM, patch_halfwidth_mm
 from taxelkit.motion.contact_truth import (
     POSE_CHUNK,
@@ -157,7 +158,7 @@ def motion_measures(
     conj = quats[lo] * np.array([1.0, -1.0, -1.0, -1.0])
     rel = _quat_mul(quats[hi], conj)  # rotation from lo to hi, world frame
     vec_norm = np.linalg.norm(rel[:, 1:], axis=1)
-    angle = 2.0 * np.arctan2(vec_norm, np.abs(rel[:, 0]))
+    angle = 2.0 * fo.arctan2(vec_norm, np.abs(rel[:, 0]))
     axis_z = np.abs(rel[:, 3]) / np.maximum(vec_norm, 1e-300)
     move = np.linalg.norm(centroids_mm[hi] - centroids_mm[lo], axis=1)
     total = move + angle * radius_mm
@@ -195,7 +196,7 @@ def slerp(
     dot = np.sum(q0 * q1, axis=1)
     q1 = np.where(dot[:, None] < 0.0, -q1, q1)
     dot = np.abs(dot)
-    omega = np.arccos(np.clip(dot, -1.0, 1.0))
+    omega = fo.arccos(np.clip(dot, -1.0, 1.0))
     small = omega < 1e-9
     sin_o = np.where(small, 1.0, np.sin(omega))
     a = np.where(small, 1.0 - f, np.sin((1.0 - f) * omega) / sin_o)
