@@ -170,6 +170,8 @@ def main() -> None:
     ap.add_argument("--workdir", type=Path, default=None)
     add_record_option(ap)
     args = ap.parse_args()
+    if args.workdir is not None:
+        args.workdir.mkdir(parents=True, exist_ok=True)
     block = base_block(args.scenarios)
     with tempfile.TemporaryDirectory(dir=args.workdir) as tmp:
         small, large = Path(tmp) / "small.h5", Path(tmp) / "large.h5"
