@@ -62,6 +62,35 @@ def test_limits_batch_equals_one_frame_at_a_time() -> None:
     )
 
 
+def _limits_in_pieces_and_one_at_a_time(
+    classes: np.ndarray,
+    n: np.ndarray,
+    length: np.ndarray,
+    elong: np.ndarray,
+    area: np.ndarray,
+    t: np.ndarray,
+    lim: ContactLimits,
+    step: int,
+) -> np.ndarray:
+    """The batch classes, checked equal to pieces of ``step`` frames and to ``limit_one``."""
+    batch = apply_limits(classes, n, length, elong, lim, area_mm2=area, t_s=t)
+    state = LimitState()
+    pieces = [
+        apply_limits(classes[i : i + step], n[i : i + step], length[i : i + step],
+                     elong[i : i + step], lim, area_mm2=area[i : i + step], state=state,
+                     t_s=t[i : i + step])
+        for i in range(0, classes.size, step)
+    ]  # fmt: skip
+    np.testing.assert_array_equal(batch, np.concatenate(pieces))
+    one = LimitState()
+    scalar = [
+        limit_one(int(c), int(k), float(x), float(e), float(ar), lim, one, float(ts))
+        for c, k, x, e, ar, ts in zip(classes, n, length, elong, area, t, strict=True)
+    ]
+    np.testing.assert_array_equal(batch, scalar)  # the streaming path's plain-Python twin
+    return batch
+
+
 def test_limits_with_times_batch_equals_one_frame_at_a_time() -> None:
     rng = np.random.default_rng(5)
     m = 300
@@ -72,20 +101,7 @@ def test_limits_with_times_batch_equals_one_frame_at_a_time() -> None:
     area = rng.choice([18.0, 22.0, 24.0, 27.0, 31.0], m)  # around the band 20-26 mm^2
     t = np.cumsum(rng.choice([0.01, 0.05, 0.2], m))  # irregular intervals
     lim = ContactLimits()
-    batch = apply_limits(classes, n, length, elong, lim, area_mm2=area, t_s=t)
-    state = LimitState()
-    pieces = [
-        apply_limits(classes[i : i + 7], n[i : i + 7], length[i : i + 7], elong[i : i + 7], lim,
-                     area_mm2=area[i : i + 7], state=state, t_s=t[i : i + 7])
-        for i in range(0, m, 7)
-    ]  # fmt: skip
-    np.testing.assert_array_equal(batch, np.concatenate(pieces))
-    scalar_state = LimitState()
-    scalar = [
-        limit_one(int(c), int(k), float(x), float(e), float(ar), lim, scalar_state, float(ts))
-        for c, k, x, e, ar, ts in zip(classes, n, length, elong, area, t, strict=True)
-    ]
-    np.testing.assert_array_equal(batch, scalar)
+    batch = _limits_in_pieces_and_one_at_a_time(classes, n, length, elong, area, t, lim, 7)
     assert np.any((classes == LINE) & (length >= 6.0) & (batch != LINE))  # a line not yet held
     # without a dwell, the times change nothing
     now = ContactLimits(area_enter_s=0.0, line_enter_s=0.0)
@@ -236,23 +252,10 @@ def test_the_line_drop_is_the_same_in_every_limits_path() -> None:
     area = rng.uniform(5.0, 30.0, m)
     t = np.cumsum(rng.choice([0.01, 0.05], m))
     lim = ContactLimits()
-    batch = apply_limits(classes, n, length, elong, lim, area_mm2=area, t_s=t)
+    batch = _limits_in_pieces_and_one_at_a_time(classes, n, length, elong, area, t, lim, 9)
     no_drop = ContactLimits(line_drop=0.0)
     off = apply_limits(classes, n, length, elong, no_drop, area_mm2=area, t_s=t)
     assert np.any(batch != off)  # the rule bites on this sequence
-    state = LimitState()
-    pieces = [
-        apply_limits(classes[i : i + 9], n[i : i + 9], length[i : i + 9], elong[i : i + 9], lim,
-                     area_mm2=area[i : i + 9], state=state, t_s=t[i : i + 9])
-        for i in range(0, m, 9)
-    ]  # fmt: skip
-    np.testing.assert_array_equal(batch, np.concatenate(pieces))
-    one = LimitState()
-    scalar = [
-        limit_one(int(c), int(k), float(x), float(e), float(ar), lim, one, float(ts))
-        for c, k, x, e, ar, ts in zip(classes, n, length, elong, area, t, strict=True)
-    ]
-    np.testing.assert_array_equal(batch, scalar)
     rows_state = (
         np.zeros(1, bool), np.zeros(1, bool), np.zeros(1, np.int64), np.full(1, np.nan),
         np.zeros(1, np.int64), np.zeros(1),
