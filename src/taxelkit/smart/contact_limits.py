@@ -158,10 +158,11 @@ class ContactLimits:
         previous frame's length in one frame while shorter than
         ``line_min_length_mm``: that is another contact (an edge tipped onto
         a vertex, a flicker burst gone from beside a ball's bar), a line only
-        by its own length. An edge tipping onto a vertex that threshold
-        spread and a crosstalking row draw as a bar of three taxels read as
-        a line that "turned" (kinematic cube 2 of seed 0 at 20 frames/s with
-        every imperfection, "unknown"); the bursts beside a ball's bar of
+        by its own length. An edge tipping onto a vertex that a crosstalking
+        row draws as a bar of three taxels read as a line that "turned"
+        (kinematic cube 2 of seed 0 at 20 frames/s with every imperfection,
+        "unknown"; without the crosstalk it is identified); the bursts beside
+        a ball's bar of
         ``line_confirm_mm`` made "LC" among its point contacts. 0: off.
 
         Half, a round figure, was chosen before the held-out seed was run.
