@@ -162,19 +162,19 @@ class ContactLimits:
         row draws as a bar of three taxels read as a line that "turned"
         (kinematic cube 2 of seed 0 at 20 frames/s with every imperfection,
         "unknown"; without the crosstalk it is identified); the bursts beside
-        a ball's bar of
-        ``line_confirm_mm`` made "LC" among its point contacts. 0: off.
+        a ball's bar of ``line_confirm_mm`` made "LC" among its point
+        contacts. 0: off.
 
         Half, a round figure, was chosen before the held-out seed was run.
         Measured against 0 on the ``robustness`` recordings (every rate and
         imperfection, both engines, 22,000 recognitions a seed; the other
         arrays, 1,536), seed 0 / held-out seed 11: identified 21,859 ->
-        21,862 / 21,749 -> 21,753, every roll gained one that ended
+        21,862 / 21,749 -> 21,753, every roll gained one that had ended
         "unknown" (seed 0: kinematic cube 2 and sphere 36 at 20 frames/s
         with every imperfection, tetrahedron 47 at 5 frames/s with
         crosstalk; seed 11: kinematic cubes 4 and 27 and tetrahedron 3 with
         crosstalk), none lost; wrong identities unchanged (0 / 1); the other
-        arrays unchanged (1,269 / 1,258 identified, 2 / 6 wrong). 0.6
+        arrays unchanged (1,271 / 1,258 identified, 2 / 6 wrong). 0.6
         gained one more roll on seed 0 (sphere 7 at 100 frames/s) and the
         same on seed 11.
     """
