@@ -34,6 +34,13 @@ def test_the_openblas_override_is_recorded(monkeypatch) -> None:  # type: ignore
     assert run_environment()["openblas_coretype"] is None
 
 
+def test_numpys_disabled_simd_targets_are_recorded(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    monkeypatch.setenv("NPY_DISABLE_CPU_FEATURES", "X86_V4")
+    assert run_environment()["numpy_disabled_features"] == "X86_V4"
+    monkeypatch.delenv("NPY_DISABLE_CPU_FEATURES")
+    assert run_environment()["numpy_disabled_features"] is None
+
+
 def test_reproduce_writes_the_environment_beside_the_timing(tmp_path: Path) -> None:
     res = CliRunner().invoke(cli, ["reproduce", "fig7", "--out", str(tmp_path)])
     assert res.exit_code == 0, res.output

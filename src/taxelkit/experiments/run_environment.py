@@ -91,13 +91,18 @@ def run_environment() -> dict[str, Any]:
         it says, the CPU kernels it picked), ``libraries`` (version of each
         of :data:`LIBRARIES`, None if not installed) and
         ``openblas_coretype`` (the ``OPENBLAS_CORETYPE`` override, None if
-        unset). Every value is JSON-serialisable.
+        unset) and ``numpy_disabled_features`` (NumPy's
+        ``NPY_DISABLE_CPU_FEATURES``: the SIMD targets switched off, for
+        example ``X86_V4`` on an AVX-512 CPU to compare with AVX2 runs; None
+        if unset). Every value is JSON-serialisable.
 
     Examples
     --------
     >>> env = run_environment()
-    >>> sorted(env)
-    ['blas', 'cpu', 'libraries', 'numpy_simd', 'openblas_coretype', 'platform', 'python']
+    >>> sorted(env)[:4]
+    ['blas', 'cpu', 'libraries', 'numpy_disabled_features']
+    >>> sorted(env)[4:]
+    ['numpy_simd', 'openblas_coretype', 'platform', 'python']
     """
     return {
         "python": platform.python_version(),
@@ -107,4 +112,5 @@ def run_environment() -> dict[str, Any]:
         "blas": _blas(),
         "libraries": {name: _version(name) for name in LIBRARIES},
         "openblas_coretype": os.environ.get("OPENBLAS_CORETYPE"),
+        "numpy_disabled_features": os.environ.get("NPY_DISABLE_CPU_FEATURES"),
     }
