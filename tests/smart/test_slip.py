@@ -244,3 +244,44 @@ def test_a_line_sliding_along_itself_slips_and_one_turning_about_its_end_does_no
     assert SlipScanner(line, off, k=2).extend(frames, cone)
     with pytest.raises(ValueError, match="line_across_mm"):
         SlipConfig(line_across_mm=0.0)
+
+
+def _rattling_line(rate_hz: float, *, slide_from_s: float | None = None) -> np.ndarray:
+    """Rows of a line (half-length 8 mm) rattling between two seats a pitch apart along it.
+
+    It changes seat after dwelling 0.05-0.4 s (seeded, the same times at
+    every rate), as a body tipping between the facets of its mesh draws it;
+    from ``slide_from_s`` the line also slides along itself at 5 mm/s.
+    """
+    n = int(4 * rate_hz)
+    t = np.arange(n) / rate_hz
+    switches = np.cumsum(np.random.default_rng(3).uniform(0.05, 0.4, 40))
+    seat = np.searchsorted(switches, t, side="right") % 2 == 1
+    along = PITCH * seat
+    if slide_from_s is not None:
+        along = along + 5.0 * np.clip(t - slide_from_s, 0.0, None)
+    rows = np.zeros((n, 9))
+    rows[:, 0] = along
+    rows[:, 3], rows[:, 4], rows[:, 5] = 28.0, 5.0, 8.0
+    rows[:, 6], rows[:, 7], rows[:, 8] = -8.0, 8.0, t
+    return rows
+
+
+@pytest.mark.parametrize("rate_hz", [20.0, 100.0])
+def test_a_line_rattling_between_two_seats_does_not_slip_and_one_sliding_on_does(
+    rate_hz: float,
+) -> None:
+    line = int(ContactClass.LINE)
+    rattle = _rattling_line(rate_hz)
+    frames = np.arange(rattle.shape[0])
+    assert SlipScanner(line, SlipConfig(), k=2).extend(frames, rattle) == []
+    off = SlipConfig(line_return_s=0.0)  # without the test the seats read as sliding
+    assert SlipScanner(line, off, k=2).extend(frames, rattle)
+    slide = _rattling_line(rate_hz, slide_from_s=2.0)
+    slips = SlipScanner(line, SlipConfig(), k=2).extend(frames, slide)
+    assert slips and slips[0].kind == "line slides along itself"
+    assert 2.0 <= slips[0].detected_frame / rate_hz <= 2.5
+    with pytest.raises(ValueError, match="line_return_s"):
+        SlipConfig(line_return_s=-1.0)
+    with pytest.raises(ValueError, match="line_return_mm"):
+        SlipConfig(line_return_mm=0.0)

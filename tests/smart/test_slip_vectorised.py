@@ -266,3 +266,61 @@ def test_rows_with_odd_values_are_decided_by_the_per_frame_rule(seed: int) -> No
     with np.errstate(invalid="ignore", over="ignore"):  # inf - inf in the rule itself
         ref = run(SlipScanner(cls, cfg, k=2, reference=True), frames, rows, cuts)
         assert run(SlipScanner(cls, cfg, k=2), frames, rows, cuts) == ref
+
+
+def rattling_segment(rng: np.random.Generator, n: int, rate_hz: float) -> np.ndarray:
+    """Rows of a line that rests, rattles between seats along it, slides and turns, by phases."""
+    rows = np.zeros((n, 9))
+    theta, half = rng.uniform(-90, 90), rng.uniform(3, 10)
+    seats = [0.0, float(rng.choice([0.8812, 1.7625, 2.5]))]
+    shift, k = 0.0, 0
+    while k < n:
+        m = min(n - k, int(rng.integers(1, int(0.5 * rate_hz) + 2)))
+        kind = int(rng.integers(4))  # 0 rest, 1 another seat, 2 slide along, 3 turn
+        if kind == 1:
+            seats.append(float(rng.choice(seats)) + float(rng.choice([-1.0, 0.0, 1.0])) * 0.05)
+        speed = rng.normal(0, 6) / rate_hz if kind == 2 else 0.0
+        for j in range(m):
+            shift += speed
+            theta += rng.normal(0, 10) / rate_hz if kind == 3 else 0.0
+            seat = seats[int(rng.integers(len(seats)))] if kind == 1 else seats[-1]
+            u = np.array([np.cos(np.deg2rad(theta)), np.sin(np.deg2rad(theta))])
+            rows[k + j, :2] = (seat + shift) * u + rng.normal(0, 0.02, 2)
+            rows[k + j, 2] = theta
+        k += m
+    rows[:, 2] = (rows[:, 2] + 90.0) % 180.0 - 90.0
+    rows[:, 3] = 4.0 * half * (1 + rng.normal(0, 0.03, n))
+    rows[:, 4], rows[:, 5] = 5.0, half
+    ext = half + rng.choice([0.0, 0.88], n)
+    rows[:, 6], rows[:, 7] = -ext, ext
+    rows[rng.random(n) < 0.01, 6:8] = np.nan
+    rows[:, 8] = np.cumsum(rng.uniform(0.95, 1.05, n)) / rate_hz
+    return rows
+
+
+def test_a_line_back_at_its_seat_is_decided_alike_by_both_scans() -> None:
+    """``line_return_s``: the vectorised scan tests only the frames that decide, as the rule."""
+    differs = 0
+    for seed in range(40):
+        rng = np.random.default_rng(1000 + seed)
+        rate = float(rng.choice([20.0, 100.0, 240.0]))
+        n = int(rng.integers(20, 900))
+        rows = rattling_segment(rng, n, rate)
+        frames = np.cumsum(rng.integers(1, 3, n))
+        cfg = SlipConfig(
+            line_return_s=float(rng.choice([0.2, 1.0])),
+            line_return_mm=float(rng.choice([0.3, 0.9])),
+            hold_s=float(rng.choice([0.0, 0.07])),
+            hold_fraction=float(rng.choice([0.8, 1.0])),
+        )
+        cuts = sorted(set(rng.integers(1, n, int(rng.integers(0, 10))).tolist()))
+        ref = run(SlipScanner(_LINE, cfg, k=2, reference=True), frames, rows, cuts)
+        fast = run(SlipScanner(_LINE, cfg, k=2), frames, rows, cuts)
+        assert fast == ref, seed
+        whole = run(SlipScanner(_LINE, cfg, k=2), frames, rows, [])
+        assert [s for p in whole for s in p if s.end_frame is not None] == [
+            s for p in fast for s in p if s.end_frame is not None
+        ], seed
+        off = SlipConfig(**{**cfg.__dict__, "line_return_s": 0.0})
+        differs += run(SlipScanner(_LINE, off, k=2), frames, rows, cuts) != fast
+    assert differs >= 10  # the test bites in many of them

@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.slip import SlipConfig
 
-__all__ = ["N_FEATURES", "motion_mm", "slip_features"]
+__all__ = ["N_FEATURES", "line_returned", "motion_mm", "slip_features"]
 
 # Feature columns averaged over the windows (from the rows of segment_scan.ROW_COLUMNS).
 _CX, _CY, _AREA_COL, _C2, _S2, _HALF, _ELONG = range(7)
@@ -151,3 +151,44 @@ def motion_mm(
         turn = abs((th_cur - th_ref + 0.5 * math.pi) % math.pi - 0.5 * math.pi)
         moved = max(moved, turn * float(ref[_HALF]))
     return moved
+
+
+def line_returned(
+    cur: NDArray[np.float64], past: NDArray[np.float64], *, tol_mm: float, area_step: float
+) -> bool:
+    """Whether a line's mean features ``cur`` ``(15,)`` are back where a frame of ``past`` had them.
+
+    Back: the area within ``area_step`` of that frame's (relative), and both
+    drawn ends within ``tol_mm`` of that frame's along the bisector of the
+    two axes (:attr:`~taxelkit.smart.slip.SlipConfig.line_return_s`).
+    Frames with ends not measured, or an axis square to ``cur``'s, are not
+    matched. The bisector comes from square roots of the doubled-angle sums
+    (IEEE-exact operations, no trigonometry), so the decision is the same
+    on every CPU.
+
+    Parameters
+    ----------
+    cur : (15,) float
+        Mean features of a window (:func:`slip_features` columns).
+    past : (h, 15) float
+        Features of single frames.
+    tol_mm, area_step : float
+
+    Returns
+    -------
+    bool
+    """
+    if past.shape[0] == 0:
+        return False
+    a = past[:, _AREA_COL]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        same = (a > 0.0) & (np.abs(cur[_AREA_COL] / a - 1.0) <= area_step)
+        c2, s2 = cur[_C2] + past[:, _C2], cur[_S2] + past[:, _S2]
+        norm = np.sqrt(c2 * c2 + s2 * s2)
+        cos2 = c2 / norm
+        ax = np.sqrt(np.maximum(0.0, 0.5 * (1.0 + cos2)))
+        ay = np.copysign(np.sqrt(np.maximum(0.0, 0.5 * (1.0 - cos2))), s2)
+        d1 = (cur[7] - past[:, 7]) * ax + (cur[8] - past[:, 8]) * ay
+        d2 = (cur[9] - past[:, 9]) * ax + (cur[10] - past[:, 10]) * ay
+        back = same & (norm > 0.0) & (np.maximum(np.abs(d1), np.abs(d2)) <= tol_mm)
+    return bool(back.any())

@@ -9,8 +9,8 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.slip import SLIP_KINDS, Slip, SlipConfig
-from taxelkit.smart.slip_features import N_FEATURES, motion_mm, slip_features
-from taxelkit.smart.slip_motion import row_window_means, window_decisions
+from taxelkit.smart.slip_features import N_FEATURES, line_returned, motion_mm, slip_features
+from taxelkit.smart.slip_motion import exact_means, row_window_means, window_decisions
 
 __all__ = ["SlipScanner"]
 
@@ -104,7 +104,9 @@ class SlipScanner:
         self.hold = max(0, round(cfg.hold_s / dt)) + 1 if dt > 0 else 1  # frames spanning hold_s
         self.hold_needed = max(1, math.ceil(cfg.hold_fraction * self.hold - 1e-9))
         self._limit_mm = cfg.line_slip_mm if self.cls == _LINE else cfg.slip_mm
-        self.keep = max(self.cur + self.ref, 2 * self.end)
+        #: frames before the reference a line may be back at (``line_return_s``)
+        self.back = frames(cfg.line_return_s, 1) if self.cls == _LINE and cfg.line_return_s else 0
+        self.keep = max(self.cur + self.ref + self.back, 2 * self.end)
         self._ready = True
 
     def features(self, rows: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -231,8 +233,11 @@ class SlipScanner:
                 if math.isnan(motion):
                     self._anchor, self._above = i - c + 1, []
                     continue
+                above = motion > self._limit_mm
+                if above and self.back and self._returned(x, base, p, cur_m[p - c + 1]):
+                    above = False
                 keep = self._above[max(0, len(self._above) + 1 - self.hold) :]
-                self._above = [*keep, motion > self._limit_mm]
+                self._above = [*keep, above]
                 if self._above[-1] and sum(self._above) >= self.hold_needed:
                     q = max(0, p - self.hold - c + 2)
                     onset, self._open_i = int(fr[q]), base + q
@@ -270,6 +275,18 @@ class SlipScanner:
             x, a0, wa, b0, wb, count, limit, line=self.cls == _LINE, config=self.config, piece=piece
         )
 
+    def _first_hit(self, flags: NDArray[np.bool_]) -> int | None:
+        """The first frame of ``flags`` at which the hold (continuing ``_above``) is met."""
+        if not flags.any():
+            return None
+        h = len(self._above)
+        seq = np.concatenate([np.asarray(self._above, dtype=bool), flags])
+        total = np.concatenate([[0], np.cumsum(seq)])
+        j = np.arange(h, seq.size)
+        count = total[j + 1] - total[np.maximum(0, j + 1 - self.hold)]
+        hit = np.flatnonzero(seq[h:] & (count >= self.hold_needed))
+        return int(hit[0]) if hit.size else None
+
     def _onset(self, flags: NDArray[np.bool_]) -> int | None:
         """First of a run of decided frames ``flags`` (motion above the limit) that opens a slip.
 
@@ -280,16 +297,60 @@ class SlipScanner:
             tail = [*self._above, *([False] * min(flags.size, self.hold))]
             self._above = tail[len(tail) - min(self.hold, len(tail)) :]
             return None
-        h = len(self._above)
-        seq = np.concatenate([np.asarray(self._above, dtype=bool), flags])
-        total = np.concatenate([[0], np.cumsum(seq)])
-        j = np.arange(h, seq.size)
-        count = total[j + 1] - total[np.maximum(0, j + 1 - self.hold)]
-        hit = np.flatnonzero(seq[h:] & (count >= self.hold_needed))
-        if hit.size:
-            return int(hit[0])
-        self._above = seq[-self.hold :].tolist()
+        hit = self._first_hit(flags)
+        if hit is not None:
+            return hit
+        seq = [*self._above, *flags[-self.hold :].tolist()]
+        self._above = seq[len(seq) - min(self.hold, len(seq)) :]
         return None
+
+    def _returned(
+        self, x: NDArray[np.float64], base: int, p: int, cur: NDArray[np.float64] | None = None
+    ) -> bool:
+        """Whether frame ``p``'s window (a line) is back where a frame before its reference was.
+
+        The frames are those of the last :attr:`back` before the reference,
+        after the anchor (``line_return_s``); ``x[0]`` is segment frame
+        ``base``; ``cur``: the window's mean (else summed row by row here,
+        the same floats).
+        """
+        c, r = self.cur, self.ref
+        lo = base + p - c - r + 1  # the reference's first frame (segment index)
+        g0 = max(self._anchor, lo - self.back, base)
+        if g0 >= lo:
+            return False
+        if cur is None:
+            cur = exact_means(x, np.array([p - c + 1]), c)[0]
+        cfg = self.config
+        return line_returned(
+            cur, x[g0 - base : lo - base], tol_mm=cfg.line_return_mm, area_step=cfg.area_step
+        )
+
+    def _veto(
+        self, flags: NDArray[np.bool_], x: NDArray[np.float64], base: int, s: int
+    ) -> NDArray[np.bool_]:
+        """``flags`` (frames ``s`` on) less the frames at which a line is back (:meth:`_returned`).
+
+        Only the frames that can decide are tested: those of the hold that
+        meets the limit first, frame after frame, or without an onset the
+        last ``hold`` (kept for the next chunk); clearing a flag never
+        makes an earlier frame meet the hold.
+        """
+        flags = flags.copy()
+        checked = np.zeros(flags.size, bool)
+        while True:
+            q = self._first_hit(flags)
+            if q is None:  # the hold kept for the next frames
+                lo, hi = max(0, flags.size - self.hold), flags.size
+            else:
+                lo, hi = max(0, q - self.hold + 1), q + 1
+            todo = np.flatnonzero(flags[lo:hi] & ~checked[lo:hi]) + lo
+            if todo.size == 0:
+                return flags
+            for j in todo.tolist():
+                checked[j] = True
+                if self._returned(x, base, s + j):
+                    flags[j] = False
 
     def _scan_chunk(
         self,
@@ -324,7 +385,10 @@ class SlipScanner:
                 assert s >= p0
                 k = int(np.searchsorted(re_anchor, s))
                 stop = int(re_anchor[k]) if k < re_anchor.size else n
-                q = self._onset(above[s - p0 : stop - p0])
+                flags = above[s - p0 : stop - p0]
+                if self.back and flags.any():
+                    flags = self._veto(flags, x, base, s)
+                q = self._onset(flags)
                 if q is not None:
                     p = s + q
                     onset = max(0, p - self.hold - c + 2)
