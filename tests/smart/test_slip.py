@@ -285,3 +285,19 @@ def test_a_line_rattling_between_two_seats_does_not_slip_and_one_sliding_on_does
         SlipConfig(line_return_s=-1.0)
     with pytest.raises(ValueError, match="line_return_mm"):
         SlipConfig(line_return_mm=0.0)
+
+
+def test_one_frame_jumping_along_a_line_and_back_does_not_decide_a_slip_at_20_hz() -> None:
+    """Where one frame lies in every current window of the hold, it must not decide alone."""
+    line = int(ContactClass.LINE)
+    rows = _rattling_line(RATE_HZ)[:40]
+    rows[:, 0] = 0.0
+    rows[25, 0] = 2 * PITCH  # the ends jump two pitches along the line for one frame
+    frames = np.arange(rows.shape[0])
+    assert SlipScanner(line, SlipConfig(), k=2).extend(frames, rows) == []
+    alone = SlipConfig(line_jump_back=False)
+    (slip,) = SlipScanner(line, alone, k=2).extend(frames, rows)
+    assert slip.detected_frame == 26
+    scan = SlipScanner(line, SlipConfig(), k=2)
+    scan.extend(frames[:2], rows[:2])
+    assert scan.hold <= scan.cur  # 20 frames/s: the hold's windows share a frame

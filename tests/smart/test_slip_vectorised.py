@@ -299,7 +299,7 @@ def rattling_segment(rng: np.random.Generator, n: int, rate_hz: float) -> np.nda
 
 
 def test_a_line_back_at_its_seat_is_decided_alike_by_both_scans() -> None:
-    """``line_return_s``: the vectorised scan tests only the frames that decide, as the rule."""
+    """``line_return_s``, ``line_jump_back``: the scan tests only the frames that decide."""
     differs = 0
     for seed in range(40):
         rng = np.random.default_rng(1000 + seed)
@@ -312,6 +312,7 @@ def test_a_line_back_at_its_seat_is_decided_alike_by_both_scans() -> None:
             line_return_mm=float(rng.choice([0.3, 0.9])),
             hold_s=float(rng.choice([0.0, 0.07])),
             hold_fraction=float(rng.choice([0.8, 1.0])),
+            line_jump_back=bool(rng.integers(2)),
         )
         cuts = sorted(set(rng.integers(1, n, int(rng.integers(0, 10))).tolist()))
         ref = run(SlipScanner(_LINE, cfg, k=2, reference=True), frames, rows, cuts)
@@ -321,6 +322,6 @@ def test_a_line_back_at_its_seat_is_decided_alike_by_both_scans() -> None:
         assert [s for p in whole for s in p if s.end_frame is not None] == [
             s for p in fast for s in p if s.end_frame is not None
         ], seed
-        off = SlipConfig(**{**cfg.__dict__, "line_return_s": 0.0})
+        off = SlipConfig(**{**cfg.__dict__, "line_return_s": 0.0, "line_jump_back": False})
         differs += run(SlipScanner(_LINE, off, k=2), frames, rows, cuts) != fast
     assert differs >= 10  # the test bites in many of them

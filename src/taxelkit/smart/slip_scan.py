@@ -106,6 +106,9 @@ class SlipScanner:
         self._limit_mm = cfg.line_slip_mm if self.cls == _LINE else cfg.slip_mm
         #: frames before the reference a line may be back at (``line_return_s``)
         self.back = frames(cfg.line_return_s, 1) if self.cls == _LINE and cfg.line_return_s else 0
+        # one frame lies in every current window of the hold: it must not decide alone
+        self._jump = self.cls == _LINE and cfg.line_jump_back and self.hold <= self.cur
+        self._vetoes = bool(self.back) or self._jump
         self.keep = max(self.cur + self.ref + self.back, 2 * self.end)
         self._ready = True
 
@@ -234,7 +237,7 @@ class SlipScanner:
                     self._anchor, self._above = i - c + 1, []
                     continue
                 above = motion > self._limit_mm
-                if above and self.back and self._returned(x, base, p, cur_m[p - c + 1]):
+                if above and self._vetoes and self._returned(x, base, p, cur_m[p - c + 1]):
                     above = False
                 keep = self._above[max(0, len(self._above) + 1 - self.hold) :]
                 self._above = [*keep, above]
@@ -307,24 +310,29 @@ class SlipScanner:
     def _returned(
         self, x: NDArray[np.float64], base: int, p: int, cur: NDArray[np.float64] | None = None
     ) -> bool:
-        """Whether frame ``p``'s window (a line) is back where a frame before its reference was.
+        """Whether frame ``p``'s window (a line) is back where it was: its motion is no slip.
 
-        The frames are those of the last :attr:`back` before the reference,
-        after the anchor (``line_return_s``); ``x[0]`` is segment frame
-        ``base``; ``cur``: the window's mean (else summed row by row here,
-        the same floats).
+        Back (:func:`~taxelkit.smart.slip_features.line_returned`): the
+        window's mean where a single frame of the last :attr:`back` before
+        the reference (after the anchor) had the line (``line_return_s``);
+        or, where one frame lies in every current window of the hold
+        (``line_jump_back``), frame ``p`` itself where a frame of the
+        reference had it. ``x[0]`` is segment frame ``base``; ``cur``: the
+        window's mean (else summed row by row here, the same floats).
         """
         c, r = self.cur, self.ref
-        lo = base + p - c - r + 1  # the reference's first frame (segment index)
-        g0 = max(self._anchor, lo - self.back, base)
-        if g0 >= lo:
+        cfg = self.config
+        lo = p - c - r + 1  # the reference's first frame in x
+        if self._jump and line_returned(
+            x[p], x[max(0, lo) : lo + r], tol_mm=cfg.line_return_mm, area_step=cfg.area_step
+        ):
+            return True
+        g0 = max(self._anchor - base, lo - self.back, 0)
+        if not self.back or g0 >= lo:
             return False
         if cur is None:
             cur = exact_means(x, np.array([p - c + 1]), c)[0]
-        cfg = self.config
-        return line_returned(
-            cur, x[g0 - base : lo - base], tol_mm=cfg.line_return_mm, area_step=cfg.area_step
-        )
+        return line_returned(cur, x[g0:lo], tol_mm=cfg.line_return_mm, area_step=cfg.area_step)
 
     def _veto(
         self, flags: NDArray[np.bool_], x: NDArray[np.float64], base: int, s: int
@@ -386,7 +394,7 @@ class SlipScanner:
                 k = int(np.searchsorted(re_anchor, s))
                 stop = int(re_anchor[k]) if k < re_anchor.size else n
                 flags = above[s - p0 : stop - p0]
-                if self.back and flags.any():
+                if self._vetoes and flags.any():
                     flags = self._veto(flags, x, base, s)
                 q = self._onset(flags)
                 if q is not None:
