@@ -14,6 +14,7 @@ from taxelkit.io.recordings import write_recording
 from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.motion.slip_scenarios import make_partial_slip_scenario
 from taxelkit.sensors.presets import BONNEVILLE_16X16
+from taxelkit.smart.bank import SensorBank
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.recognise_chunks import ChunkRecogniser
 from taxelkit.smart.recogniser import SmartSensor, recognise
@@ -301,3 +302,34 @@ def test_one_frame_jumping_along_a_line_and_back_does_not_decide_a_slip_at_20_hz
     scan = SlipScanner(line, SlipConfig(), k=2)
     scan.extend(frames[:2], rows[:2])
     assert scan.hold <= scan.cur  # 20 frames/s: the hold's windows share a frame
+
+
+def _rattling_bar(slip: SlipConfig) -> tuple[TactileFrames, TactemeConfig]:
+    """Frames of a 9-taxel bar rattling one pitch along itself, 4 s at 20 frames/s."""
+    rows = _rattling_line(RATE_HZ)
+    frames = np.zeros((rows.shape[0], 16, 16), bool)
+    for t, shift in enumerate(np.round(rows[:, 0] / PITCH).astype(int)):
+        frames[t, 8, 3 + shift : 12 + shift] = True
+    rec = TactileFrames(frames, t_s=rows[:, 8], pitch_mm=PITCH)
+    return rec, TactemeConfig(slip=slip)
+
+
+def test_every_path_drops_a_rattling_bars_slips_alike() -> None:
+    """Batch, one frame at a time, chunks and the bank: the same slips with and without the test."""
+    for slip, want_slips in ((SlipConfig(), False), (SlipConfig(line_return_s=0.0), True)):
+        rec, cfg = _rattling_bar(slip)
+        batch = recognise(rec, config=cfg, cleaning=None)
+        assert bool(batch.slips) == want_slips
+        sensor = SmartSensor(rec.shape[1:], pitch_mm=PITCH, config=cfg, cleaning=None)
+        for f, t in zip(rec.frames, rec.t_s, strict=True):
+            sensor.push(f, t)
+        assert sensor.result().slips == batch.slips
+        chunks = ChunkRecogniser(rec.shape[1:], pitch_mm=PITCH, config=cfg, cleaning=None)
+        for a in range(0, rec.n_frames, 7):
+            chunks.push(rec.frames[a : a + 7], rec.t_s[a : a + 7])
+        assert chunks.result().slips == batch.slips
+        bank = SensorBank(2, rec.shape[1:], pitch_mm=PITCH, config=cfg, cleaning=None)
+        for f, t in zip(rec.frames, rec.t_s, strict=True):
+            bank.push(np.stack([f, np.zeros_like(f)]), t)
+        bank.flush()
+        assert bank.result(0).slips == batch.slips
