@@ -154,41 +154,54 @@ def motion_mm(
 
 
 def line_returned(
-    cur: NDArray[np.float64], past: NDArray[np.float64], *, tol_mm: float, area_step: float
-) -> bool:
-    """Whether a line's mean features ``cur`` ``(15,)`` are back where a frame of ``past`` had them.
+    cur: NDArray[np.float64],
+    past: NDArray[np.float64],
+    first: NDArray[np.intp],
+    stop: NDArray[np.intp],
+    *,
+    tol_mm: float,
+    area_step: float,
+) -> NDArray[np.bool_]:
+    """Whether each line's mean features ``cur`` are back where one of its frames ``past`` had them.
 
     Back: the area within ``area_step`` of that frame's (relative), and both
     drawn ends within ``tol_mm`` of that frame's along the bisector of the
     two axes (:attr:`~taxelkit.smart.slip.SlipConfig.line_return_s`).
-    Frames with ends not measured, or an axis square to ``cur``'s, are not
-    matched. The bisector comes from square roots of the doubled-angle sums
-    (IEEE-exact operations, no trigonometry), so the decision is the same
-    on every CPU.
+    Frames with ends not measured, or an axis square to the line's, are not
+    matched. Only IEEE-exact operations (the bisector from square roots of
+    the doubled-angle sums, no trigonometry): the decisions are the same
+    whatever the rows are tested with, and on every CPU.
 
     Parameters
     ----------
-    cur : (15,) float
-        Mean features of a window (:func:`slip_features` columns).
-    past : (h, 15) float
+    cur : (k, 15) float
+        Mean features of ``k`` windows (:func:`slip_features` columns).
+    past : (m, 15) float
         Features of single frames.
+    first, stop : (k,) int
+        Each window is tested against the rows ``first[i] <= j < stop[i]`` of ``past``.
     tol_mm, area_step : float
 
     Returns
     -------
-    bool
+    (k,) bool
     """
-    if past.shape[0] == 0:
-        return False
-    a = past[:, _AREA_COL]
+    k, m = cur.shape[0], past.shape[0]
+    if k == 0 or m == 0:
+        return np.zeros(k, bool)
+    a = past[None, :, _AREA_COL]
+    j = np.arange(m)[None, :]
+    inside = (j >= np.asarray(first)[:, None]) & (j < np.asarray(stop)[:, None])
     with np.errstate(divide="ignore", invalid="ignore"):
-        same = (a > 0.0) & (np.abs(cur[_AREA_COL] / a - 1.0) <= area_step)
-        c2, s2 = cur[_C2] + past[:, _C2], cur[_S2] + past[:, _S2]
+        same = (a > 0.0) & (np.abs(cur[:, None, _AREA_COL] / a - 1.0) <= area_step)
+        c2 = cur[:, None, _C2] + past[None, :, _C2]
+        s2 = cur[:, None, _S2] + past[None, :, _S2]
         norm = np.sqrt(c2 * c2 + s2 * s2)
         cos2 = c2 / norm
         ax = np.sqrt(np.maximum(0.0, 0.5 * (1.0 + cos2)))
         ay = np.copysign(np.sqrt(np.maximum(0.0, 0.5 * (1.0 - cos2))), s2)
-        d1 = (cur[7] - past[:, 7]) * ax + (cur[8] - past[:, 8]) * ay
-        d2 = (cur[9] - past[:, 9]) * ax + (cur[10] - past[:, 10]) * ay
+        d1 = (cur[:, None, 7] - past[None, :, 7]) * ax + (cur[:, None, 8] - past[None, :, 8]) * ay
+        d2 = (cur[:, None, 9] - past[None, :, 9]) * ax + (cur[:, None, 10] - past[None, :, 10]) * ay
         back = same & (norm > 0.0) & (np.maximum(np.abs(d1), np.abs(d2)) <= tol_mm)
-    return bool(back.any())
+    out: NDArray[np.bool_] = np.any(back & inside, axis=1)
+    return out

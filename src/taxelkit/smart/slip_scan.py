@@ -237,7 +237,7 @@ class SlipScanner:
                     self._anchor, self._above = i - c + 1, []
                     continue
                 above = motion > self._limit_mm
-                if above and self._vetoes and self._returned(x, base, p, cur_m[p - c + 1]):
+                if above and self._vetoes and self._returned(x, base, np.array([p]))[0]:
                     above = False
                 keep = self._above[max(0, len(self._above) + 1 - self.hold) :]
                 self._above = [*keep, above]
@@ -308,31 +308,40 @@ class SlipScanner:
         return None
 
     def _returned(
-        self, x: NDArray[np.float64], base: int, p: int, cur: NDArray[np.float64] | None = None
-    ) -> bool:
-        """Whether frame ``p``'s window (a line) is back where it was: its motion is no slip.
+        self, x: NDArray[np.float64], base: int, ps: NDArray[np.intp]
+    ) -> NDArray[np.bool_]:
+        """Whether the windows of frames ``ps`` (a line) are back where the line was: no slip.
 
-        Back (:func:`~taxelkit.smart.slip_features.line_returned`): the
+        Back (:func:`~taxelkit.smart.slip_features.line_returned`): a
         window's mean where a single frame of the last :attr:`back` before
-        the reference (after the anchor) had the line (``line_return_s``);
+        its reference (after the anchor) had the line (``line_return_s``);
         or, where one frame lies in every current window of the hold
-        (``line_jump_back``), frame ``p`` itself where a frame of the
-        reference had it. ``x[0]`` is segment frame ``base``; ``cur``: the
-        window's mean (else summed row by row here, the same floats).
+        (``line_jump_back``), the frame itself where a frame of its reference
+        had it. ``x[0]`` is segment frame ``base``; each window's mean is
+        summed row by row (the floats of the per-frame rule's means).
         """
         c, r = self.cur, self.ref
         cfg = self.config
-        lo = p - c - r + 1  # the reference's first frame in x
-        if self._jump and line_returned(
-            x[p], x[max(0, lo) : lo + r], tol_mm=cfg.line_return_mm, area_step=cfg.area_step
-        ):
-            return True
-        g0 = max(self._anchor - base, lo - self.back, 0)
-        if not self.back or g0 >= lo:
-            return False
-        if cur is None:
-            cur = exact_means(x, np.array([p - c + 1]), c)[0]
-        return line_returned(cur, x[g0:lo], tol_mm=cfg.line_return_mm, area_step=cfg.area_step)
+        ps = np.asarray(ps, np.intp)
+        lo = ps - c - r + 1  # each reference's first frame in x
+        out = np.zeros(ps.size, bool)
+        if self._jump:
+            g = max(0, int(lo.min()))
+            out = line_returned(
+                x[ps], x[g : int(ps.max())], lo - g, lo + r - g,
+                tol_mm=cfg.line_return_mm, area_step=cfg.area_step,
+            )  # fmt: skip
+        if self.back:
+            first = np.maximum(np.maximum(lo - self.back, self._anchor - base), 0)
+            todo = np.flatnonzero(~out & (first < lo))
+            if todo.size:
+                g = int(first[todo].min())
+                cur = exact_means(x, ps[todo] - c + 1, c)
+                out[todo] = line_returned(
+                    cur, x[g : int(lo[todo].max())], first[todo] - g, lo[todo] - g,
+                    tol_mm=cfg.line_return_mm, area_step=cfg.area_step,
+                )  # fmt: skip
+        return out
 
     def _veto(
         self, flags: NDArray[np.bool_], x: NDArray[np.float64], base: int, s: int
@@ -355,10 +364,8 @@ class SlipScanner:
             todo = np.flatnonzero(flags[lo:hi] & ~checked[lo:hi]) + lo
             if todo.size == 0:
                 return flags
-            for j in todo.tolist():
-                checked[j] = True
-                if self._returned(x, base, s + j):
-                    flags[j] = False
+            checked[todo] = True
+            flags[todo] = ~self._returned(x, base, s + todo)
 
     def _scan_chunk(
         self,
