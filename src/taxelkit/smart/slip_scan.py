@@ -9,8 +9,9 @@ from numpy.typing import NDArray
 
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.slip import SLIP_KINDS, Slip, SlipConfig
-from taxelkit.smart.slip_features import N_FEATURES, line_returned, motion_mm, slip_features
-from taxelkit.smart.slip_motion import exact_means, row_window_means, window_decisions
+from taxelkit.smart.slip_features import N_FEATURES, motion_mm, slip_features
+from taxelkit.smart.slip_motion import row_window_means, window_decisions
+from taxelkit.smart.slip_return import ReturnTest, drop_returns, first_hold_hit
 
 __all__ = ["SlipScanner"]
 
@@ -104,12 +105,16 @@ class SlipScanner:
         self.hold = max(0, round(cfg.hold_s / dt)) + 1 if dt > 0 else 1  # frames spanning hold_s
         self.hold_needed = max(1, math.ceil(cfg.hold_fraction * self.hold - 1e-9))
         self._limit_mm = cfg.line_slip_mm if self.cls == _LINE else cfg.slip_mm
-        #: frames before the reference a line may be back at (``line_return_s``)
-        self.back = frames(cfg.line_return_s, 1) if self.cls == _LINE and cfg.line_return_s else 0
-        # one frame lies in every current window of the hold: it must not decide alone
-        self._jump = self.cls == _LINE and cfg.line_jump_back and self.hold <= self.cur
-        self._vetoes = bool(self.back) or self._jump
-        self.keep = max(self.cur + self.ref + self.back, 2 * self.end)
+        # a line: frames before the reference it may be back at (line_return_s), and
+        # whether one frame lies in every current window of the hold (line_jump_back)
+        back = frames(cfg.line_return_s, 1) if self.cls == _LINE and cfg.line_return_s else 0
+        jump = self.cls == _LINE and cfg.line_jump_back and self.hold <= self.cur
+        self._back: ReturnTest | None = None
+        if back or jump:
+            self._back = ReturnTest(
+                self.cur, self.ref, back, jump, cfg.line_return_mm, cfg.area_step
+            )
+        self.keep = max(self.cur + self.ref + back, 2 * self.end)
         self._ready = True
 
     def features(self, rows: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -237,8 +242,8 @@ class SlipScanner:
                     self._anchor, self._above = i - c + 1, []
                     continue
                 above = motion > self._limit_mm
-                if above and self._vetoes and self._returned(x, base, np.array([p]))[0]:
-                    above = False
+                if above and self._back is not None:
+                    above = not self._back.returned(x, np.array([p]), self._anchor - base)[0]
                 keep = self._above[max(0, len(self._above) + 1 - self.hold) :]
                 self._above = [*keep, above]
                 if self._above[-1] and sum(self._above) >= self.hold_needed:
@@ -278,18 +283,6 @@ class SlipScanner:
             x, a0, wa, b0, wb, count, limit, line=self.cls == _LINE, config=self.config, piece=piece
         )
 
-    def _first_hit(self, flags: NDArray[np.bool_]) -> int | None:
-        """The first frame of ``flags`` at which the hold (continuing ``_above``) is met."""
-        if not flags.any():
-            return None
-        h = len(self._above)
-        seq = np.concatenate([np.asarray(self._above, dtype=bool), flags])
-        total = np.concatenate([[0], np.cumsum(seq)])
-        j = np.arange(h, seq.size)
-        count = total[j + 1] - total[np.maximum(0, j + 1 - self.hold)]
-        hit = np.flatnonzero(seq[h:] & (count >= self.hold_needed))
-        return int(hit[0]) if hit.size else None
-
     def _onset(self, flags: NDArray[np.bool_]) -> int | None:
         """First of a run of decided frames ``flags`` (motion above the limit) that opens a slip.
 
@@ -300,72 +293,12 @@ class SlipScanner:
             tail = [*self._above, *([False] * min(flags.size, self.hold))]
             self._above = tail[len(tail) - min(self.hold, len(tail)) :]
             return None
-        hit = self._first_hit(flags)
+        hit = first_hold_hit(self._above, flags, self.hold, self.hold_needed)
         if hit is not None:
             return hit
         seq = [*self._above, *flags[-self.hold :].tolist()]
         self._above = seq[len(seq) - min(self.hold, len(seq)) :]
         return None
-
-    def _returned(
-        self, x: NDArray[np.float64], base: int, ps: NDArray[np.intp]
-    ) -> NDArray[np.bool_]:
-        """Whether the windows of frames ``ps`` (a line) are back where the line was: no slip.
-
-        Back (:func:`~taxelkit.smart.slip_features.line_returned`): a
-        window's mean where a single frame of the last :attr:`back` before
-        its reference (after the anchor) had the line (``line_return_s``);
-        or, where one frame lies in every current window of the hold
-        (``line_jump_back``), the frame itself where a frame of its reference
-        had it. ``x[0]`` is segment frame ``base``; each window's mean is
-        summed row by row (the floats of the per-frame rule's means).
-        """
-        c, r = self.cur, self.ref
-        cfg = self.config
-        ps = np.asarray(ps, np.intp)
-        lo = ps - c - r + 1  # each reference's first frame in x
-        out = np.zeros(ps.size, bool)
-        if self._jump:
-            g = max(0, int(lo.min()))
-            out = line_returned(
-                x[ps], x[g : int(ps.max())], lo - g, lo + r - g,
-                tol_mm=cfg.line_return_mm, area_step=cfg.area_step,
-            )  # fmt: skip
-        if self.back:
-            first = np.maximum(np.maximum(lo - self.back, self._anchor - base), 0)
-            todo = np.flatnonzero(~out & (first < lo))
-            if todo.size:
-                g = int(first[todo].min())
-                cur = exact_means(x, ps[todo] - c + 1, c)
-                out[todo] = line_returned(
-                    cur, x[g : int(lo[todo].max())], first[todo] - g, lo[todo] - g,
-                    tol_mm=cfg.line_return_mm, area_step=cfg.area_step,
-                )  # fmt: skip
-        return out
-
-    def _veto(
-        self, flags: NDArray[np.bool_], x: NDArray[np.float64], base: int, s: int
-    ) -> NDArray[np.bool_]:
-        """``flags`` (frames ``s`` on) less the frames at which a line is back (:meth:`_returned`).
-
-        Only the frames that can decide are tested: those of the hold that
-        meets the limit first, frame after frame, or without an onset the
-        last ``hold`` (kept for the next chunk); clearing a flag never
-        makes an earlier frame meet the hold.
-        """
-        flags = flags.copy()
-        checked = np.zeros(flags.size, bool)
-        while True:
-            q = self._first_hit(flags)
-            if q is None:  # the hold kept for the next frames
-                lo, hi = max(0, flags.size - self.hold), flags.size
-            else:
-                lo, hi = max(0, q - self.hold + 1), q + 1
-            todo = np.flatnonzero(flags[lo:hi] & ~checked[lo:hi]) + lo
-            if todo.size == 0:
-                return flags
-            checked[todo] = True
-            flags[todo] = ~self._returned(x, base, s + todo)
 
     def _scan_chunk(
         self,
@@ -401,8 +334,8 @@ class SlipScanner:
                 k = int(np.searchsorted(re_anchor, s))
                 stop = int(re_anchor[k]) if k < re_anchor.size else n
                 flags = above[s - p0 : stop - p0]
-                if self._vetoes and flags.any():
-                    flags = self._veto(flags, x, base, s)
+                if self._back is not None and flags.any():
+                    flags = self._drop_returns(flags, x, base, s)
                 q = self._onset(flags)
                 if q is not None:
                     p = s + q
@@ -438,6 +371,19 @@ class SlipScanner:
                 self._open, self._anchor = None, base + p - e + 1
             p += 1
         return out
+
+    def _drop_returns(
+        self, flags: NDArray[np.bool_], x: NDArray[np.float64], base: int, s: int
+    ) -> NDArray[np.bool_]:
+        """``flags`` (frames ``s`` on of ``x``) less those at which a line is back."""
+        test = self._back
+        assert test is not None
+        return drop_returns(
+            flags,
+            self.hold,
+            lambda f: first_hold_hit(self._above, f, self.hold, self.hold_needed),
+            lambda js: test.returned(x, s + js, self._anchor - base),
+        )
 
     def _replace(self, out: list[Slip], done: Slip) -> None:
         self.slips.append(done)
