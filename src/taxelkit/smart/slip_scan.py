@@ -46,8 +46,8 @@ class SlipScanner:
 
     Notes
     -----
-    Keeps the last ``reference + current + end`` frames' features and a few
-    numbers.
+    Keeps the features of the last ``max(current + reference + return, 2 end)``
+    frames (``return``: a line's ``line_return_s``, else 0) and a few numbers.
 
     Examples
     --------
