@@ -333,10 +333,7 @@ class SlipScanner:
                 assert s >= p0
                 k = int(np.searchsorted(re_anchor, s))
                 stop = int(re_anchor[k]) if k < re_anchor.size else n
-                flags = above[s - p0 : stop - p0]
-                if self._back is not None and flags.any():
-                    flags = self._drop_returns(flags, x, base, s)
-                q = self._onset(flags)
+                q = self._first_onset(above[s - p0 : stop - p0], x, base, s)
                 if q is not None:
                     p = s + q
                     onset = max(0, p - self.hold - c + 2)
@@ -353,13 +350,10 @@ class SlipScanner:
                 s = max(p, 2 * e - 1, self._open_i - base + e - 1)  # the last window: all slip
                 if s >= n:
                     break
-                changed_end, moving = self.decisions(
-                    x, s - 2 * e + 1, e, s - e + 1, e, n - s, self.config.still_mm
-                )
-                ended = np.flatnonzero(changed_end | ~moving)  # still (or the contact changed)
-                if ended.size == 0:
+                end = self._slip_end(x, s, n)
+                if end is None:
                     break
-                p = s + int(ended[0])
+                p = end
                 done = Slip(
                     self._open.kind,
                     self._open.first_frame,
@@ -371,6 +365,51 @@ class SlipScanner:
                 self._open, self._anchor = None, base + p - e + 1
             p += 1
         return out
+
+    def _first_onset(
+        self, above: NDArray[np.bool_], x: NDArray[np.float64], base: int, s: int
+    ) -> int | None:
+        """:meth:`_onset` of the decided frames ``above`` (frames ``s`` on of ``x``).
+
+        A line's frames that are back where it was are dropped first, block
+        by block (blocks that grow fourfold from 256 frames, each continuing
+        the hold as a new chunk would), so that the search costs what the
+        frames cost however many are dropped.
+        """
+        if self._back is None or not above.any():
+            return self._onset(above)
+        lo, size = 0, 256
+        while lo < above.size:
+            m = min(size, above.size - lo)
+            flags = above[lo : lo + m]
+            if flags.any():
+                flags = self._drop_returns(flags, x, base, s + lo)
+            q = self._onset(flags)
+            if q is not None:
+                return lo + q
+            lo, size = lo + m, 4 * size
+        return None
+
+    def _slip_end(self, x: NDArray[np.float64], s: int, n: int) -> int | None:
+        """The first frame from ``s`` (of ``n`` in ``x``) at which the open slip ends, or None.
+
+        The end test (the footprint still, or the contact changed) is
+        computed over blocks of frames that grow fourfold from 64, so that a
+        segment holding many slips costs what its frames cost, not what each
+        slip's remaining frames cost (the decisions are the rule's, block
+        by block).
+        """
+        e, lo, size = self.end, s, 64
+        while lo < n:
+            m = min(size, n - lo)
+            changed, moving = self.decisions(
+                x, lo - 2 * e + 1, e, lo - e + 1, e, m, self.config.still_mm
+            )
+            ended = np.flatnonzero(changed | ~moving)  # still (or the contact changed)
+            if ended.size:
+                return lo + int(ended[0])
+            lo, size = lo + m, 4 * size
+        return None
 
     def _drop_returns(
         self, flags: NDArray[np.bool_], x: NDArray[np.float64], base: int, s: int
