@@ -20,6 +20,7 @@ __all__ = ["N_FEATURES", "line_returned", "motion_mm", "slip_features"]
 # Feature columns averaged over the windows (from the rows of segment_scan.ROW_COLUMNS).
 _CX, _CY, _AREA_COL, _C2, _S2, _HALF, _ELONG = range(7)
 _END1, _END2 = slice(7, 9), slice(9, 11)  # a line's two ends, x y (mm), in a consistent order
+_ENDS = slice(_END1.start, _END2.stop)
 _COV = slice(11, 14)  # second central moments xx, yy, xy, mm^2
 _AREA2 = 14  # the area squared, mm^4 (a window's mean gives the spread of its areas)
 #: Features per frame.
@@ -200,8 +201,8 @@ def line_returned(
         cos2 = c2 / norm
         ax = np.sqrt(np.maximum(0.0, 0.5 * (1.0 + cos2)))
         ay = np.copysign(np.sqrt(np.maximum(0.0, 0.5 * (1.0 - cos2))), s2)
-        d1 = (cur[:, None, 7] - past[None, :, 7]) * ax + (cur[:, None, 8] - past[None, :, 8]) * ay
-        d2 = (cur[:, None, 9] - past[None, :, 9]) * ax + (cur[:, None, 10] - past[None, :, 10]) * ay
-        back = same & (norm > 0.0) & (np.maximum(np.abs(d1), np.abs(d2)) <= tol_mm)
+        ends = cur[:, None, _ENDS] - past[None, :, _ENDS]  # (k, m, 4): x1 y1 x2 y2
+        along = ends[..., 0::2] * ax[..., None] + ends[..., 1::2] * ay[..., None]
+        back = same & (norm > 0.0) & (np.abs(along).max(axis=-1) <= tol_mm)
     out: NDArray[np.bool_] = np.any(back & inside, axis=1)
     return out
