@@ -276,7 +276,9 @@ def test_a_line_rattling_between_two_seats_does_not_slip_and_one_sliding_on_does
     rattle = _rattling_line(rate_hz)
     frames = np.arange(rattle.shape[0])
     assert SlipScanner(line, SlipConfig(), k=2).extend(frames, rattle) == []
-    off = SlipConfig(line_return_s=0.0)  # without the test the seats read as sliding
+    # without the test the seats read as sliding (at 20 frames/s a reference of
+    # 0.4 s happens to average this rattle's two seats: 0.3 s, a face's, does not)
+    off = SlipConfig(line_return_s=0.0, line_reference_s=0.3)
     assert SlipScanner(line, off, k=2).extend(frames, rattle)
     slide = _rattling_line(rate_hz, slide_from_s=2.0)
     slips = SlipScanner(line, SlipConfig(), k=2).extend(frames, slide)
@@ -286,6 +288,40 @@ def test_a_line_rattling_between_two_seats_does_not_slip_and_one_sliding_on_does
         SlipConfig(line_return_s=-1.0)
     with pytest.raises(ValueError, match="line_return_mm"):
         SlipConfig(line_return_mm=0.0)
+
+
+def _stepping_line(rate_hz: float, speed_mm_s: float = 4.0) -> np.ndarray:
+    """Rows of a line sliding along itself from 1 s, its drawn ends stepping a pitch at a time.
+
+    A line oblique to the grid: each end moves a whole pitch when the slide
+    has carried it across a taxel, the two at phases half a step apart, as
+    the binary footprint of a sliding cylinder draws them.
+    """
+    n = int(3 * rate_hz)
+    t = np.arange(n) / rate_hz
+    slid = speed_mm_s * np.clip(t - 1.0, 0.0, None)
+    lo = -8.0 + PITCH * np.floor(slid / PITCH + 0.5)  # steps at 0.22 s, 0.66 s, ...
+    hi = 8.0 + PITCH * np.floor(slid / PITCH)  # steps at 0.44 s, 0.88 s, ...
+    rows = np.zeros((n, 9))
+    rows[:, 0] = 0.5 * (lo + hi)
+    rows[:, 3], rows[:, 4], rows[:, 5] = 28.0, 5.0, 0.5 * (hi - lo)
+    rows[:, 6], rows[:, 7], rows[:, 8] = 0.5 * (lo - hi), 0.5 * (hi - lo), t
+    return rows
+
+
+@pytest.mark.parametrize("rate_hz", [20.0, 100.0, 240.0])
+def test_a_line_whose_ends_step_at_their_own_phases_slips(rate_hz: float) -> None:
+    """A line's reference must hold the steps of both ends (``line_reference_s``)."""
+    line = int(ContactClass.LINE)
+    rows = _stepping_line(rate_hz)
+    frames = np.arange(rows.shape[0])
+    slips = SlipScanner(line, SlipConfig(), k=2).extend(frames, rows)
+    assert slips and slips[0].kind == "line slides along itself"
+    assert 1.4 <= slips[0].detected_frame / rate_hz <= 1.6  # once the second end stepped
+    short = SlipConfig(line_reference_s=0.3)  # a face's: one end's step at a time
+    assert SlipScanner(line, short, k=2).extend(frames, rows) == []
+    with pytest.raises(ValueError, match="line_reference_s"):
+        SlipConfig(line_reference_s=0.0)
 
 
 def test_one_frame_jumping_along_a_line_and_back_does_not_decide_a_slip_at_20_hz() -> None:
@@ -316,7 +352,8 @@ def _rattling_bar(slip: SlipConfig) -> tuple[TactileFrames, TactemeConfig]:
 
 def test_every_path_drops_a_rattling_bars_slips_alike() -> None:
     """Batch, one frame at a time, chunks and the bank: the same slips with and without the test."""
-    for slip, want_slips in ((SlipConfig(), False), (SlipConfig(line_return_s=0.0), True)):
+    off = SlipConfig(line_return_s=0.0, line_reference_s=0.3)  # reads as sliding
+    for slip, want_slips in ((SlipConfig(), False), (off, True)):
         rec, cfg = _rattling_bar(slip)
         batch = recognise(rec, config=cfg, cleaning=None)
         assert bool(batch.slips) == want_slips

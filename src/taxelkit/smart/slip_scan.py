@@ -100,7 +100,7 @@ class SlipScanner:
             return max(least, math.ceil(seconds / dt - 1e-9)) if dt > 0 else least
 
         self.cur = frames(cfg.current_s, 2)
-        self.ref = frames(cfg.reference_s, 2)
+        self.ref = frames(cfg.line_reference_s if self.cls == _LINE else cfg.reference_s, 2)
         self.end = frames(cfg.end_s, 2)
         self.hold = max(0, round(cfg.hold_s / dt)) + 1 if dt > 0 else 1  # frames spanning hold_s
         self.hold_needed = max(1, math.ceil(cfg.hold_fraction * self.hold - 1e-9))
