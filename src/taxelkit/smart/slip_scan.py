@@ -10,7 +10,8 @@ from numpy.typing import NDArray
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.slip import SLIP_KINDS, Slip, SlipConfig
 from taxelkit.smart.slip_features import N_FEATURES, motion_mm, slip_features
-from taxelkit.smart.slip_motion import row_window_means, window_decisions
+from taxelkit.smart.slip_motion import window_decisions
+from taxelkit.smart.slip_reference import scan_frames
 from taxelkit.smart.slip_return import ReturnTest, drop_returns, first_hold_hit
 
 __all__ = ["SlipScanner"]
@@ -223,48 +224,11 @@ class SlipScanner:
     def _scan_frames(
         self, x: NDArray[np.float64], fr: NDArray[np.intp], base: int, first: int
     ) -> list[Slip]:
-        """Decide frames ``x[first:]`` one by one; ``x[0]`` is segment frame ``base``."""
-        c, r, e = self.cur, self.ref, self.end
-        cur_m = row_window_means(x, c)  # cur_m[p - c + 1]: frames p - c + 1 .. p
-        ref_m = row_window_means(x, r)  # full reference windows
-        end_m = row_window_means(x, e)
-        out: list[Slip] = []
-        cfg = self.config
-        for p in range(first, x.shape[0]):
-            i = base + p  # segment index of this frame
-            if self._open is None:
-                lo = i - c - r + 1  # the reference: a full window, all after the anchor
-                if lo < self._anchor:
-                    continue
-                ref = ref_m[lo - base]
-                motion = self.motion_mm(ref, cur_m[p - c + 1])
-                if math.isnan(motion):
-                    self._anchor, self._above = i - c + 1, []
-                    continue
-                above = motion > self._limit_mm
-                if above and self._back is not None:
-                    above = not self._back.returned(x, np.array([p]), self._anchor - base)[0]
-                keep = self._above[max(0, len(self._above) + 1 - self.hold) :]
-                self._above = [*keep, above]
-                if self._above[-1] and sum(self._above) >= self.hold_needed:
-                    q = max(0, p - self.hold - c + 2)
-                    onset, self._open_i = int(fr[q]), base + q
-                    self._open = Slip(SLIP_KINDS[self.cls], onset, int(fr[p]))
-                    self._above = []
-                    out.append(self._open)
-            elif p - 2 * e + 1 >= 0 and i - e + 1 >= self._open_i:  # the last window: all slip
-                step = self.motion_mm(end_m[p - 2 * e + 1], end_m[p - e + 1])
-                if not step > cfg.still_mm:  # still (or the contact changed): the slip ended
-                    done = Slip(
-                        self._open.kind,
-                        self._open.first_frame,
-                        self._open.detected_frame,
-                        max(self._open.first_frame, int(fr[p - e - e // 2])),
-                        int(fr[p]),
-                    )
-                    self._replace(out, done)
-                    self._open, self._anchor = None, i - e + 1
-        return out
+        """Decide frames ``x[first:]`` one by one: the rule as written.
+
+        :func:`~taxelkit.smart.slip_reference.scan_frames`.
+        """
+        return scan_frames(self, x, fr, base, first)
 
     # -- the vectorised scan ------------------------------------------------------------------
     def decisions(
