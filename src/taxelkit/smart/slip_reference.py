@@ -85,13 +85,5 @@ def scan_frames(
         elif p - 2 * e + 1 >= 0 and i - e + 1 >= scan._open_i:  # the last window: all slip
             step = scan.motion_mm(end_m[p - 2 * e + 1], end_m[p - e + 1])
             if not step > cfg.still_mm:  # still (or the contact changed): the slip ended
-                done = Slip(
-                    scan._open.kind,
-                    scan._open.first_frame,
-                    scan._open.detected_frame,
-                    max(scan._open.first_frame, int(fr[p - e - e // 2])),
-                    int(fr[p]),
-                )
-                scan._replace(out, done)
-                scan._open, scan._anchor = None, i - e + 1
+                scan._end_open(out, fr, p, i - e + 1)
     return out

@@ -318,15 +318,7 @@ class SlipScanner:
                 if end is None:
                     break
                 p = end
-                done = Slip(
-                    self._open.kind,
-                    self._open.first_frame,
-                    self._open.detected_frame,
-                    max(self._open.first_frame, int(fr[p - e - e // 2])),
-                    int(fr[p]),
-                )
-                self._replace(out, done)
-                self._open, self._anchor = None, base + p - e + 1
+                self._end_open(out, fr, p, base + p - e + 1)
             p += 1
         return out
 
@@ -387,6 +379,18 @@ class SlipScanner:
             lambda f: first_hold_hit(self._above, f, self.hold, self.hold_needed),
             lambda js: test.returned(x, s + js, self._anchor - base),
         )
+
+    def _end_open(self, out: list[Slip], fr: NDArray[np.intp], p: int, anchor: int) -> None:
+        """The open slip's end was decided at row ``p`` of frames ``fr``; the reference restarts.
+
+        The end is dated ``1.5 end`` frames earlier (no earlier than its
+        start); the next reference may start at segment index ``anchor``.
+        """
+        assert self._open is not None
+        e, slip = self.end, self._open
+        last = max(slip.first_frame, int(fr[p - e - e // 2]))
+        self._replace(out, Slip(slip.kind, slip.first_frame, slip.detected_frame, last, int(fr[p])))
+        self._open, self._anchor = None, anchor
 
     def _replace(self, out: list[Slip], done: Slip) -> None:
         self.slips.append(done)
