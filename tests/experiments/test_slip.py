@@ -133,3 +133,28 @@ def test_in_time_from_one_pitch_counts_only_resolvable_phases() -> None:
     p = res.to_json()["overall"]["20"]["detectable_from_pitch"]
     assert (p["phases"], p["detected"], p["in_time"]) == (3, 2, 1)
     assert (p["unresolvable"], p["unresolvable_detected"]) == (1, 1)
+
+
+def test_the_held_out_run_and_its_readme_block() -> None:
+    from pathlib import Path
+
+    from taxelkit.experiments.slip_heldout import run_slip_heldout
+
+    assert get_experiment("slip-heldout").trials == 30
+    held = run_slip_heldout(n_trials=1, engines=["kinematic"], rates_hz=[20.0], workers=1)
+    doc = held.to_json()
+    assert doc["experiment"] == "slip-heldout"
+    assert (doc["tuned_on_seed"], doc["held_out_seed"]) == (0, 11)
+    direct = run_slip(seed=11, n_trials=1, engines=["kinematic"], rates_hz=[20.0], workers=1)
+    assert doc["trials"] == direct.to_json()["trials"]  # the slip experiment on seed 11
+    committed = Path(__file__).resolve().parents[2] / "docs" / "results" / "slip.json"
+    tuned = json.loads(committed.read_text())
+    block = render_block("slip-heldout", {"slip": tuned, "slip-heldout": doc})
+    o = tuned["overall"]["20"]["detectable"]
+    mine = doc["overall"]["20"]["detectable"]
+    assert f"| 20 frames/s | none | {o['in_time']}/{o['phases']} (" in block
+    assert f" / {mine['in_time']}/{mine['phases']} " in block or mine["phases"] == 0
+    assert "| 20 frames/s | all |" in block and "Acceptance on seed 11" in block
+    fig = plot_experiment("slip-heldout", held)
+    assert len(fig.axes) == 2
+    plt.close(fig)

@@ -136,6 +136,12 @@ def _slip(**kw: Any) -> ExperimentResult:
     return run_slip(**kw)
 
 
+def _slip_heldout(**kw: Any) -> ExperimentResult:
+    from taxelkit.experiments.slip_heldout import run_slip_heldout
+
+    return run_slip_heldout(**kw)
+
+
 def _new_objects(**kw: Any) -> ExperimentResult:
     from taxelkit.experiments.new_objects import run_new_objects
 
@@ -257,6 +263,14 @@ EXPERIMENTS: dict[str, Experiment] = {
             "slip",
             "Smart sensor: slip found from the frames, recognition under partial slip",
             _slip,
+            "motion",
+            trials=30,
+            workers=True,
+        ),
+        Experiment(
+            "slip-heldout",
+            "Smart sensor: the slip experiment on a seed its thresholds were not set on",
+            _slip_heldout,
             "motion",
             trials=30,
             workers=True,

@@ -33,7 +33,7 @@ from taxelkit.experiments.report_robustness import (
     robustness_markdown,
     robustness_misses_markdown,
 )
-from taxelkit.experiments.report_slip import slip_markdown
+from taxelkit.experiments.report_slip import slip_heldout_markdown, slip_markdown
 
 __all__ = [
     "BLOCKS",
@@ -49,6 +49,7 @@ __all__ = [
     "robustness_heldout_markdown",
     "robustness_markdown",
     "robustness_misses_markdown",
+    "slip_heldout_markdown",
     "slip_markdown",
     "trace_robustness_markdown",
     "update_blocks",
@@ -338,6 +339,7 @@ BLOCKS: dict[str, tuple[tuple[str, ...], Callable[[dict[str, dict[str, Any]]], s
         lambda docs: multi_object_markdown(docs["multi-object"]),
     ),
     "slip": (("slip",), lambda docs: slip_markdown(docs["slip"])),
+    "slip-heldout": (("slip", "slip-heldout"), slip_heldout_markdown),
     "new-objects": (("new-objects",), lambda docs: new_objects_markdown(docs["new-objects"])),
     "new-objects-heldout": (("new-objects", "new-objects-heldout"), new_objects_heldout_markdown),
     "capacity": (("capacity",), lambda docs: capacity_markdown(docs["capacity"])),

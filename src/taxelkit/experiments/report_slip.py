@@ -7,7 +7,7 @@ from typing import Any
 
 from taxelkit.experiments.slip_result import acceptance_checks
 
-__all__ = ["slip_markdown"]
+__all__ = ["slip_heldout_markdown", "slip_markdown"]
 
 
 def _pct(num: int, den: int) -> str:
@@ -93,6 +93,47 @@ def slip_markdown(doc: dict[str, Any]) -> str:
     lines += ["", "Acceptance (imperfection none): " + ". ".join(verdicts) + "." + skipped]
     if imperfect:
         lines[-1] += " The same checks beside it: " + ". ".join(imperfect) + "."
+    return "\n".join(lines)
+
+
+def slip_heldout_markdown(docs: dict[str, dict[str, Any]]) -> str:
+    """``slip`` beside its held-out seed: per rate and imperfection, the acceptance's figures."""
+    tuned, held = docs["slip"], docs["slip-heldout"]
+    a, b = held["tuned_on_seed"], held["held_out_seed"]
+    lines = [
+        f"The same experiment on seed {b} (the detector's thresholds were set on seeds 777, "
+        f"3, 0 and 5), seed {a} / seed {b}:",
+        "",
+        "| rate | imperfection | faces and lines in time | in time from one pitch "
+        "| rolls with a false alarm | partial slip identified (wrong) | slides identified |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
+    ]
+
+    def views(doc: dict[str, Any]) -> dict[str, dict[str, Any]]:
+        return {"none": doc["overall"], **doc.get("overall_imperfect", {})}
+
+    left, right = views(tuned), views(held)
+    for rate in held["overall"]:
+        for name in right:
+            if name not in left or rate not in left[name]:
+                continue
+            cells = []
+            for o in (left[name][rate], right[name][rate]):
+                det, part = o["detectable"], o["partial"]
+                pitch = o.get("detectable_from_pitch")
+                cells.append(
+                    (
+                        _pct(det["in_time"], det["phases"]),
+                        "-" if pitch is None else _pct(pitch["in_time"], pitch["phases"]),
+                        f"{100 * o['roll_false_alarm_trial_rate']:.1f} %",
+                        f"{part['identified']}/{sum(part.values())} ({part['wrong']})",
+                        str(o["sliding_identified"]),
+                    )
+                )
+            pairs = " | ".join(f"{x} / {y}" for x, y in zip(*cells, strict=True))
+            lines.append(f"| {rate} frames/s | {name} | {pairs} |")
+    verdicts = [f"{rate} frames/s: {_holds(acc)}" for rate, acc in held["acceptance"].items()]
+    lines += ["", f"Acceptance on seed {b} (imperfection none): " + ". ".join(verdicts) + "."]
     return "\n".join(lines)
 
 

@@ -39,6 +39,7 @@ def _plotters() -> dict[str, Callable[[Any], Figure]]:
         "robustness": plot_robustness,
         "robustness-heldout": plot_robustness,
         "slip": plot_slip,
+        "slip-heldout": plot_slip,
         "trace-robustness": plot_trace_robustness,
     }
 
