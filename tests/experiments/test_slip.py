@@ -27,6 +27,22 @@ def test_ground_truth_phases() -> None:
     assert sc.phase[b - 1] == "sliding"
 
 
+def test_a_phase_whose_contacts_tie_takes_the_first_seen() -> None:
+    """Equal counts of two contacts: the first seen, in every process (not a set's order)."""
+
+    class Tie:
+        t_s = np.arange(12) * 0.1
+        contact = ["none"] * 2 + ["line"] * 4 + ["area"] * 4 + ["none"] * 2
+        phase = ["sliding"] * 12
+
+        def slip_mm(self) -> np.ndarray:
+            mm = np.zeros(11)
+            mm[2:9] = 0.5  # 5 mm/s from frame 2 to frame 9
+            return mm
+
+    assert slip_phases(Tie()) == [(2, 9, "line")]  # type: ignore[arg-type]
+
+
 def test_scoring_latency_and_false_alarms() -> None:
     t = np.arange(100) * 0.05
     phases = [(20, 40, "area"), (60, 70, "line")]

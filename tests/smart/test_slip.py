@@ -18,7 +18,7 @@ from taxelkit.smart.bank import SensorBank
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.recognise_chunks import ChunkRecogniser
 from taxelkit.smart.recogniser import SmartSensor, recognise
-from taxelkit.smart.slip import DEFAULT_SLIP, SlipConfig
+from taxelkit.smart.slip import DEFAULT_SLIP, SLIP_KINDS, SlipConfig
 from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.tacteme_table import OBJECTS
 from taxelkit.smart.tactemes import PAPER_LEVEL3, TactemeConfig
@@ -112,6 +112,30 @@ def test_slips_do_not_depend_on_the_chunking(chunk: int) -> None:
 def cube_with_slip() -> TactileFrames:
     sc = make_partial_slip_scenario("cube", rng=0)
     return frames_from_scenario(BONNEVILLE_16X16, sc, rng=0)
+
+
+def test_a_line_slipping_after_its_roll_does_not_name_the_pivot(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A truncated cone rolled, then slid along its line towards its apex (20 frames/s).
+
+    The slide draws the line's middle to the pivot: "about one end" would
+    name a cone. Decided while the slip is open, the pivot tactemes are held back.
+    """
+    import taxelkit.smart.levels34 as levels34
+
+    sc = make_partial_slip_scenario("truncated-cone", rng=72, rate_hz=20.0)
+    rec = frames_from_scenario(BONNEVILLE_16X16, sc, rng=72)
+    held = recognise(rec)
+    assert held.identified != "cone" and "truncated-cone" in held.candidates
+    events = [(e.kind, e.value) for e in held.events]
+    assert ("withheld", "LCMT about one end") in events
+    assert events.index(("slip", "line slides along itself")) < events.index(
+        ("withheld", "LCMT about one end")
+    )
+    line = SLIP_KINDS[int(ContactClass.LINE)]
+    monkeypatch.setitem(levels34.FAKED_BY_SLIP, line, frozenset())
+    assert recognise(rec).identified == "cone"  # without the rule: a wrong name
 
 
 def test_a_roll_with_a_slipping_phase_is_still_identified(cube_with_slip: TactileFrames) -> None:

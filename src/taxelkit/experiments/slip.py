@@ -23,7 +23,8 @@ the material contact points move faster than :data:`GT_SLIP_MM_S` along the
 plane (:meth:`~taxelkit.motion.rolling.Scenario.slip_mm`: rolling without
 slip gives about 0, tipping up to 2 mm/s), runs less than
 :data:`GT_MERGE_S` apart merged, phases shorter than :data:`GT_MIN_S`
-ignored. Its kind is the body's contact at the time (``area``, ``line``,
+ignored. Its kind is the body's most frequent contact over it, a tie going
+to the one seen first (``area``, ``line``,
 ``point``; :attr:`~taxelkit.motion.rolling.Scenario.contact`, with the
 tolerances of the engine's poses: a MuJoCo face rests level only to
 micrometres), ``area spin`` when the engine labels most of it as spinning.
@@ -48,6 +49,7 @@ Scoring
 from __future__ import annotations
 
 import os
+from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -114,7 +116,9 @@ def slip_phases(scenario: Scenario) -> list[tuple[int, int, str]]:
         if t[b] - t[a] < GT_MIN_S:
             continue
         contact = [c for c in scenario.contact[a : b + 1] if c != "none"]
-        kind = max(set(contact), key=contact.count) if contact else "none"
+        # the most frequent contact, a tie going to the first seen (a set's order
+        # is that of the process's string hashes: it changed with the process)
+        kind = Counter(contact).most_common(1)[0][0] if contact else "none"
         labels = scenario.phase[a + 1 : b + 1]
         if kind == "area" and labels.count("spinning") > len(labels) / 2:
             kind = "area spin"
