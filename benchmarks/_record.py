@@ -28,6 +28,18 @@ def add_record_option(ap: argparse.ArgumentParser) -> None:
     )
 
 
+def cpu_model() -> str | None:
+    """The processor's model name (``/proc/cpuinfo``; ``platform.processor()`` elsewhere)."""
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as fh:
+            for line in fh:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].replace("(R)", "").replace("(TM)", "").strip()
+    except OSError:
+        pass
+    return platform.processor() or None
+
+
 def record(
     script: str,
     *,
@@ -51,6 +63,7 @@ def record(
         "date": datetime.date.today().isoformat(),
         "machine": {
             "cpus": os.cpu_count(),
+            "cpu": cpu_model(),
             "load_average_1min": round(os.getloadavg()[0], 1),
             "python": platform.python_version(),
         },

@@ -60,9 +60,13 @@ def test_bench_rows_say_whether_they_were_generated() -> None:
     gen = {"script": "bench_x.py", "generated": True, "figure": "1 frame/s", "ratio": "2x",
            "date": "2026-01-02", "machine": {"cpus": 2, "load_average_1min": 3.5}}  # fmt: skip
     hand = {"script": "bench_solids.py", "generated": False, "figure": "f", "ratio": "r"}
-    lines = bench_markdown([gen, hand]).splitlines()
+    cpu = {**gen, "script": "bench_y.py", "machine": {**gen["machine"], "cpu": "Xeon"}}
+    lines = bench_markdown([gen, hand, cpu]).splitlines()
     assert lines[2] == "| `bench_solids.py` | f [copied by hand from an earlier run] | r |"
     assert lines[3] == "| `bench_x.py` | 1 frame/s [2026-01-02, 2 CPUs, load average 3.5] | 2x |"
+    assert lines[4] == (
+        "| `bench_y.py` | 1 frame/s [2026-01-02, 2 CPUs (Xeon), load average 3.5] | 2x |"
+    )
 
 
 def test_timings_and_block_replacement() -> None:

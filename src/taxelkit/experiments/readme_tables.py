@@ -85,7 +85,8 @@ def bench_markdown(docs: Sequence[Mapping[str, Any]]) -> str:
     ----------
     docs : sequence of mapping
         Records with ``script``, ``figure``, ``ratio``, ``generated`` and, for
-        generated ones, ``date`` and ``machine`` (``cpus``, ``load_average_1min``).
+        generated ones, ``date`` and ``machine`` (``cpus``, ``load_average_1min``
+        and, recorded since 2026-11-28, the processor's model ``cpu``).
     """
     lines = [
         "| script | figure | ratio to the baseline of the same run |",
@@ -94,7 +95,8 @@ def bench_markdown(docs: Sequence[Mapping[str, Any]]) -> str:
     for doc in sorted(docs, key=_order):
         if doc.get("generated"):
             m = doc["machine"]
-            when = f" [{doc['date']}, {m['cpus']} CPUs, load average {m['load_average_1min']:g}]"
+            cpus = f"{m['cpus']} CPUs" + (f" ({m['cpu']})" if m.get("cpu") else "")
+            when = f" [{doc['date']}, {cpus}, load average {m['load_average_1min']:g}]"
         else:
             when = " [copied by hand from an earlier run]"
         lines.append(f"| `{doc['script']}` | {doc['figure']}{when} | {doc['ratio']} |")

@@ -21,7 +21,6 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from taxelkit.errors import InputError, check_positive, check_shape, check_threshold
-from taxelkit.frames import TactileFrames
 from taxelkit.smart.class_history import check_chunk_times
 from taxelkit.smart.class_segments import (
     ChunkRecognition,
@@ -47,6 +46,8 @@ __all__ = [
     "ChunkRecognition",
     "ClassSegments",
     "class_segments",
+    "levels12_of",
+    "push_chunk",
     "recognise_chunks",
 ]
 
@@ -147,7 +148,7 @@ class ChunkRecogniser:
         if f.shape[0] == 0:
             return []
         self._t_last = float(t[-1])
-        return self._levels34(*self._levels12.process(f[None], t[None]), t)
+        return self._next("frames", f, t)
 
     def push_packed(self, rows: ArrayLike, t_s: ArrayLike) -> list[Event]:
         """As :meth:`push`, the contact frames packed 8 taxels to a byte along each row.
@@ -190,7 +191,32 @@ class ChunkRecogniser:
             return []
         self._t_last = float(t[-1])
         words = np.ascontiguousarray(p).view(ops.dtype).reshape(p.shape[0], 1, r)
-        return self._levels34(*self._levels12.process_packed_time_major(words, t[None]), t)
+        return self._next("packed", words, t)
+
+    def push_levels12(
+        self, classes: NDArray[np.int8], rows: NDArray[np.float64], t_s: NDArray[np.float64]
+    ) -> list[Event]:
+        """Levels 3-4 of a chunk whose Levels 1-2 ran elsewhere; its events.
+
+        Parameters
+        ----------
+        classes : (1, n) int8
+            Level 2 classes (:func:`levels12_of`), of the chunk after the last one pushed.
+        rows : (1, n, 9) float
+            Their statistics.
+        t_s : (n,) float, s
+            Their timestamps, checked already.
+        """
+        self._t_last = float(t_s[-1])
+        return self._levels34(classes, rows, t_s)
+
+    def _next(self, kind: str, data: NDArray[Any], t: NDArray[np.float64]) -> list[Event]:
+        """Levels 1-4 of a checked chunk (:func:`levels12_of`); its events.
+
+        :class:`~taxelkit.smart.recognise_pipeline.PipelinedRecogniser` runs
+        Levels 1-2 in another process instead.
+        """
+        return self._levels34(*levels12_of(self._levels12, kind, data, t), t)
 
     def _levels34(
         self, classes_nt: NDArray[np.int8], rows: NDArray[np.float64], t: NDArray[np.float64]
@@ -230,16 +256,57 @@ class ChunkRecogniser:
         )
 
 
+def levels12_of(
+    levels12: ChunkLevels12, kind: str, data: NDArray[Any], t_s: NDArray[np.float64]
+) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
+    """Classes ``(1, n)`` and rows ``(1, n, 9)`` of one array's chunk.
+
+    Parameters
+    ----------
+    levels12 : ChunkLevels12
+        One array's Levels 1-2, state carried from chunk to chunk.
+    kind : {"frames", "packed"}
+        ``data`` is frames ``(n, rows, cols)`` (bool, or float in the
+        threshold's units), or rows packed one word each ``(n, 1, rows)``
+        (:attr:`ChunkLevels12.ops`).
+    data : ndarray
+    t_s : (n,) float, s
+    """
+    if kind == "packed":
+        return levels12.process_packed_time_major(data, t_s[None])
+    return levels12.process(data[None], t_s[None])
+
+
+def push_chunk(recogniser: ChunkRecogniser, chunk: Any) -> list[Event]:
+    """Push a chunk: frames (:meth:`ChunkRecogniser.push`) or packed rows (``push_packed``).
+
+    Parameters
+    ----------
+    recogniser : ChunkRecogniser
+    chunk : TactileFrames or PackedChunk
+        A chunk with ``frames`` and ``t_s``, or with packed ``rows`` and
+        ``t_s`` (:class:`~taxelkit.io.packed_chunk.PackedChunk`).
+
+    Returns
+    -------
+    list of Event
+        The events it caused.
+    """
+    if hasattr(chunk, "rows"):
+        return recogniser.push_packed(chunk.rows, chunk.t_s)
+    return recogniser.push(chunk.frames, chunk.t_s)
+
+
 def recognise_chunks(
-    chunks: Iterable[TactileFrames], *, pitch_mm: float | None = None, **options: Any
+    chunks: Iterable[Any], *, pitch_mm: float | None = None, **options: Any
 ) -> ChunkRecognition:
     """Recognise a recording given as consecutive chunks (see :class:`ChunkRecogniser`).
 
     Parameters
     ----------
-    chunks : iterable of TactileFrames
+    chunks : iterable of TactileFrames or packed chunks
         Consecutive pieces of one recording (same shape, pitch and units;
-        timestamps increasing across pieces).
+        timestamps increasing across pieces); see :func:`push_chunk`.
     pitch_mm : float, optional
         Overrides the chunks' pitch.
     **options
@@ -260,7 +327,7 @@ def recognise_chunks(
         if recogniser is None:
             pitch = chunk.pitch_mm if pitch_mm is None else pitch_mm
             recogniser = ChunkRecogniser(chunk.shape[1:], pitch_mm=pitch, **options)
-        recogniser.push(chunk.frames, chunk.t_s)
+        push_chunk(recogniser, chunk)
     if recogniser is None:
         raise InputError("chunks must hold at least one chunk of frames")
     return recogniser.result()

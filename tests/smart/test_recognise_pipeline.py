@@ -1,0 +1,92 @@
+"""Reading and Levels 1-2 in a worker process give the chunk recogniser's result bit for bit."""
+
+from __future__ import annotations
+
+import functools
+import multiprocessing as mp
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from taxelkit.errors import InputError, RecordingError
+from taxelkit.frames import TactileFrames
+from taxelkit.io.chunked_write import RecordingAppender
+from taxelkit.io.file_chunks import FileChunks
+from taxelkit.io.recordings import write_recording
+from taxelkit.motion.engines import scenario_from_engine
+from taxelkit.motion.rolling import frames_from_scenario
+from taxelkit.sensors import BONNEVILLE_16X16
+from taxelkit.sensors.faults import fault_model
+from taxelkit.smart.recognise_chunks import recognise_chunks
+from taxelkit.smart.recognise_pipeline import recognise_pipelined
+from taxelkit.smart.tactemes import PAPER_LEVEL3
+
+
+def _rolls(faulty: bool) -> TactileFrames:
+    """Three rolls one after another at 100 frames/s: contact frames, or deflections with faults."""
+    parts = []
+    for k, name in enumerate(("cylinder", "cube", "truncated-cone")):
+        sc = scenario_from_engine("kinematic", name, rng=k, rate_hz=100.0)
+        rec = frames_from_scenario(BONNEVILLE_16X16, sc, rng=k)
+        if faulty:
+            rec = fault_model("all").apply(rec, threshold=0.03, rng=k)
+        else:
+            contact = BONNEVILLE_16X16.contact_from_displacement(rec.frames)
+            rec = TactileFrames(contact, rec.t_s, pitch_mm=rec.pitch_mm, units="contact")
+        parts.append(rec)
+    t, offset = [], 0.0
+    for rec in parts:
+        t.append(rec.t_s - rec.t_s[0] + offset)
+        offset = t[-1][-1] + 0.5
+    frames = np.concatenate([r.frames for r in parts])
+    return TactileFrames(
+        frames, np.concatenate(t), pitch_mm=parts[0].pitch_mm, units=parts[0].units
+    )
+
+
+def _assert_same(got: object, ref: object) -> None:
+    for field in ("events", "tactemes", "identified", "candidates", "verdict", "slips"):
+        assert getattr(got, field) == getattr(ref, field), field
+    for field in ("class_code", "first_frame", "last_frame", "first_s", "last_s"):
+        a, b = getattr(got.segments, field), getattr(ref.segments, field)  # type: ignore[attr-defined]
+        np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(got.classes, ref.classes)  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize(("faulty", "suffix"), [(False, ".h5"), (True, ".npz")])
+def test_pipelined_equals_chunked(tmp_path: Path, faulty: bool, suffix: str) -> None:
+    rec = _rolls(faulty)
+    path = tmp_path / f"rolls{suffix}"
+    if suffix == ".h5":  # contact frames appended: stored packed, read packed by the worker
+        with RecordingAppender(path, shape=rec.shape[1:], pitch_mm=rec.pitch_mm) as out:
+            out.append(rec.frames, rec.t_s)
+    else:  # deflections in mm through every fault: the float path and the threshold
+        write_recording(rec, path)
+    source = FileChunks(path, chunk_frames=97)
+    ref = recognise_chunks(source(), per_frame=True)
+    assert ref.events and ref.identified is not None  # a comparison that means something
+    got = recognise_pipelined(source, per_frame=True)
+    _assert_same(got, ref)
+    assert not mp.active_children()  # the worker has ended
+
+
+def test_pipelined_takes_the_options_and_the_pitch(tmp_path: Path) -> None:
+    rec = _rolls(False)
+    path = write_recording(rec, tmp_path / "rolls.h5")
+    options = {"cleaning": None, "limits": None, "config": PAPER_LEVEL3}
+    ref = recognise_chunks(FileChunks(path, chunk_frames=256)(), pitch_mm=2.0, **options)
+    got = recognise_pipelined(FileChunks(path, chunk_frames=256), pitch_mm=2.0, **options)
+    _assert_same(got, ref)
+
+
+def test_pipelined_raises_the_workers_errors(tmp_path: Path) -> None:
+    with pytest.raises(InputError, match="no chunk"):
+        recognise_pipelined(functools.partial(iter, ()))
+    bad = tmp_path / "bad.npz"
+    np.savez(bad, frames=np.zeros((4, 8, 8), bool), t_s=np.array([0.0, 0.1, 0.1, 0.2]))
+    with pytest.raises(RecordingError, match="increas"):
+        recognise_pipelined(FileChunks(bad))
+    with pytest.raises(RecordingError):
+        recognise_pipelined(FileChunks(tmp_path / "missing.h5"))
+    assert not mp.active_children()
