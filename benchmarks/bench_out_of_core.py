@@ -17,7 +17,8 @@ frames this script writes) are reported:
   packed as stored: ``packed_chunks`` into ``push_packed``);
 * pipelined on two cores: :func:`taxelkit.smart.recognise_pipeline.recognise_pipelined`
   with :class:`taxelkit.io.file_chunks.FileChunks` (a worker process reads the
-  file and runs Levels 1-2, the caller runs Levels 3-4): its wall time
+  file, runs Levels 1-2 and computes the motion tactemes of the segments it
+  foresees, the caller runs the rest of Levels 3-4): its wall time
   (``time.perf_counter``, the two processes overlap), the CPU time of both
   processes and the peak resident memory of each (the worker's is
   ``ru_maxrss`` of the children: it is a fresh interpreter, nothing inherited);
@@ -266,9 +267,10 @@ def main() -> None:
             f"{n / 1e6:g} M frames ({n / RATE_HZ / 3600:.1f} h at 240 Hz, {size_mb:,.0f} MiB "
             f"packed HDF5) recognised out of core: {span(rates, step=1000)} frames/s (CPU time, "
             f"{args.runs} runs), peak RSS {span(rss)} MB (target < 300 MB {met_mem}; "
-            f"1,000,000 frames/s {met_rate}); on two cores, reading and Levels 1-2 in a worker "
-            f"process (`recognise_pipelined`): {span(rates_p, step=1000)} frames/s (wall "
-            f"time), peak RSS {span(rss_p)} MB for both processes (1,000,000 frames/s and "
+            f"1,000,000 frames/s {met_rate}); on two cores, reading, Levels 1-2 and part of "
+            f"Level 3 in a worker process (`recognise_pipelined`): "
+            f"{span(rates_p, step=1000)} frames/s (wall time), peak RSS {span(rss_p)} MB "
+            f"for both processes (1,000,000 frames/s and "
             f"300 MB {met_p}; events as on one core: {'yes' if same_p else 'NO'}); "
             f"the `recognize` command on it (the per-track "
             f"recogniser too, `--json`): {rate_cmd:,.0f} frames/s, peak RSS {rss_cmd:,.0f} MB "

@@ -1,4 +1,4 @@
-"""Reading and Levels 1-2 in a worker process give the chunk recogniser's result bit for bit."""
+"""Levels 1-2 and foreseen tactemes in a worker process: the one-core result bit for bit."""
 
 from __future__ import annotations
 
@@ -18,9 +18,10 @@ from taxelkit.motion.engines import scenario_from_engine
 from taxelkit.motion.rolling import frames_from_scenario
 from taxelkit.sensors import BONNEVILLE_16X16
 from taxelkit.sensors.faults import fault_model
-from taxelkit.smart.recognise_chunks import recognise_chunks
+from taxelkit.smart.recognise_chunks import ChunkRecogniser, levels12_of, recognise_chunks
 from taxelkit.smart.recognise_pipeline import recognise_pipelined
 from taxelkit.smart.tactemes import PAPER_LEVEL3
+from taxelkit.smart.whole_segments import WholeSegments
 
 
 def _rolls(faulty: bool) -> TactileFrames:
@@ -90,3 +91,46 @@ def test_pipelined_raises_the_workers_errors(tmp_path: Path) -> None:
     with pytest.raises(RecordingError):
         recognise_pipelined(FileChunks(tmp_path / "missing.h5"))
     assert not mp.active_children()
+
+
+class _Foreseen(ChunkRecogniser):
+    """Levels 3-4 given the tactemes :class:`WholeSegments` computed beforehand; counts them."""
+
+    def __init__(self, *args: object, line_share: float, **options: object) -> None:
+        super().__init__(*args, **options)  # type: ignore[arg-type]
+        self.whole = WholeSegments(self.config, self.pitch_mm, line_share)
+        self.given = self.unasked = 0
+
+    def _next(self, kind: str, data: np.ndarray, t: np.ndarray) -> list[object]:  # type: ignore[override]
+        classes, rows = levels12_of(self._levels12, kind, data, t)
+        known = self.whole.tactemes(classes[0], rows[0], t)
+        self.given += len(known)
+        events = self.push_levels12(classes, rows, t, precomputed=known)
+        self.unasked += len(known)  # what the stream did not take
+        return events  # type: ignore[return-value]
+
+
+@pytest.mark.parametrize(("faulty", "size", "share"), [(False, 400, 1.0), (True, 1000, 0.5)])
+def test_whole_segments_foresees_the_segments_the_stream_closes(
+    faulty: bool, size: int, share: float
+) -> None:
+    rec = _rolls(faulty)
+    shape = rec.shape[1:]
+    ref = ChunkRecogniser(shape, pitch_mm=rec.pitch_mm, per_frame=True)
+    got = _Foreseen(shape, pitch_mm=rec.pitch_mm, per_frame=True, line_share=share)
+    for a in range(0, rec.n_frames, size):
+        ref.push(rec.frames[a : a + size], rec.t_s[a : a + size])
+        got.push(rec.frames[a : a + size], rec.t_s[a : a + size])
+    assert got.given >= 3  # segments were foreseen and computed beforehand ...
+    assert got.unasked == 0  # ... each one the stream then asked for
+    _assert_same(got.result(), ref.result())
+
+
+def test_line_share_picks_that_share_of_the_lines() -> None:
+    rec = _rolls(False)
+    counts = {}
+    for share in (0.0, 0.5, 1.0):
+        got = _Foreseen(rec.shape[1:], pitch_mm=rec.pitch_mm, line_share=share)
+        got.push(rec.frames, rec.t_s)
+        counts[share] = got.given
+    assert counts[0.0] < counts[0.5] < counts[1.0]

@@ -39,6 +39,7 @@ from taxelkit.smart.levels12 import (
     ChunkLevels12,
 )
 from taxelkit.smart.stream_state import ArrayStream, ClassHistory, check_chunk
+from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import TactemeConfig
 
 __all__ = [
@@ -194,7 +195,12 @@ class ChunkRecogniser:
         return self._next("packed", words, t)
 
     def push_levels12(
-        self, classes: NDArray[np.int8], rows: NDArray[np.float64], t_s: NDArray[np.float64]
+        self,
+        classes: NDArray[np.int8],
+        rows: NDArray[np.float64],
+        t_s: NDArray[np.float64],
+        *,
+        precomputed: dict[tuple[int, bytes], list[tuple[Tacteme, int]]] | None = None,
     ) -> list[Event]:
         """Levels 3-4 of a chunk whose Levels 1-2 ran elsewhere; its events.
 
@@ -206,9 +212,17 @@ class ChunkRecogniser:
             Their statistics.
         t_s : (n,) float, s
             Their timestamps, checked already.
+        precomputed : dict, optional
+            The motion tactemes of segments the chunk ends, computed elsewhere
+            (:meth:`~taxelkit.smart.whole_segments.WholeSegments.tactemes`);
+            those not asked for are dropped.
         """
         self._t_last = float(t_s[-1])
-        return self._levels34(classes, rows, t_s)
+        self._stream.precomputed = {} if precomputed is None else precomputed
+        try:
+            return self._levels34(classes, rows, t_s)
+        finally:
+            self._stream.precomputed = {}
 
     def _next(self, kind: str, data: NDArray[Any], t: NDArray[np.float64]) -> list[Event]:
         """Levels 1-4 of a checked chunk (:func:`levels12_of`); its events.

@@ -31,6 +31,7 @@ from taxelkit.smart.segment_head import SlipInputs, track_from_rows
 from taxelkit.smart.segment_scan import SegmentScanner
 from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.stream_calls import DeferredSegment, LevelsCall
+from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.tactemes import TactemeConfig, debounce_counts
 
 __all__ = ["ArrayStream", "ClassHistory", "check_chunk"]
@@ -92,6 +93,8 @@ class ArrayStream:
             tuple[SegmentScanner, NDArray[np.intp], NDArray[np.float64], tuple[int, int] | None]
             | None
         ) = None
+        #: Tactemes of segments ending in the next chunk, by (class, frames.tobytes()), computed
+        self.precomputed: dict[tuple[int, bytes], list[tuple[Tacteme, int]]] = {}  # elsewhere
 
     @property
     def idle(self) -> bool:
@@ -319,7 +322,8 @@ class ArrayStream:
             calls, self._queue = self._queue or [], None
         whole = [c for c in calls if c.track is not None]
         if whole:
-            segs = track_segments([(c.cls, c.track, c.rows) for c in whole], self.config)  # type: ignore[misc]
+            items = [(c.cls, c.track, c.rows) for c in whole]
+            segs = track_segments(items, self.config, known=self.precomputed)  # type: ignore[arg-type]
             for c, seg in zip(whole, segs, strict=True):
                 c.seg = seg
         for c in calls:

@@ -152,7 +152,10 @@ class TrackSegment:
 
 
 def track_segments(
-    items: Sequence[tuple[int, SegmentTrack, NDArray[np.float64] | None]], config: TactemeConfig
+    items: Sequence[tuple[int, SegmentTrack, NDArray[np.float64] | None]],
+    config: TactemeConfig,
+    *,
+    known: dict[tuple[int, bytes], list[tuple[Tacteme, int]]] | None = None,
 ) -> list[TrackSegment]:
     """:class:`TrackSegment` of many whole segments, their Level 3 computed together.
 
@@ -162,13 +165,27 @@ def track_segments(
         Each segment's class, track and its per-frame rows
         (:data:`~taxelkit.smart.segment_scan.ROW_COLUMNS`; None: from the track).
     config : TactemeConfig
+    known : dict, optional
+        Motion tactemes computed already (elsewhere, by
+        :func:`~taxelkit.smart.tactemes_batch.batch_tactemes` of the same
+        class, frames, rows and configuration), by ``(class,
+        track.frames.tobytes())``: an item's are taken (popped) from it, the
+        others computed here.
 
     Returns
     -------
     list of TrackSegment
         The same as ``TrackSegment(cls, track, config)`` of each item.
     """
-    found = batch_tactemes([(cls, track) for cls, track, _ in items], config)
+    given: list[list[tuple[Tacteme, int]] | None] = [None] * len(items)
+    if known:
+        given = [known.pop((cls, track.frames.tobytes()), None) for cls, track, _ in items]
+    todo = [i for i, f in enumerate(given) if f is None]
+    if todo:
+        done = batch_tactemes([(items[i][0], items[i][1]) for i in todo], config)
+        for i, f in zip(todo, done, strict=True):
+            given[i] = f
+    found_all: list[list[tuple[Tacteme, int]]] = [f for f in given if f is not None]
     slips: list[SlipScanner | None] = [None] * len(items)
     if config.slip is not None:
         slips = list(
@@ -185,7 +202,7 @@ def track_segments(
     sums, lines = _axis_sums(tracks), _line_lengths(tracks)
     return [
         TrackSegment(cls, track, config, found=f, slip=sl, axis_sums=a, line_mm=m)
-        for (cls, track, _), f, sl, a, m in zip(items, found, slips, sums, lines, strict=True)
+        for (cls, track, _), f, sl, a, m in zip(items, found_all, slips, sums, lines, strict=True)
     ]
 
 
