@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import multiprocessing as mp
+import os
 from pathlib import Path
 
 import numpy as np
@@ -90,6 +91,8 @@ def test_pipelined_raises_the_workers_errors(tmp_path: Path) -> None:
         recognise_pipelined(FileChunks(bad))
     with pytest.raises(RecordingError):
         recognise_pipelined(FileChunks(tmp_path / "missing.h5"))
+    with pytest.raises(RuntimeError, match="exit code 3"):  # the worker dies without a word
+        recognise_pipelined(functools.partial(os._exit, 3))
     assert not mp.active_children()
 
 
