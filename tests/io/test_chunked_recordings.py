@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
@@ -145,3 +146,22 @@ def test_a_killed_writer_loses_at_most_one_chunk(tmp_path: Path) -> None:
     rec = read_recording(path)
     assert rec.n_frames >= written - 500  # what was flushed is there
     assert rec.n_frames % 500 == 0
+
+
+def test_recognize_shows_its_progress_on_a_long_recording(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from taxelkit.cli import run
+
+    frames = np.zeros((70_000, 8, 8), bool)
+    frames[100:400, 3:5, 3:5] = True  # one short press among clear frames
+    short, long = tmp_path / "short.h5", tmp_path / "long.h5"
+    for path, n in ((short, 1_000), (long, 70_000)):
+        with RecordingAppender(path, shape=(8, 8), pitch_mm=2.0) as out:
+            out.append(frames[:n], np.arange(n) / 240.0)
+    assert run(["recognize", str(short), "--json"]) == 0
+    assert capsys.readouterr().err == ""  # a short file draws no bar
+    assert run(["recognize", str(long), "--json"]) == 0
+    out = capsys.readouterr()
+    assert "long.h5" in out.err and "frame" in out.err  # the bar, on stderr
+    assert json.loads(out.out)["n_frames"] == 70_000  # stdout keeps the JSON alone

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
+from taxelkit.cli.common import progress_bar
 from taxelkit.cli.options import (
     PITCH_MM,
     THRESHOLD,
@@ -189,17 +190,21 @@ def _recognise_in_chunks(
     file: Path, pitch_mm: float | None, per_frame: bool, options: dict[str, Any]
 ) -> tuple[ChunkRecognition, ObjectRecognition]:
     """Read and recognise a recording a chunk at a time (memory bounded by the chunk)."""
-    from taxelkit.io.chunked_read import PackedChunk, open_chunks
+    from taxelkit.io.chunked_read import DEFAULT_CHUNK_FRAMES, PackedChunk, open_chunks
     from taxelkit.io.packed_chunk import unpack_rows
     from taxelkit.smart.objects import PIECE_FRAMES, ObjectRecogniser
     from taxelkit.smart.recognise_chunks import ChunkRecogniser
 
-    with open_chunks(file, pitch_mm=pitch_mm) as opened:
+    with open_chunks(file, pitch_mm=pitch_mm) as opened, progress_bar(file.name, "frame") as bar:
         recogniser: ChunkRecogniser | None = None
         tracks: ObjectRecogniser | None = None
         # packed rows as stored (HDF5) go to the recogniser's cleaning as they are
         pieces = opened.packed_chunks() if opened.packed else opened.chunks()
+        done, total = 0, opened.n_frames
         for chunk in pieces:
+            if total > DEFAULT_CHUNK_FRAMES:  # a bar on stderr where it takes a while
+                bar(done, total)
+            done += chunk.n_frames
             if recogniser is None or tracks is None:
                 shape = (chunk.shape[1], chunk.shape[2])
                 recogniser = ChunkRecogniser(
