@@ -227,8 +227,8 @@ class ChunkRecogniser:
     def _next(self, kind: str, data: NDArray[Any], t: NDArray[np.float64]) -> list[Event]:
         """Levels 1-4 of a checked chunk (:func:`levels12_of`); its events.
 
-        :class:`~taxelkit.smart.recognise_pipeline.PipelinedRecogniser` runs
-        Levels 1-2 in another process instead.
+        The worker of :func:`~taxelkit.smart.recognise_pipeline.recognise_pipelined`
+        sends them to another process instead (:meth:`push_levels12` there).
         """
         return self._levels34(*levels12_of(self._levels12, kind, data, t), t)
 

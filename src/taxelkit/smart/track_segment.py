@@ -177,15 +177,12 @@ def track_segments(
     list of TrackSegment
         The same as ``TrackSegment(cls, track, config)`` of each item.
     """
-    given: list[list[tuple[Tacteme, int]] | None] = [None] * len(items)
+    found: list[list[tuple[Tacteme, int]] | None] = [None] * len(items)
     if known:
-        given = [known.pop((cls, track.frames.tobytes()), None) for cls, track, _ in items]
-    todo = [i for i, f in enumerate(given) if f is None]
-    if todo:
-        done = batch_tactemes([(items[i][0], items[i][1]) for i in todo], config)
-        for i, f in zip(todo, done, strict=True):
-            given[i] = f
-    found_all: list[list[tuple[Tacteme, int]]] = [f for f in given if f is not None]
+        found = [known.pop((cls, track.frames.tobytes()), None) for cls, track, _ in items]
+    todo = [i for i, f in enumerate(found) if f is None]
+    for i, f in zip(todo, batch_tactemes([items[i][:2] for i in todo], config), strict=True):
+        found[i] = f
     slips: list[SlipScanner | None] = [None] * len(items)
     if config.slip is not None:
         slips = list(
@@ -202,7 +199,7 @@ def track_segments(
     sums, lines = _axis_sums(tracks), _line_lengths(tracks)
     return [
         TrackSegment(cls, track, config, found=f, slip=sl, axis_sums=a, line_mm=m)
-        for (cls, track, _), f, sl, a, m in zip(items, found_all, slips, sums, lines, strict=True)
+        for (cls, track, _), f, sl, a, m in zip(items, found, slips, sums, lines, strict=True)
     ]
 
 
