@@ -6,6 +6,7 @@ import numpy as np
 
 from taxelkit.frames import TactileFrames
 from taxelkit.smart.pivot_limits import arc_limit_turn_deg
+from taxelkit.smart.pivots import MIN_PRESSED_SHARE, pressed_half_mm
 from taxelkit.smart.recognise_chunks import ChunkRecogniser
 from taxelkit.smart.recogniser import SmartSensor, recognise
 from taxelkit.smart.segment_runs import Runs
@@ -15,10 +16,10 @@ PITCH = 1.7625
 
 
 def end_then_arc_frames(far_mm: float) -> np.ndarray:
-    """A 20 mm line turning 30 deg about its own end, then 40 deg about a point behind it.
+    """A 20 mm line turning 30 deg about its own end, then 30 deg about a point behind it.
 
     The second pivot lies ``far_mm`` behind the line's end (a truncated cone's
-    virtual apex at ``far_mm`` = 16: pivot ratio 2.6); ``far_mm`` = 0 keeps the
+    virtual apex at ``far_mm`` = 24: pivot ratio 3.4); ``far_mm`` = 0 keeps the
     first pivot (a cone about its apex) throughout.
     """
     end = np.array([-9.0, -7.0])
@@ -26,7 +27,7 @@ def end_then_arc_frames(far_mm: float) -> np.ndarray:
     poses += [(end, a, 0.0) for a in np.linspace(0.0, 30.0, 40)]
     u = np.array([np.cos(np.deg2rad(30.0)), np.sin(np.deg2rad(30.0))])
     pivot = end - far_mm * u
-    poses += [(pivot, a, far_mm) for a in np.linspace(30.0, 70.0, 60)[1:]]
+    poses += [(pivot, a, far_mm) for a in np.linspace(30.0, 60.0, 60)[1:]]
     poses += [poses[-1]] * 20
     return np.stack([bar(p, deg, start, 20.0) for p, deg, start in poses])
 
@@ -47,7 +48,7 @@ def bar(pivot: np.ndarray, deg: float, start: float, length_mm: float) -> np.nda
 
 def test_a_pivot_read_at_the_end_then_far_beyond_gives_both_verdicts() -> None:
     """Both verdicts are sustained: cone and truncated cone are both ruled out, never named."""
-    frames = end_then_arc_frames(16.0)
+    frames = end_then_arc_frames(24.0)
     rec = TactileFrames(frames, t_s=np.arange(frames.shape[0]) / 20.0, pitch_mm=PITCH)
     res = recognise(rec, cleaning=None)
     names = [n for n, _ in res.tactemes]
@@ -84,7 +85,7 @@ def test_a_pivot_that_stays_at_the_end_gives_one_verdict() -> None:
 
 def test_the_paper_pipeline_keeps_only_the_first_verdict() -> None:
     """``pivot_every_verdict=False`` (as in PAPER_LEVEL3): the first reading names the cone."""
-    frames = end_then_arc_frames(16.0)
+    frames = end_then_arc_frames(24.0)
     rec = TactileFrames(frames, t_s=np.arange(frames.shape[0]) / 20.0, pitch_mm=PITCH)
     cfg = TactemeConfig(pivot_every_verdict=False)
     res = recognise(rec, cleaning=None, config=cfg)
@@ -161,3 +162,77 @@ def test_runs_cummax_is_each_segments_own_running_maximum() -> None:
     x = np.array([3.0, 1.0, 4.0, 0.5, 2.0, 1.0, 7.0])
     got = Runs(np.array([3, 0, 2, 2])).cummax(x)
     assert got.tolist() == [3.0, 3.0, 4.0, 0.5, 2.0, 1.0, 7.0]
+
+
+def blurred_line(pivot: np.ndarray, deg: float, start: float, length: float) -> np.ndarray:
+    """A pressed line ``start..start + length`` mm from ``pivot``, its footprint 1.75 mm wider.
+
+    The skin spreads the footprint by about as much beyond each end as across
+    the line: 1.75 mm each way, about a Bonneville pitch.
+    """
+    spread = 1.75
+    ax = (np.arange(16) - 7.5) * PITCH
+    x, y = np.meshgrid(ax, ax)
+    t = np.deg2rad(deg)
+    along = (x - pivot[0]) * np.cos(t) + (y - pivot[1]) * np.sin(t)
+    across = -(x - pivot[0]) * np.sin(t) + (y - pivot[1]) * np.cos(t)
+    lo, hi = start - spread, start + length + spread
+    out: np.ndarray = (np.abs(across) <= spread) & (along >= lo) & (along <= hi)
+    return out
+
+
+def short_roll(q: float, length_mm: float = 12.0, rate_hz: float = 20.0) -> TactileFrames:
+    """A cone (``q`` 0) or truncated cone (top / bottom radius ``q``) rolling 50 deg.
+
+    Its pressed line is ``length_mm`` long and its (virtual) apex lies
+    ``length q / (1 - q)`` beyond the line's near end: ``1 + 2q / (1 - q)``
+    pressed half-lengths from its middle (2.08 for ``q`` 0.35).
+    """
+    beyond = length_mm * q / (1.0 - q)
+    pivot = np.array([-4.0 - beyond - length_mm / 2.0, -6.0])
+    angles = [0.0] * round(0.2 * rate_hz) + np.linspace(0.0, 50.0, round(2.5 * rate_hz)).tolist()
+    angles += [50.0] * round(0.5 * rate_hz)
+    frames = np.stack([blurred_line(pivot, a, beyond, length_mm) for a in angles])
+    return TactileFrames(frames, t_s=np.arange(len(angles)) / rate_hz, pitch_mm=PITCH)
+
+
+def test_pressed_half_takes_the_half_width_off_the_drawn_half() -> None:
+    """A line k taxels long, one wide: its drawn half less half a pitch; a short fat one floors."""
+    k = np.array([4.0, 8.0, 12.0])
+    drawn = 0.5 * k * PITCH
+    area = k * PITCH * PITCH
+    np.testing.assert_allclose(pressed_half_mm(drawn, area), drawn - 0.5 * PITCH)
+    # a footprint three taxels wide: three times the half-width
+    np.testing.assert_allclose(pressed_half_mm(drawn, 3.0 * area), drawn - 1.5 * PITCH)
+    fat = pressed_half_mm(np.array([2.0]), np.array([16.0]))  # 4 mm x 4 mm
+    np.testing.assert_allclose(fat, MIN_PRESSED_SHARE * 2.0)
+
+
+def test_a_short_truncated_cone_reads_in_an_arc_from_its_pressed_line() -> None:
+    """The narrowest frustum the scenarios draw, a 12 mm line: an arc from the pressed line.
+
+    Measured in drawn half-lengths (the skin's spread lengthens the line by
+    3.5 mm) its pivot ratio of 2.08 reads about 1.45, inside the old band;
+    the cone of the same line still turns about one end. Batch and streamed
+    give the same events.
+    """
+    drawn = TactemeConfig(pivot_pressed_half=False, pivot_end_ratio=1.40, pivot_band=1.10)
+    frustum, cone = short_roll(0.35), short_roll(0.0)
+    res = recognise(frustum, cleaning=None)
+    assert "LCMT in an arc" in [n for n, _ in res.tactemes]
+    assert res.identified == "truncated-cone"
+    old = recognise(frustum, cleaning=None, config=drawn)
+    assert old.identified is None and set(old.candidates) == {"cone", "truncated-cone"}
+    assert recognise(cone, cleaning=None).identified == "cone"
+    assert recognise(cone, cleaning=None, config=drawn).identified == "cone"
+    assert TactemeConfig().pivot_pressed_half and not PAPER_LEVEL3.pivot_pressed_half
+    for rec in (frustum, cone):
+        want = recognise(rec, cleaning=None)
+        sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None)
+        for f, t in zip(rec.frames, rec.t_s, strict=True):
+            sensor.push(f, t)
+        assert list(sensor.result().events) == list(want.events)
+        chunks = ChunkRecogniser((16, 16), pitch_mm=PITCH, cleaning=None)
+        for part in np.array_split(np.arange(rec.frames.shape[0]), 4):
+            chunks.push(rec.frames[part], rec.t_s[part])
+        assert list(chunks.result().events) == list(want.events)

@@ -647,9 +647,9 @@ def test_a_polyhedron_rocked_back_onto_its_edge_is_not_named_a_cube() -> None:
 
 
 def flickering_arc_frames(turns_deg: np.ndarray) -> np.ndarray:
-    """A line turning about a pivot 6.5 mm beyond its near end, its far end 8 mm short every
+    """A line turning about a pivot 7.8 mm beyond its near end, its far end 8 mm short every
     other frame: its middle jumps by 4 mm, the current line's pivot ratio by about 0.5."""
-    start = 6.5
+    start = 7.8
     pivot = (-10.0 - start, -5.0)
     frames = turning_line_frames(turns_deg, pivot, start)
     ax = (np.arange(16) - 7.5) * PITCH

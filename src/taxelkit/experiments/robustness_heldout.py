@@ -7,7 +7,11 @@ trials of ``reproduce robustness --seed S`` (the committed ``S = 0``). The
 same sweep on motions, noise and imperfections drawn from another seed,
 ``S + HELD_OUT_OFFSET``, measures what those choices are worth on trials
 they were not chosen on. Nothing else differs: the engines, rates,
-imperfections, objects and arrays are the main sweep's.
+imperfections, objects and arrays are the main sweep's. One exception: the
+limits of the pressed pivot ratio (``TactemeConfig.pivot_end_ratio`` and
+``pivot_band`` with ``pivot_pressed_half``) were searched on the cone and
+truncated-cone rolls of seeds 0 and 11 together, so this leg does not hold
+them out.
 
 The held-out motions are also seen at frame rates the matrix does not hold
 (:data:`UNTUNED_RATES_HZ`), at which the matrix's thresholds were never

@@ -34,9 +34,12 @@ def _drawn_half(track: SegmentTrack, start: int, stop: int) -> NDArray[np.float6
 
 
 def _pivot_ratios(
-    track: SegmentTrack, start: int, stop: int, arc_w: int = 1
+    track: SegmentTrack, start: int, stop: int, arc_w: int = 1, pressed: bool = False
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """:func:`~taxelkit.smart.pivots.drawn_pivot_fit` of the lines ``start..stop - 1``."""
+    """:func:`~taxelkit.smart.pivots.drawn_pivot_fit` of the lines ``start..stop - 1``.
+
+    ``pressed``: in the pressed lines' half-lengths (their areas given).
+    """
     ext = None if track.extent_mm is None else track.extent_mm[start:stop]
     return drawn_pivot_fit(
         track.orientation_deg[start:stop],
@@ -44,6 +47,7 @@ def _pivot_ratios(
         track.half_length_mm[start:stop],
         ext,
         arc_w,
+        area_mm2=track.area_mm2[start:stop] if pressed else None,
     )
 
 
@@ -74,7 +78,7 @@ def pivot_tacteme(
     # cone's line keeps turning about the same point while its width varies
     start, stop = int(anchor[j_turn]), n
     arc_w = track.frames_for(config.smooth_s, k) if config.pivot_arc_smooth else 1
-    ratio, error, arc_ratio = _pivot_ratios(track, start, stop, arc_w)
+    ratio, error, arc_ratio = _pivot_ratios(track, start, stop, arc_w, config.pivot_pressed_half)
     line_mm = 2.0 * _drawn_half(track, start, stop)
     pivot_hold = track.frames_for(config.pivot_hold_s, k, minimum=hold)
     turned_now = turn(angle, ref[start] + np.zeros(n, np.intp))[start:]

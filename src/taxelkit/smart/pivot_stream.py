@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.pivot_limits import arc_limit_turn_deg, arc_ratio_limit, pivot_upper
-from taxelkit.smart.pivots import pivot_from_sums, trailing_mean
+from taxelkit.smart.pivots import pivot_from_sums, pressed_half_mm, trailing_mean
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_stream import RunningSum, Sustained, drawn_length_mm, turn_from
 
@@ -44,6 +44,9 @@ class PivotRun:
     arc_max_turn : bool
         "In an arc" reads its limit at the largest turn so far
         (:attr:`~taxelkit.smart.tactemes.TactemeConfig.pivot_arc_max_turn`).
+    pressed : bool
+        Ratios in the pressed lines' half-lengths
+        (:attr:`~taxelkit.smart.tactemes.TactemeConfig.pivot_pressed_half`).
     """
 
     def __init__(
@@ -53,10 +56,12 @@ class PivotRun:
         arc_w: int = 1,
         every: bool = True,
         arc_max_turn: bool = False,
+        pressed: bool = False,
     ) -> None:
         self.start = start  # segment index of the anchor
         self.every = every
         self.arc_max_turn = arc_max_turn
+        self.pressed = pressed
         self.sums = RunningSum(7)  # sxx, sxy, syy, bx, by, half, dd: column by column
         self.count = 0
         self.arc_w = arc_w
@@ -111,7 +116,8 @@ class PivotRun:
         np.multiply(cos, cos, out=terms[:, 2])
         np.multiply(nx, d, out=terms[:, 3])
         np.multiply(cos, d, out=terms[:, 4])
-        terms[:, 5] = np.where(measured, 0.5 * (hi - lo), rows[:, 5])  # drawn_half_mm
+        drawn = np.where(measured, 0.5 * (hi - lo), rows[:, 5])  # drawn_half_mm
+        terms[:, 5] = pressed_half_mm(drawn, rows[:, 3]) if self.pressed else drawn
         np.multiply(d, d, out=terms[:, 6])
         sums = self.sums.push(terms)
         ratio, error = pivot_from_sums(sums, self.count, cx, cy)
@@ -216,6 +222,8 @@ class LinePivot:
         Every verdict, or only the first (:class:`PivotRun`).
     arc_max_turn : bool
         The arc's limit at the largest turn so far (:class:`PivotRun`).
+    pressed : bool
+        Ratios in the pressed lines' half-lengths (:class:`PivotRun`).
     """
 
     def __init__(
@@ -226,9 +234,10 @@ class LinePivot:
         arc_w: int = 1,
         every: bool = True,
         arc_max_turn: bool = False,
+        pressed: bool = False,
     ) -> None:
         self.w, self.hold, self.limits, self.arc_w = w, hold, limits, arc_w
-        self.every, self.arc_max_turn = every, arc_max_turn
+        self.every, self.arc_max_turn, self.pressed = every, arc_max_turn, pressed
         self.run: PivotRun | None = None
         self._kept: list[tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]] = []
         self._kept_n = 0
@@ -263,7 +272,9 @@ class LinePivot:
         for lo, hi, a in stretches:
             run = self.run
             if run is None or (run.start != a and (turn_seg is None or a <= turn_seg)):
-                run = self.run = PivotRun(a, self.hold, self.arc_w, self.every, self.arc_max_turn)
+                run = self.run = PivotRun(
+                    a, self.hold, self.arc_w, self.every, self.arc_max_turn, self.pressed
+                )
                 self._kept, self._kept_n = [], 0
             if run.complete:
                 continue

@@ -19,6 +19,7 @@ from taxelkit.smart.segment_runs import Runs
 from taxelkit.smart.track_geometry import drawn_half_mm
 
 __all__ = [
+    "MIN_PRESSED_SHARE",
     "drawn_lines",
     "drawn_pivot_fit",
     "pivot_fit",
@@ -26,8 +27,47 @@ __all__ = [
     "pivot_ratios",
     "pivot_sums",
     "pivot_terms",
+    "pressed_half_mm",
     "trailing_mean",
 ]
+
+#: The least share of a line's drawn half-length that :func:`pressed_half_mm` keeps.
+MIN_PRESSED_SHARE = 0.25
+
+
+def pressed_half_mm(
+    drawn_half_mm: NDArray[np.float64], area_mm2: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Half the length of the pressed line under a drawn one: the drawn half less its half-width.
+
+    The skin spreads a line contact's footprint by about as much along the
+    line, beyond each pressed end, as across it, and the drawn ends are
+    widened by half a pitch (:func:`~taxelkit.smart.line_extents.line_extents`)
+    as its sides are by the taxel cells; a pressed line is thin, so the
+    footprint's half-width, ``area / (2 x drawn length)``, is mostly that
+    spread. Taking it off each end leaves the pressed line, whose half-length
+    a pivot's distance is compared with: a cone's apex then lies about 1
+    half-length from the middle at any size (the drawn yardstick put a short
+    truncated cone's virtual apex, 2.08 pressed half-lengths out, at 1.4 drawn
+    ones). At least :data:`MIN_PRESSED_SHARE` of the drawn half-length.
+
+    Parameters
+    ----------
+    drawn_half_mm : (n,) float
+        Half of each line's drawn length, mm.
+    area_mm2 : (n,) float
+        Each line's contact area, mm^2.
+
+    Returns
+    -------
+    (n,) float
+    """
+    safe = np.where(drawn_half_mm > 0, drawn_half_mm, 1.0)
+    half_width = area_mm2 / (4.0 * safe)
+    out: NDArray[np.float64] = np.maximum(
+        drawn_half_mm - half_width, MIN_PRESSED_SHARE * drawn_half_mm
+    )
+    return out
 
 
 def pivot_ratios(
@@ -81,11 +121,14 @@ def drawn_pivot_fit(
     arc_w: int = 1,
     *,
     runs: Runs | None = None,
+    area_mm2: NDArray[np.float64] | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """:func:`pivot_fit` of drawn lines, and the ratio that "in an arc" reads.
 
     With the lines' extents, each line is its drawn segment (its middle and
-    half its length); without, its moment centre and half-length.
+    half its length); without, its moment centre and half-length. With their
+    areas, the ratios are in half-lengths of the pressed lines
+    (:func:`pressed_half_mm`), else of the drawn ones.
 
     Parameters
     ----------
@@ -104,12 +147,16 @@ def drawn_pivot_fit(
     runs : Runs, optional
         The lines are several runs laid end to end (each its own fit, as if
         alone); None: one run.
+    area_mm2 : (n,) float, optional
+        The lines' contact areas, mm^2.
 
     Returns
     -------
     ratio, error, arc_ratio : (n,) float
     """
     centre, half = drawn_lines(orientation_deg, centre_mm, half_length_mm, extent_mm)
+    if area_mm2 is not None:
+        half = pressed_half_mm(half, area_mm2)
     terms = pivot_terms(orientation_deg, centre, half)
     count: int | NDArray[np.intp] = 0
     if runs is None:

@@ -198,6 +198,7 @@ class SegmentScanner(SegmentHead):
             self._arc_w,
             cfg.pivot_every_verdict,
             cfg.pivot_arc_max_turn,
+            cfg.pivot_pressed_half,
         )
 
     def _anchors(

@@ -69,20 +69,35 @@ class TactemeConfig:
         end. Each line is its drawn segment, from end to end along its axis
         (:func:`~taxelkit.smart.line_extents.line_extents`), not its second
         moment, which shortens a tapering line and shifts its centre to the
-        wide end. A cone: ideally 1; a truncated cone with top/bottom radius
-        ratio ``q``: ``1 + 2q / (1 - q)``, 2.08 for the narrowest frustum the
-        scenarios draw (``q = 0.35``). The drawn line is about a pitch longer
-        than the pressed one at each end, which scales every ratio down by
-        about a fifth; MuJoCo's pressed cone line stops short of the apex (the
-        load falls to nothing there), which raises a cone's ratio. Measured
-        (median of the running estimate after 20 deg of turn, seed 0, 16 x 16,
-        every imperfection and rate of 20 frames/s and above, 1,200 rolls
-        each): kinematic cones 0.60-0.99, MuJoCo cones 0.57-1.41 (1.31 at the
-        98th percentile), truncated cones 1.56-4.3 at the 2nd percentile and
-        above (0.95-1.5 below it, with every imperfection at once). 1.40 sits
-        between the cones' upper tail and the truncated cones' lower one;
-        1.32 (the geometric mean of 1 and 1.74, the geometric ratio of a
-        ``q = 0.27`` frustum) is kept in :data:`PAPER_LEVEL3`.
+        wide end; the half-length is that of the pressed line under it
+        (``pivot_pressed_half``). A cone: ideally 1; a truncated cone with
+        top/bottom radius ratio ``q``: ``1 + 2q / (1 - q)``, 2.08 for the
+        narrowest frustum the scenarios draw (``q = 0.35``). MuJoCo's pressed
+        cone line stops short of the apex (the load falls to nothing there),
+        which raises a cone's ratio. Measured (median of the running estimate
+        after 20 deg of turn, 16 x 16, 20, 100 and 240 frames/s, no
+        imperfection and every one at once; seeds 0, 11 and 22, about 900
+        rolls each), 1st-99th percentiles: kinematic cones 0.87-1.16, MuJoCo
+        cones 0.84-1.60, truncated cones from 1.78 (kinematic 1.80) up; in
+        drawn half-lengths the same rolls read 0.68-0.92, 0.65-1.25 and from
+        1.26, so the two touched. 1.75 with ``pivot_band`` 1.05 (about one
+        end below 1.67, in an arc above 1.84) was searched with the band on
+        seeds 0 and 11 (those rolls replayed offline: 1.5-1.9 and bands 1.05
+        and 1.10; 1.75 and 1.80 with 1.05 tied) and the tie broken on seed
+        22 for the lower end limit (a cone named is the verdict to guard).
+        The drawn ratio's 1.40 and 1.10 before it; 1.32 (the geometric mean
+        of 1 and 1.74, the geometric ratio of a ``q = 0.27`` frustum) with
+        the drawn line is kept in :data:`PAPER_LEVEL3`.
+    pivot_pressed_half : bool
+        Pivot ratios in half-lengths of the pressed line: each drawn line
+        less its footprint's half-width at each end
+        (:func:`~taxelkit.smart.pivots.pressed_half_mm`). The skin spreads
+        a line's footprint about as far beyond each pressed end as across
+        it, and the taxel cells widen both alike, so the drawn line of a
+        Bonneville array is about 3.5 mm longer than the pressed one: a
+        fixed length that shrinks a short line's ratio most (a 10 mm
+        frustum's 2.08 read 1.4, a cone's 1 read 0.8). False: in drawn
+        half-lengths (as in :data:`PAPER_LEVEL3`).
     pivot_end_sigmas : float
         "About one end" needs the ratio plus this many times its uncertainty
         (:func:`~taxelkit.smart.pivots.pivot_from_sums`: the lines'
@@ -92,7 +107,8 @@ class TactemeConfig:
         cone. Only this verdict is gated: it is the one that named truncated
         cones wrongly (as cones); "in an arc" keeps its band. 0: no gate (as
         in :data:`PAPER_LEVEL3`). With ``pivot_end_ratio`` 1.40 and
-        ``pivot_band`` 1.10, against 1.32, 1.15 and no gate, on the
+        ``pivot_band`` 1.10 (drawn half-lengths, before
+        ``pivot_pressed_half``), against 1.32, 1.15 and no gate, on the
         ``robustness`` cones and truncated cones (6,400 rolls a seed, every
         rate and imperfection, 16 x 16), searched on seed 0: identified
         6,266 -> 6,278, wrong identities 1 -> 0, cells at 20 frames/s and
@@ -260,8 +276,10 @@ class TactemeConfig:
         above ``pivot_end_ratio x pivot_band``; between the two the line is
         watched as it turns on (the estimate improves with the turn) and
         stays undecided if it never leaves the band: a doubt is better than
-        a wrong name. 1.10 (1.15 in :data:`PAPER_LEVEL3`): the uncertainty
-        gate took over part of the band's work.
+        a wrong name. 1.05 (1.15 in :data:`PAPER_LEVEL3`): the uncertainty
+        gate took over part of the band's work, and in pressed half-lengths
+        (``pivot_pressed_half``) the cones and truncated cones lie farther
+        apart; 1.10 with the drawn ratio before it.
     slip : SlipConfig or None
         The slip detector (:mod:`taxelkit.smart.slip`, beyond paper 001): slip
         phases are reported as events, the tactemes seen while a contact slips
@@ -372,7 +390,8 @@ class TactemeConfig:
     parallel_tol_deg: float = 3.0
     turn_deg: float = 12.0
     pivot_min_ratio: float = 0.4
-    pivot_end_ratio: float = 1.40
+    pivot_end_ratio: float = 1.75
+    pivot_pressed_half: bool = True
     pivot_end_sigmas: float = 0.5
     pivot_arc_smooth: bool = True
     orthogonal_min_deg: float = 60.0
@@ -393,7 +412,7 @@ class TactemeConfig:
     pivot_turn_deg: float = 20.0
     pivot_arc_turn_deg: float = 10.0
     pivot_arc_max_turn: bool = True
-    pivot_band: float = 1.10
+    pivot_band: float = 1.05
     pivot_hold_s: float = 0.5
     pivot_min_line_taxels: float = 4.0
     pivot_every_verdict: bool = True
@@ -475,6 +494,7 @@ PAPER_LEVEL3 = TactemeConfig(
     pivot_arc_max_turn=False,
     parallel_tol_deg=4.0,
     pivot_end_ratio=1.32,
+    pivot_pressed_half=False,
     pivot_band=1.15,
     pivot_end_sigmas=0.0,
     pivot_arc_smooth=False,

@@ -32,8 +32,10 @@ a row, so the one-frame collapse of a contact that tips away is not motion)
       lines seen so far (the pivot) is compared with the line: within
       ``pivot_end_ratio`` half-lengths of the line's centre it is "about one
       end" (a cone's apex), farther it is "in an arc" (a truncated cone's
-      virtual apex); nearer than ``pivot_min_ratio`` half-lengths it is "LC
-      spins about its middle" (beyond paper 001: a line spun in place).
+      virtual apex), in half-lengths of the pressed line (the drawn one less
+      the footprint's half-width at each end, ``pivot_pressed_half``); nearer
+      than ``pivot_min_ratio`` half-lengths it is "LC spins about its middle"
+      (beyond paper 001: a line spun in place).
       A pivot far beyond the line may be called "in an arc" from
       ``pivot_arc_turn_deg`` on, with a band that widens as the turn shrinks;
       "in an arc" reads the pivot's distance from the mean middle of the

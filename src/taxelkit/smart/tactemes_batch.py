@@ -301,8 +301,9 @@ def _pivots(
     part = Runs(lengths[together] - first)
     rows = (starts[together] + first)[part.seg] + part.local  # rows of the group
     theta, centre, half, ext = raw_theta[rows], raw[rows, 0:2], raw[rows, 6], raw_ext[rows]
+    area = raw[rows, 4] if config.pivot_pressed_half else None
     ratio, error, arc_ratio = drawn_pivot_fit(
-        theta, centre, half, ext, w if config.pivot_arc_smooth else 1, runs=part
+        theta, centre, half, ext, w if config.pivot_arc_smooth else 1, runs=part, area_mm2=area
     )
     line_mm = 2.0 * drawn_half_mm(half, ext)
     pitch = tracks[int(together[0])].pitch_mm
