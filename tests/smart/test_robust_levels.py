@@ -710,3 +710,30 @@ def test_a_rare_reading_withdraws_a_name_alike_in_batch_and_streaming() -> None:
         bank.push(np.stack([f, np.zeros_like(f)]), t)
     bank.flush()
     assert list(bank.result(0).events) == list(res.events) and bank.result(0).identified is None
+
+
+@pytest.mark.parametrize("blip_frames", [4, 12])
+def test_a_brief_contact_that_rules_out_nothing_is_passed_over(blip_frames: int) -> None:
+    """A lone taxel lit after the object was lifted does not erase the verdict (``blip_s``)."""
+    roll = line_frames([(5, 8)] * 6 + [(5 + k // 3, 8) for k in range(18)])
+    after = np.zeros((20 + blip_frames + 10, 16, 16), bool)
+    after[20 : 20 + blip_frames, 1, 0] = True  # 0.2 s (a blip) or 0.6 s (a contact) at 20 Hz
+    frames = np.concatenate([roll, after])
+    rec = TactileFrames(frames, t_s=np.arange(frames.shape[0]) / 20.0, pitch_mm=PITCH)
+    r = recognise(rec, cleaning=None)
+    assert [e.kind for e in r.events].count("lifted") == 2  # both contacts are in the events
+    stream = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None)
+    for f, t in zip(frames, rec.t_s, strict=True):
+        stream.push(f, float(t))
+    assert stream.result().identified == r.identified
+    assert stream.result().verdict == r.verdict
+    if blip_frames == 4:
+        assert r.identified == "cylinder"
+        ((first, lifted),) = r.verdict.passed_over
+        assert first > roll.shape[0] and "ruled out nothing" in r.verdict.sentence()
+        want = [{"first_frame": first, "lifted_frame": lifted}]
+        assert r.verdict.to_json()["passed_over"] == want
+    else:  # lasting 0.6 s, it is the verdict's contact, however little it shows
+        assert r.identified is None and r.verdict.passed_over == ()
+    cfg = TactemeConfig(blip_s=0.0)  # the last contact, however brief
+    assert recognise(rec, cleaning=None, config=cfg).identified is None

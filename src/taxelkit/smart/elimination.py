@@ -161,6 +161,10 @@ class Verdict:
         The contact's frames came this far apart, s, beyond
         :attr:`~taxelkit.smart.tactemes.TactemeConfig.max_motion_gap_s`: the
         motion tactemes seen in them were not read (None: every one was).
+    passed_over : tuple of (int, int)
+        Later contacts, ``(first frame, frame lifted)``, too brief to rule out
+        any object (:attr:`~taxelkit.smart.tactemes.TactemeConfig.blip_s`):
+        this verdict is that of the contact before them.
     """
 
     outcome: str | None
@@ -170,6 +174,7 @@ class Verdict:
     slid: bool = False
     rare: tuple[str, ...] = ()
     unread_gap_s: float | None = None
+    passed_over: tuple[tuple[int, int], ...] = ()
 
     @property
     def reason(self) -> str | None:
@@ -182,6 +187,15 @@ class Verdict:
 
     def sentence(self) -> str:
         """One line a user can read."""
+        if not self.passed_over:
+            return self._sentence()
+        spans = ", ".join(f"{a}-{b}" for a, b in self.passed_over)
+        return (
+            f"{self._sentence()} (the contact before the brief one(s) at frames {spans}, "
+            "which ruled out nothing)"
+        )
+
+    def _sentence(self) -> str:
         if self.reason == SLID:
             left = (
                 f"; its rolling phases leave {', '.join(self.candidates)}"
@@ -228,6 +242,7 @@ class Verdict:
             ],
             "rare": list(self.rare),
             "unread_gap_s": self.unread_gap_s,
+            "passed_over": [{"first_frame": a, "lifted_frame": b} for a, b in self.passed_over],
         }
 
 
@@ -238,6 +253,7 @@ def explain(
     slid: bool = False,
     table: ObjectTable | None = None,
     unread_gap_s: float | None = None,
+    passed_over: tuple[tuple[int, int], ...] = (),
 ) -> Verdict:
     """The verdict and its reasons from the tactemes of one contact, in order.
 
@@ -253,6 +269,8 @@ def explain(
     unread_gap_s : float, optional
         The contact's frames were too sparse for its motion tactemes to be
         read (:attr:`Verdict.unread_gap_s`).
+    passed_over : tuple of (int, int)
+        Later contacts passed over as too brief (:attr:`Verdict.passed_over`).
     """
     from taxelkit.smart.tacteme_table import ALL_ROWS, TABLE, TactemeRow
 
@@ -292,5 +310,12 @@ def explain(
             if keep and len(keep) < len(left):
                 deciders.append((row.tacteme.value, keep, row.reason))
     return Verdict(
-        outcome, tuple(left), tuple(eliminated), tuple(deciders), bool(slid), rare, unread_gap_s
+        outcome,
+        tuple(left),
+        tuple(eliminated),
+        tuple(deciders),
+        bool(slid),
+        rare,
+        unread_gap_s,
+        passed_over,
     )

@@ -300,6 +300,48 @@ class Levels34:
         self._open = None
 
 
+@dataclass
+class _Contact:
+    """One contact as the events tell it: its frames, candidates, tactemes, slip."""
+
+    first: int
+    last: int | None  # the frame it was lifted at (None: still on)
+    candidates: tuple[str, ...]
+    seen: list[tuple[str, int]]
+    slid: bool = False
+
+
+def _contacts(events: list[Event], objects: tuple[str, ...]) -> list[_Contact]:
+    """The contacts of ``events``, in order."""
+    out: list[_Contact] = []
+    current: _Contact | None = None
+    for e in events:
+        if e.kind == "contact" and current is None:
+            current = _Contact(e.frame, None, objects, [])
+            out.append(current)
+        target = current if current is not None else (out[-1] if out else None)
+        if target is None:
+            continue
+        if e.kind in ("slip", "withheld"):
+            target.slid = True
+        elif e.kind == "candidates":
+            target.candidates = tuple(e.value)
+        elif e.kind == "lifted":
+            target.candidates = tuple(e.value)
+            if current is not None:
+                current.last, current = e.frame, None
+        elif e.kind == "tacteme":
+            target.seen.append((str(e.value), e.frame))
+    return out
+
+
+def _blip(c: _Contact, objects: tuple[str, ...], blip_s: float, dt: float | None) -> bool:
+    """A contact lifted within ``blip_s`` that ruled out nothing and did not slip."""
+    if c.last is None or dt is None or not blip_s > 0:
+        return False
+    return (c.last - c.first) * dt < blip_s and set(c.candidates) == set(objects) and not c.slid
+
+
 def _frame_of(tac: Tacteme, found: list[tuple[int, int, Tacteme]]) -> int:
     return next(f for f, _, t in found if t == tac)
 
@@ -311,34 +353,36 @@ def finish(
     *,
     objects: ObjectTable | None = None,
     unread_gap_s: float | None = None,
+    blip_s: float = 0.0,
+    frame_interval_s: float | None = None,
 ) -> Recognition:
     """Summarise: the outcome is that of the current contact, or of the last one lifted.
 
     ``slips``: the slip phases found; ``objects``: the object table the events
     were found with (None: the six); ``unread_gap_s``: that contact's frames
     were too sparse for its motion to be read (:attr:`Levels34.unread_gap_s`).
+    ``blip_s``, ``frame_interval_s``: a contact lifted within ``blip_s`` that
+    ruled out no object is passed over, and the summary is that of the
+    contact before it (:attr:`~taxelkit.smart.tactemes.TactemeConfig.blip_s`).
     """
     tactemes = tuple((str(e.value), e.frame) for e in events if e.kind == "tacteme")
     state = Eliminator.for_table(objects)
-    current: tuple[str, ...] | None = None  # candidates of the ongoing contact
-    lifted: tuple[str, ...] | None = None  # candidates when the last contact ended
-    seen: list[tuple[str, int]] = []  # tactemes of the ongoing (or last) contact
-    slid = False  # the ongoing (or last) contact slipped
-    for e in events:
-        if e.kind == "contact" and current is None:
-            current, seen, slid = state.objects, [], False
-        elif e.kind in ("slip", "withheld"):
-            slid = True
-        elif e.kind == "candidates":
-            current = tuple(e.value)
-        elif e.kind == "lifted":
-            lifted, current = tuple(e.value), None
-        elif e.kind == "tacteme":
-            seen.append((str(e.value), e.frame))
-    final = current if current is not None else lifted
+    contacts = _contacts(events, state.objects)
+    covered, passed = len(contacts) - 1, []
+    while covered > 0 and _blip(contacts[covered], state.objects, blip_s, frame_interval_s):
+        blip = contacts[covered]
+        passed.append((blip.first, blip.first if blip.last is None else blip.last))
+        covered -= 1
+    last = contacts[covered] if contacts else None
+    final = None if last is None else last.candidates
     state.candidates = state.objects if final is None else final
     verdict = explain(
-        seen, objects=state.objects, slid=slid, table=objects, unread_gap_s=unread_gap_s
+        [] if last is None else last.seen,
+        objects=state.objects,
+        slid=last is not None and last.slid,
+        table=objects,
+        unread_gap_s=unread_gap_s if not passed else None,
+        passed_over=tuple(reversed(passed)),
     )
     assert verdict.candidates == state.candidates  # the same elimination, told twice
     return Recognition(

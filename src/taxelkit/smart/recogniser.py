@@ -173,4 +173,6 @@ def recognise(
         list(state.slips.values()),
         objects=cfg.objects,
         unread_gap_s=state.unread_gap_s,
+        blip_s=cfg.blip_s,
+        frame_interval_s=dt,
     )

@@ -309,7 +309,9 @@ class SegmentScanner(SegmentHead):
             rolled = self._rolled.before(stretches, centre) + shift
             t0 = np.deg2rad(self._start_angle if self._start_angle is not None else 0.0)
             across_all = np.abs(-rolled[:, 0] * np.sin(t0) + rolled[:, 1] * np.cos(t0))
-            parallel = (across_all >= cfg.parallel_move_mm) & (turned_all <= cfg.parallel_tol_deg)
+            parallel = (across_all >= cfg.parallel_move_mm) & (
+                turned_all <= cfg.parallel_limit_deg(across_all)
+            )
             j_par = self._s3.push(parallel, frames)
             j_turn = self._s4.push(turned_all > cfg.turn_deg, frames)
             if not self._par_decided and (j_par is not None or j_turn is not None):

@@ -398,4 +398,6 @@ class ArrayStream:
             list(state.slips.values()),
             objects=self.config.objects,
             unread_gap_s=state.unread_gap_s,
+            blip_s=self.config.blip_s,
+            frame_interval_s=self._dt,
         )

@@ -10,6 +10,9 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+import numpy as np
+from numpy.typing import NDArray
+
 from taxelkit.errors import InputError, check_positive
 from taxelkit.smart.slip import DEFAULT_SLIP, SlipConfig
 
@@ -38,6 +41,18 @@ class TactemeConfig:
         "No contact" is accepted only after ``max(k frames, debounce_s,
         lift_grace_s)``, s: the evidence of a contact survives a shorter loss
         of contact (a bounce, a dropped read-out). 0.2 s is 4 frames at 20 Hz.
+    blip_s : float
+        A contact lifted within this time, s, that ruled out no object is a
+        blip: the recording's summary (:func:`~taxelkit.smart.levels34.finish`)
+        passes over it and is that of the contact before it, saying so
+        (:attr:`~taxelkit.smart.elimination.Verdict.passed_over`); the events
+        still show it. A faulty taxel lit for a few frames after the object
+        was lifted, or a touch too short to show a motion, no longer erases
+        a verdict reached; a contact that shows anything, or lasts longer, is
+        the summary's as before. 0 (as in :data:`PAPER_LEVEL3`): the last
+        contact, however brief. 0.5 s: about the shortest placement that
+        shows a motion tacteme (``motion_hold_s`` after a debounce and a
+        smoothing window, at 20 frames/s).
     move_mm : float
         Centre displacement that counts as motion, mm (over one 1.76 mm pitch:
         a contact flickering between two taxels does not move).
@@ -59,6 +74,23 @@ class TactemeConfig:
         cylinders 6,348 -> 6,336 (cylinders whose roll reads slightly
         turned stay undecided). Held-out seed 11, cones and truncated
         cones: 6,115 -> 6,122, named wrongly at some moment 23 -> 16.
+    parallel_tol_growth_deg_per_mm : float
+        Growth of ``parallel_tol_deg`` with the distance rolled beyond
+        ``parallel_move_mm``, deg/mm: the turn a parallel move may show is
+        ``parallel_tol_deg + growth x (rolled - parallel_move_mm)``. A third
+        of the slowest turn of a truncated cone (5.3 deg over 3.5 mm, 1.5
+        deg/mm), so a turning frustum leaves the limit further behind the
+        further it rolls, while a cylinder whose line reads a steady offset
+        (its reference taken as the line formed, or a line lying a few
+        degrees off the rows, which the grid draws a few degrees off its
+        rolling orientation) is called parallel once it has rolled far
+        enough: 3 deg at 3.5 mm, 4 deg at 5.5 mm. 0 (as in
+        :data:`PAPER_LEVEL3`): a fixed tolerance. Chosen as the third
+        without a search; on the ``robustness`` recordings (20-240
+        frames/s, every imperfection) of seeds 0 and 11, 11 of the 14
+        cylinder rolls that never read parallel did with it, and 3 of
+        2,100 truncated-cone rolls newly read parallel for a moment; on
+        seed 33, looked at only after, 30 of 37 and 1 of 1,050.
     turn_deg : float
         Orientation change of a turning line, deg.
     pivot_min_ratio : float
@@ -385,9 +417,11 @@ class TactemeConfig:
     debounce_frames: int = 2
     debounce_s: float = 0.15
     lift_grace_s: float = 0.2
+    blip_s: float = 0.5
     move_mm: float = 2.0
     parallel_move_mm: float = 3.5
     parallel_tol_deg: float = 3.0
+    parallel_tol_growth_deg_per_mm: float = 0.5
     turn_deg: float = 12.0
     pivot_min_ratio: float = 0.4
     pivot_end_ratio: float = 1.75
@@ -434,6 +468,7 @@ class TactemeConfig:
         if int(self.debounce_frames) < 1:
             raise InputError(f"debounce_frames must be >= 1, got {self.debounce_frames!r}")
         check_positive("debounce_s", self.debounce_s, allow_zero=True)
+        check_positive("blip_s", self.blip_s, allow_zero=True)
         check_positive("smooth_s", self.smooth_s, allow_zero=True)
         check_positive("max_motion_gap_s", self.max_motion_gap_s, allow_zero=True)
         check_positive("lift_grace_s", self.lift_grace_s, allow_zero=True)
@@ -442,6 +477,9 @@ class TactemeConfig:
         check_positive("pivot_min_line_taxels", self.pivot_min_line_taxels, allow_zero=True)
         check_positive("pivot_end_sigmas", self.pivot_end_sigmas, allow_zero=True)
         check_positive("corner_step_mm", self.corner_step_mm, allow_zero=True)
+        check_positive(
+            "parallel_tol_growth_deg_per_mm", self.parallel_tol_growth_deg_per_mm, allow_zero=True
+        )
         for name in (
             "move_mm",
             "motion_step_mm",
@@ -478,6 +516,17 @@ class TactemeConfig:
                 f"{self.pivot_arc_turn_deg!r} > {self.pivot_turn_deg!r}"
             )
 
+    def parallel_limit_deg(self, rolled_mm: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The largest turn of a parallel move after rolling ``rolled_mm`` ``(n,)`` across, deg.
+
+        ``parallel_tol_deg`` at ``parallel_move_mm``, growing by
+        ``parallel_tol_growth_deg_per_mm`` beyond (the batch, per-track and
+        streaming rules all call this: the same floats).
+        """
+        grow = self.parallel_tol_growth_deg_per_mm * (rolled_mm - self.parallel_move_mm)
+        out: NDArray[np.float64] = self.parallel_tol_deg + grow
+        return out
+
 
 #: Level 3 as paper 001 states it, in frames: ``k = 3``, no time-based
 #: debounce, smoothing or lift-off grace (the thresholds of motion keep their
@@ -488,11 +537,13 @@ PAPER_LEVEL3 = TactemeConfig(
     debounce_frames=3,
     debounce_s=0.0,
     lift_grace_s=0.0,
+    blip_s=0.0,
     smooth_s=0.0,
     max_motion_gap_s=0.0,
     pivot_arc_turn_deg=20.0,
     pivot_arc_max_turn=False,
     parallel_tol_deg=4.0,
+    parallel_tol_growth_deg_per_mm=0.0,
     pivot_end_ratio=1.32,
     pivot_pressed_half=False,
     pivot_band=1.15,

@@ -24,7 +24,9 @@ a row, so the one-frame collapse of a contact that tips away is not motion)
       60-120 deg, between legs of ``turn_leg_mm`` or at a corner between two
       straight chords of that length (the earlier of the two).
     - LCMP: the line has moved ``parallel_move_mm`` with its orientation
-      within ``parallel_tol_deg`` of the segment's start.
+      within ``parallel_tol_deg`` of the segment's start (a tolerance that
+      grows by ``parallel_tol_growth_deg_per_mm`` with the distance rolled
+      beyond).
     - LCMT: the line's orientation changes by more than ``turn_deg`` from the
       segment's start (orientation is not re-anchored: a line's width and
       length changes do not turn it); once it
@@ -337,7 +339,9 @@ def segment_tactemes(
         t0 = np.deg2rad(angle[start_ref])
         rolled = carried_shift(centre, anchor, ref)
         across_all = np.abs(-rolled[:, 0] * np.sin(t0) + rolled[:, 1] * np.cos(t0))
-        parallel = (across_all >= config.parallel_move_mm) & (turned_all <= config.parallel_tol_deg)
+        parallel = (across_all >= config.parallel_move_mm) & (
+            turned_all <= config.parallel_limit_deg(across_all)
+        )
         j_par = first(sustained(parallel, hold), 0)
         j_turn = first(sustained(turned_all > config.turn_deg, hold), 0)
         if j_par is not None and (j_turn is None or j_par < j_turn):

@@ -238,7 +238,9 @@ def _line_hits(
     t0 = np.deg2rad(angle.take(first_g))  # each segment's (sine and cosine gathered per row)
     rolled = _carried_shift(runs, np.ascontiguousarray(smooth[:, 0:2]), shift, anchor, ref_g)
     across_all = np.abs(-rolled[:, 0] * np.sin(t0).take(seg) + rolled[:, 1] * np.cos(t0).take(seg))
-    parallel = (across_all >= config.parallel_move_mm) & (turned_all <= config.parallel_tol_deg)
+    parallel = (across_all >= config.parallel_move_mm) & (
+        turned_all <= config.parallel_limit_deg(across_all)
+    )
     j_par = runs.first_sustained(parallel, hold)
     j_turn = runs.first_sustained(turned_all > config.turn_deg, hold)
     par = np.where((j_par >= 0) & ((j_turn < 0) | (j_par < j_turn)), j_par, -1)
