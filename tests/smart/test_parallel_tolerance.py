@@ -72,6 +72,19 @@ def test_a_cylinder_whose_line_formed_a_few_degrees_off_reads_parallel_once_far(
     assert Tacteme.LCMP not in dict(three_paths(rows, fixed))  # a fixed 3 deg: never
 
 
+def test_a_turning_line_that_dips_under_the_tolerance_for_a_moment_is_not_parallel() -> None:
+    n = 15 + int(4.0 * RATE_HZ)
+    rolled = np.maximum(np.arange(n) - 15, 0) * 3.0 / RATE_HZ
+    orientation = 1.5 * rolled
+    dip = (rolled > 3.6) & (rolled < 4.4)  # reads back near its start for 0.27 s
+    orientation[dip] = 1.0
+    rows = rolling_line(orientation)
+    found = dict(three_paths(rows, TactemeConfig()))
+    assert Tacteme.LCMP not in found and Tacteme.LCMT in found
+    short = TactemeConfig(parallel_hold_s=0.15)  # held as long as any motion: parallel
+    assert Tacteme.LCMP in dict(three_paths(rows, short))
+
+
 @pytest.mark.parametrize("rate_deg_per_mm", [1.5, 2.5])
 def test_a_line_turning_as_a_truncated_cone_never_reads_parallel(rate_deg_per_mm: float) -> None:
     n = 15 + int(4.0 * RATE_HZ)
@@ -84,7 +97,24 @@ def test_a_line_turning_as_a_truncated_cone_never_reads_parallel(rate_deg_per_mm
 def test_the_limit_grows_from_the_tolerance_and_the_paper_keeps_it_fixed() -> None:
     cfg = TactemeConfig()
     rolled = np.array([3.5, 5.5, 9.5])
-    np.testing.assert_allclose(cfg.parallel_limit_deg(rolled), [3.0, 4.0, 6.0])
+    np.testing.assert_allclose(cfg.parallel_limit_deg(rolled), [3.0, 4.5, 7.5])
     np.testing.assert_array_equal(PAPER_LEVEL3.parallel_limit_deg(rolled), 4.0)
     with pytest.raises(InputError, match="parallel_tol_growth_deg_per_mm"):
         TactemeConfig(parallel_tol_growth_deg_per_mm=-0.5)
+
+
+def test_batch_reads_each_segments_own_parallel_hold() -> None:
+    """Two rates with the same motion hold (10 frames) but parallel holds of 20 and 19."""
+    cfg, cls, items = TactemeConfig(), int(ContactClass.LINE), []
+    for dt in (0.0155, 0.0160):
+        n = 400
+        rows = rolling_line(np.where(np.arange(n) < 15, 4.0, 0.0))
+        rows[:, 8] = np.arange(n) * dt
+        rows[:, 1] = np.maximum(np.arange(n) - 15, 0) * 3.0 * dt
+        items.append(
+            (cls, SegmentTrack(np.arange(n), rows[:, 0:2], rows[:, 2], rows[:, 3], rows[:, 4],
+                               rows[:, 5], rows[:, 8], rows[:, 6:8]))
+        )  # fmt: skip
+    alone = [segment_tactemes(c, t, cfg) for c, t in items]
+    assert all(Tacteme.LCMP in dict(found) for found in alone)
+    assert batch_tactemes(items, cfg) == alone

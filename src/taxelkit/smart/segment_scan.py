@@ -178,6 +178,7 @@ class SegmentScanner(SegmentHead):
         self._last_angle = float("nan")
         self._done: set[Tacteme] = set()
         new = [Sustained(self.hold) for _ in range(4)]
+        new[2] = Sustained(self.frames_for(cfg.parallel_hold_s, k, minimum=self.hold))
         self._s1, self._s2, self._s3, self._s4 = new
         face_hold = self.frames_for(cfg.face_hold_s, k, minimum=self.hold)
         self._faces = [Sustained(face_hold) for _ in range(4)]  # the face-shape classes

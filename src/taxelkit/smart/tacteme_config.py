@@ -77,20 +77,28 @@ class TactemeConfig:
     parallel_tol_growth_deg_per_mm : float
         Growth of ``parallel_tol_deg`` with the distance rolled beyond
         ``parallel_move_mm``, deg/mm: the turn a parallel move may show is
-        ``parallel_tol_deg + growth x (rolled - parallel_move_mm)``. A third
-        of the slowest turn of a truncated cone (5.3 deg over 3.5 mm, 1.5
-        deg/mm), so a turning frustum leaves the limit further behind the
-        further it rolls, while a cylinder whose line reads a steady offset
-        (its reference taken as the line formed, or a line lying a few
-        degrees off the rows, which the grid draws a few degrees off its
-        rolling orientation) is called parallel once it has rolled far
-        enough: 3 deg at 3.5 mm, 4 deg at 5.5 mm. 0 (as in
-        :data:`PAPER_LEVEL3`): a fixed tolerance. Chosen as the third
-        without a search; on the ``robustness`` recordings (20-240
-        frames/s, every imperfection) of seeds 0 and 11, 11 of the 14
-        cylinder rolls that never read parallel did with it, and 3 of
-        2,100 truncated-cone rolls newly read parallel for a moment; on
-        seed 33, looked at only after, 30 of 37 and 1 of 1,050.
+        ``parallel_tol_deg + growth x (rolled - parallel_move_mm)``. Half the
+        slowest turn of a truncated cone (5.3 deg over 3.5 mm, 1.5 deg/mm), so
+        a turning frustum leaves the limit further behind the further it
+        rolls, while a cylinder whose line reads a steady offset (its
+        reference taken as the line formed, or a line lying a few degrees off
+        the rows, which the grid draws a few degrees off as it rolls) reads
+        parallel once it has rolled far enough: 3 deg at 3.5 mm, 4.5 deg at
+        5.5 mm. 0 (as in :data:`PAPER_LEVEL3`): a fixed tolerance.
+    parallel_hold_s : float
+        How long a parallel move must hold, s (at least ``motion_hold_s``):
+        a line that rolls parallel keeps doing so, while a turning frustum's
+        orientation can dip back under the tolerance for a moment. With
+        ``parallel_tol_growth_deg_per_mm``, searched on the ``robustness``
+        recordings (20-240 frames/s, every imperfection; line tracks replayed
+        offline) of seeds 0 and 11: growth 0, 0.5, 0.75, 1.0 deg/mm and holds
+        of 1, 1.5 and 2 ``motion_hold_s``. Against a fixed 3 deg held 0.15 s,
+        cylinder rolls that read parallel before any turn 4,187 -> 4,193 of
+        4,200 and truncated-cone rolls that read parallel for a moment (then
+        "unknown", or named cylinder) 10 -> 1 of 4,200; growth 0.5 with the
+        short hold read 4,198 cylinders but 13 frustums. Seeds 22 and 33,
+        looked at only after: cylinders 2,068 -> 2,091 and 2,064 -> 2,091 of
+        2,100, frustums 12 -> 1 and 4 -> 2. 0.15 in :data:`PAPER_LEVEL3`.
     turn_deg : float
         Orientation change of a turning line, deg.
     pivot_min_ratio : float
@@ -421,7 +429,8 @@ class TactemeConfig:
     move_mm: float = 2.0
     parallel_move_mm: float = 3.5
     parallel_tol_deg: float = 3.0
-    parallel_tol_growth_deg_per_mm: float = 0.5
+    parallel_tol_growth_deg_per_mm: float = 0.75
+    parallel_hold_s: float = 0.3
     turn_deg: float = 12.0
     pivot_min_ratio: float = 0.4
     pivot_end_ratio: float = 1.75
@@ -494,6 +503,7 @@ class TactemeConfig:
             "area_step",
             "pivot_min_ratio",
             "motion_hold_s",
+            "parallel_hold_s",
             "edge_hold_s",
             "transition_gap_s",
             "turn_leg_mm",
@@ -544,6 +554,7 @@ PAPER_LEVEL3 = TactemeConfig(
     pivot_arc_max_turn=False,
     parallel_tol_deg=4.0,
     parallel_tol_growth_deg_per_mm=0.0,
+    parallel_hold_s=0.15,
     pivot_end_ratio=1.32,
     pivot_pressed_half=False,
     pivot_band=1.15,

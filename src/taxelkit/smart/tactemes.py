@@ -26,7 +26,7 @@ a row, so the one-frame collapse of a contact that tips away is not motion)
     - LCMP: the line has moved ``parallel_move_mm`` with its orientation
       within ``parallel_tol_deg`` of the segment's start (a tolerance that
       grows by ``parallel_tol_growth_deg_per_mm`` with the distance rolled
-      beyond).
+      beyond), for ``parallel_hold_s``.
     - LCMT: the line's orientation changes by more than ``turn_deg`` from the
       segment's start (orientation is not re-anchored: a line's width and
       length changes do not turn it); once it
@@ -342,7 +342,8 @@ def segment_tactemes(
         parallel = (across_all >= config.parallel_move_mm) & (
             turned_all <= config.parallel_limit_deg(across_all)
         )
-        j_par = first(sustained(parallel, hold), 0)
+        par_hold = track.frames_for(config.parallel_hold_s, k, minimum=hold)
+        j_par = first(sustained(parallel, par_hold), 0)
         j_turn = first(sustained(turned_all > config.turn_deg, hold), 0)
         if j_par is not None and (j_turn is None or j_par < j_turn):
             emit(Tacteme.LCMP, j_par)

@@ -241,7 +241,7 @@ def _line_hits(
     parallel = (across_all >= config.parallel_move_mm) & (
         turned_all <= config.parallel_limit_deg(across_all)
     )
-    j_par = runs.first_sustained(parallel, hold)
+    j_par = _first_held(runs, tracks, parallel, config.parallel_hold_s, hold, config)
     j_turn = runs.first_sustained(turned_all > config.turn_deg, hold)
     par = np.where((j_par >= 0) & ((j_turn < 0) | (j_par < j_turn)), j_par, -1)
     pivots = {tac: np.full(starts.size, -1, np.intp) for tac in _PIVOT_TACTEMES}
@@ -257,6 +257,27 @@ def _line_hits(
         (Tacteme.LCMT, j_turn),
     ]
     return out + list(pivots.items())  # each verdict sustained in a segment, at its first index
+
+
+def _first_held(
+    runs: Runs,
+    tracks: list[SegmentTrack],
+    mask: NDArray[np.bool_],
+    seconds: float,
+    hold: int,
+    config: TactemeConfig,
+) -> NDArray[np.intp]:
+    """``runs.first_sustained(mask, h)``, each segment's ``h`` covering ``seconds``, >= ``hold``."""
+    k = int(config.debounce_frames)
+    holds = [frames_for_interval(t.frame_interval_s(k), seconds, hold) for t in tracks]
+    if len(set(holds)) == 1:
+        return runs.first_sustained(mask, holds[0])
+    each = np.asarray(holds)
+    out = np.full(len(tracks), -1, np.intp)
+    for h in np.unique(each).tolist():
+        sel = each == h
+        out[sel] = runs.first_sustained(mask, h)[sel]
+    return out
 
 
 def _pivots(
