@@ -94,9 +94,12 @@ class Recognition:
     events : tuple of Event
         Everything in order.
     identified : str or None
-        The object of the last contact, ``"unknown"``, or None if undecided.
+        The object of the last contact, ``"unknown"``, or None if undecided;
+        a last contact too brief to rule out anything is passed over
+        (:attr:`~taxelkit.smart.tactemes.TactemeConfig.blip_s`,
+        :attr:`Verdict.passed_over <taxelkit.smart.elimination.Verdict.passed_over>`).
     candidates : tuple of str
-        Objects not yet eliminated for the last contact.
+        Objects not yet eliminated for that contact.
     verdict : Verdict
         Why: what ruled out each object of the last contact and, when
         undecided, which tactemes (motions) would decide; whether it slid.
