@@ -97,8 +97,9 @@ class TactemeConfig:
         4,200 and truncated-cone rolls that read parallel for a moment (then
         "unknown", or named cylinder) 10 -> 1 of 4,200; growth 0.5 with the
         short hold read 4,198 cylinders but 13 frustums. Seeds 22 and 33,
-        looked at only after: cylinders 2,068 -> 2,091 and 2,064 -> 2,091 of
-        2,100, frustums 12 -> 1 and 4 -> 2. 0.15 in :data:`PAPER_LEVEL3`.
+        where the failing cylinders were found but not searched on:
+        cylinders 2,068 -> 2,091 and 2,064 -> 2,091 of 2,100, frustums
+        12 -> 1 and 4 -> 2. 0.15 in :data:`PAPER_LEVEL3`.
     turn_deg : float
         Orientation change of a turning line, deg.
     pivot_min_ratio : float
