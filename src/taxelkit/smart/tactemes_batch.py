@@ -241,7 +241,7 @@ def _line_hits(
     parallel = (across_all >= config.parallel_move_mm) & (
         turned_all <= config.parallel_limit_deg(across_all)
     )
-    j_par = _first_held(runs, tracks, parallel, config.parallel_hold_s, hold, config)
+    j_par = _first_held(runs, parallel, _holds(tracks, config.parallel_hold_s, hold, config))
     j_turn = runs.first_sustained(turned_all > config.turn_deg, hold)
     par = np.where((j_par >= 0) & ((j_turn < 0) | (j_par < j_turn)), j_par, -1)
     pivots = {tac: np.full(starts.size, -1, np.intp) for tac in _PIVOT_TACTEMES}
@@ -259,23 +259,22 @@ def _line_hits(
     return out + list(pivots.items())  # each verdict sustained in a segment, at its first index
 
 
-def _first_held(
-    runs: Runs,
-    tracks: list[SegmentTrack],
-    mask: NDArray[np.bool_],
-    seconds: float,
-    hold: int,
-    config: TactemeConfig,
+def _holds(
+    tracks: Sequence[SegmentTrack], seconds: float, hold: int, config: TactemeConfig
 ) -> NDArray[np.intp]:
-    """``runs.first_sustained(mask, h)``, each segment's ``h`` covering ``seconds``, >= ``hold``."""
+    """Each segment's frames covering ``seconds`` at its own rate, at least ``hold``."""
     k = int(config.debounce_frames)
-    holds = [frames_for_interval(t.frame_interval_s(k), seconds, hold) for t in tracks]
-    if len(set(holds)) == 1:
-        return runs.first_sustained(mask, holds[0])
-    each = np.asarray(holds)
-    out = np.full(len(tracks), -1, np.intp)
-    for h in np.unique(each).tolist():
-        sel = each == h
+    return np.array([frames_for_interval(t.frame_interval_s(k), seconds, hold) for t in tracks])
+
+
+def _first_held(runs: Runs, mask: NDArray[np.bool_], holds: NDArray[np.intp]) -> NDArray[np.intp]:
+    """``runs.first_sustained(mask, h)`` with each segment's own ``h`` (``holds``)."""
+    values = np.unique(holds).tolist()
+    if len(values) == 1:
+        return runs.first_sustained(mask, values[0])
+    out = np.full(holds.size, -1, np.intp)
+    for h in values:
+        sel = holds == h
         out[sel] = runs.first_sustained(mask, h)[sel]
     return out
 
@@ -304,7 +303,6 @@ def _pivots(
     in a segment (one segment may have several).
     """
     starts, lengths = runs.starts, runs.lengths
-    k = int(config.debounce_frames)
     pitch = tracks[0].pitch_mm
     if raw_ext is None or any(t.pitch_mm != pitch for t in tracks):
         alone, together = turning.tolist(), turning[:0]
@@ -334,18 +332,10 @@ def _pivots(
     turned_now = np.abs((angle[rows] - angle[ref_start][part.seg] + 90.0) % 180.0 - 90.0)
     largest = part.cummax(turned_now) if config.pivot_arc_max_turn else None  # run by run
     verdicts = pivot_verdicts(config, ratio, error, arc_ratio, turned_now, line_mm, pitch, largest)
-    holds = np.array(
-        [
-            frames_for_interval(tracks[s].frame_interval_s(k), config.pivot_hold_s, hold)
-            for s in together.tolist()
-        ]
-    )
+    holds = _holds([tracks[s] for s in together.tolist()], config.pivot_hold_s, hold, config)
     verdicts_of: list[list[tuple[int, Tacteme]]] = [[] for _ in range(together.size)]
     for tac, verdict in verdicts:
-        js = np.full(together.size, -1, np.intp)
-        for h in np.unique(holds).tolist():
-            sel = holds == h
-            js = np.where(sel, part.first_sustained(verdict, h), js)
+        js = _first_held(part, verdict, holds)
         for i, j in enumerate(js.tolist()):
             if j >= 0:
                 verdicts_of[i].append((int(first[i]) + j, tac))
