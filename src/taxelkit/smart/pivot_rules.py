@@ -82,11 +82,14 @@ def pivot_tacteme(
     line_mm = 2.0 * _drawn_half(track, start, stop)
     pivot_hold = track.frames_for(config.pivot_hold_s, k, minimum=hold)
     turned_now = turn(angle, ref[start] + np.zeros(n, np.intp))[start:]
+    span = track.frames[start:stop] if config.hold_spans_gaps else None
     largest = np.maximum.accumulate(turned_now) if config.pivot_arc_max_turn else None
     for tac, verdict in pivot_verdicts(
         config, ratio, error, arc_ratio, turned_now, line_mm, track.pitch_mm, largest
     ):
-        j = first(sustained(verdict, pivot_hold), 0)
+        # "about one end", the verdict that names a cone, holds on the segment's own rows
+        own = tac is Tacteme.LCMT_ABOUT_END
+        j = first(sustained(verdict, pivot_hold, None if own else span, hold), 0)
         if j is not None:
             pivots.append((start + j, tac))
     found = sorted(pivots, key=lambda hit: hit[0])

@@ -47,6 +47,11 @@ class PivotRun:
     pressed : bool
         Ratios in the pressed lines' half-lengths
         (:attr:`~taxelkit.smart.tactemes.TactemeConfig.pivot_pressed_half`).
+    spans : bool
+        A verdict holds over the frames of the recording it spans
+        (:attr:`~taxelkit.smart.tactemes.TactemeConfig.hold_spans_gaps`), on
+        at least ``min_rows`` of the segment's frames.
+    min_rows : int
     """
 
     def __init__(
@@ -57,6 +62,8 @@ class PivotRun:
         every: bool = True,
         arc_max_turn: bool = False,
         pressed: bool = False,
+        spans: bool = False,
+        min_rows: int = 1,
     ) -> None:
         self.start = start  # segment index of the anchor
         self.every = every
@@ -79,7 +86,9 @@ class PivotRun:
                 NDArray[np.float64],
             ]
         ] = []
-        self.verdicts = [Sustained(hold) for _ in range(3)]
+        # spins, about one end, in an arc: "about one end", the verdict that names a
+        # cone, holds on the segment's own rows
+        self.verdicts = [Sustained(hold, flag, min_rows) for flag in (spans, False, spans)]
         self.max_turn = 0.0  # the largest turn from the reference so far, deg
         # (frame, tacteme) of each verdict sustained so far, in the order found
         self.found: list[tuple[int, Tacteme]] = []
@@ -175,7 +184,7 @@ class PivotRun:
             )
             if not (ready.any() or arc.any()):  # no verdict can hold on these frames
                 for s in self.verdicts:
-                    s.run = 0
+                    s.reset()
                 continue
             verdicts = (
                 (Tacteme.LC_SPINS, ready & (ratio < min_ratio)),
@@ -224,6 +233,10 @@ class LinePivot:
         The arc's limit at the largest turn so far (:class:`PivotRun`).
     pressed : bool
         Ratios in the pressed lines' half-lengths (:class:`PivotRun`).
+    spans : bool
+        Verdicts hold over the recording's frames (:class:`PivotRun`).
+    min_rows : int
+        Rows a verdict must hold on, with ``spans`` (:class:`PivotRun`).
     """
 
     def __init__(
@@ -235,9 +248,12 @@ class LinePivot:
         every: bool = True,
         arc_max_turn: bool = False,
         pressed: bool = False,
+        spans: bool = False,
+        min_rows: int = 1,
     ) -> None:
         self.w, self.hold, self.limits, self.arc_w = w, hold, limits, arc_w
         self.every, self.arc_max_turn, self.pressed = every, arc_max_turn, pressed
+        self.spans, self.min_rows = spans, min_rows
         self.run: PivotRun | None = None
         self._kept: list[tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]] = []
         self._kept_n = 0
@@ -273,7 +289,14 @@ class LinePivot:
             run = self.run
             if run is None or (run.start != a and (turn_seg is None or a <= turn_seg)):
                 run = self.run = PivotRun(
-                    a, self.hold, self.arc_w, self.every, self.arc_max_turn, self.pressed
+                    a,
+                    self.hold,
+                    self.arc_w,
+                    self.every,
+                    self.arc_max_turn,
+                    self.pressed,
+                    self.spans,
+                    self.min_rows,
                 )
                 self._kept, self._kept_n = [], 0
             if run.complete:

@@ -80,8 +80,27 @@ class Runs:
         result: NDArray[np.float64] = out / n
         return result
 
-    def sustained(self, mask: NDArray[np.bool_], k: int) -> NDArray[np.bool_]:
-        """:func:`~taxelkit.smart.track_geometry.sustained` of every segment of ``mask``."""
+    def sustained(
+        self,
+        mask: NDArray[np.bool_],
+        k: int,
+        frames: NDArray[np.intp] | None = None,
+        min_rows: int = 1,
+    ) -> NDArray[np.bool_]:
+        """:func:`~taxelkit.smart.track_geometry.sustained` of every segment of ``mask``.
+
+        ``frames`` ``(N,)``: the rows' frame numbers (a run holds once it spans
+        ``k`` frames of the recording and ``min_rows`` rows); None: ``k`` rows.
+        """
+        if frames is not None:
+            idx = np.arange(self.size)
+            z = np.where(mask, 0, idx + 1)
+            z[self.starts] = np.where(mask[self.starts], self.starts, self.starts + 1)
+            first_row = np.minimum(np.maximum.accumulate(z), max(self.size - 1, 0))
+            spans: NDArray[np.bool_] = (
+                mask & (frames - frames[first_row] + 1 >= k) & (idx - first_row + 1 >= min_rows)
+            )
+            return spans
         c = np.cumsum(mask, dtype=np.int64)  # integers: exact whatever came before
         base = np.zeros(self.lengths.size, np.int64)
         base[1:] = c.take(self.starts[1:] - 1)
@@ -103,9 +122,15 @@ class Runs:
             out[segs[lead]] = self.local[hits[lead]]
         return out
 
-    def first_sustained(self, mask: NDArray[np.bool_], k: int) -> NDArray[np.intp]:
-        """``first(sustained(mask, k), 0)`` of every segment (-1 for None)."""
-        return self.first(self.sustained(mask, k))
+    def first_sustained(
+        self,
+        mask: NDArray[np.bool_],
+        k: int,
+        frames: NDArray[np.intp] | None = None,
+        min_rows: int = 1,
+    ) -> NDArray[np.intp]:
+        """``first(sustained(mask, k, frames, min_rows), 0)`` of every segment (-1 for None)."""
+        return self.first(self.sustained(mask, k, frames, min_rows))
 
 
 def _spans(lengths: NDArray[np.intp]) -> tuple[NDArray[np.intp], NDArray[np.intp]]:

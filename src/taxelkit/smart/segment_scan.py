@@ -177,11 +177,13 @@ class SegmentScanner(SegmentHead):
         )
         self._last_angle = float("nan")
         self._done: set[Tacteme] = set()
-        new = [Sustained(self.hold) for _ in range(4)]
-        new[2] = Sustained(self.frames_for(cfg.parallel_hold_s, k, minimum=self.hold))
+        spans = cfg.hold_spans_gaps
+        hold = self.hold
+        new = [Sustained(hold, spans, hold) for _ in range(4)]
+        new[2] = Sustained(self.frames_for(cfg.parallel_hold_s, k, minimum=hold), spans, hold)
         self._s1, self._s2, self._s3, self._s4 = new
-        face_hold = self.frames_for(cfg.face_hold_s, k, minimum=self.hold)
-        self._faces = [Sustained(face_hold) for _ in range(4)]  # the face-shape classes
+        face_hold = self.frames_for(cfg.face_hold_s, k, minimum=hold)
+        self._faces = [Sustained(face_hold, spans, hold) for _ in range(4)]  # face-shape classes
         self._tau = RollingMean(w, 1)
         window = (cfg.orthogonal_min_deg, cfg.orthogonal_max_deg)
         self._legs, self._corners = (
@@ -200,6 +202,8 @@ class SegmentScanner(SegmentHead):
             cfg.pivot_every_verdict,
             cfg.pivot_arc_max_turn,
             cfg.pivot_pressed_half,
+            spans,
+            self.hold,
         )
 
     def _anchors(

@@ -256,8 +256,9 @@ def _face_tactemes(
     k = int(config.debounce_frames)
     raw = triangularity(track.area_mm2, track.elongation, track.half_length_mm)
     face_hold = track.frames_for(config.face_hold_s, k, minimum=hold)
+    span = track.frames if config.hold_spans_gaps else None
     return [
-        (tac, first(sustained(mask, face_hold), 0))
+        (tac, first(sustained(mask, face_hold, span, hold), 0))
         for tac, mask in face_masks(
             area, elong, rolling_mean(raw, w), steady, **face_limits(config)
         )
@@ -305,13 +306,18 @@ def segment_tactemes(
     moved = np.where(valid, np.hypot(*shift.T), 0.0)
     turned = np.where(valid, turn(angle, ref), 0.0)
     out: list[tuple[Tacteme, int]] = []
+    span = track.frames if config.hold_spans_gaps else None  # holds in the recording's frames
+
+    def held(mask: NDArray[np.bool_], k: int) -> int | None:
+        """The first index where ``mask`` has held ``k`` frames (on ``hold`` rows at least)."""
+        return first(sustained(mask, k, span, hold), 0)
 
     def emit(t: Tacteme, j: int | None) -> None:
         if j is not None:
             out.append((t, int(track.frames[j])))
 
     if cls == ContactClass.POINT:
-        j_move = first(sustained(moved > config.move_mm, hold), 0)
+        j_move = held(moved > config.move_mm, hold)
         emit(Tacteme.PC_MOVES, j_move)
         if j_move is not None:
             emit(Tacteme.PC_ORTHOGONAL_TURN, _point_turn(centre, int(ref[j_move]), config))
@@ -324,9 +330,9 @@ def segment_tactemes(
         across = np.where(
             valid, np.abs(-shift[:, 0] * np.sin(t_ref) + shift[:, 1] * np.cos(t_ref)), 0.0
         )
-        j_lcm = first(sustained(across > config.move_mm, hold), 0)
+        j_lcm = held(across > config.move_mm, hold)
         slid = valid & (ends > config.move_mm) & (across < 0.5 * config.move_mm)
-        j_slide = first(sustained(slid, hold), 0)
+        j_slide = held(slid, hold)
         if j_slide is not None and (j_lcm is None or j_slide < j_lcm):
             emit(Tacteme.LC_SLIDES, j_slide)
         emit(Tacteme.LCM, j_lcm)
@@ -343,8 +349,8 @@ def segment_tactemes(
             turned_all <= config.parallel_limit_deg(across_all)
         )
         par_hold = track.frames_for(config.parallel_hold_s, k, minimum=hold)
-        j_par = first(sustained(parallel, par_hold), 0)
-        j_turn = first(sustained(turned_all > config.turn_deg, hold), 0)
+        j_par = held(parallel, par_hold)
+        j_turn = held(turned_all > config.turn_deg, hold)
         if j_par is not None and (j_turn is None or j_par < j_turn):
             emit(Tacteme.LCMP, j_par)
         if j_turn is not None:
@@ -353,12 +359,12 @@ def segment_tactemes(
                 emit(tac, j_pivot)
     else:
         same = np.abs(area / area[ref] - 1.0) <= config.area_tolerance
-        emit(Tacteme.AC_MOVES, first(sustained((moved > config.move_mm) & same, hold), 0))
+        emit(Tacteme.AC_MOVES, held((moved > config.move_mm) & same, hold))
         oriented = (elong >= config.area_min_elongation) & (
             elong[ref] >= config.area_min_elongation
         )
         rotated = (turned > config.area_rotate_deg) & same & oriented
-        emit(Tacteme.AC_ROTATES, first(sustained(rotated, hold), 0))
+        emit(Tacteme.AC_ROTATES, held(rotated, hold))
         if config.face_shapes:
             for tac, j in _face_tactemes(track, config, area, elong, valid & same, w, hold):
                 emit(tac, j)

@@ -101,6 +101,7 @@ def _group(
     s_n = len(tracks)
     starts, lengths, seg, local = runs.starts, runs.lengths, runs.seg, runs.local
     frames = np.concatenate([t.frames for t in tracks])
+    span = frames if config.hold_spans_gaps else None  # holds in the recording's frames
     theta = np.concatenate([t.orientation_deg for t in tracks])
     # columns: centre x, y, axis vector, area, elongation, half-length; each class
     # smooths those its rules read (a point: its centre; a line: not its elongation).
@@ -139,7 +140,7 @@ def _group(
     out: list[Found] = [[] for _ in range(s_n)]
     hits: list[tuple[Tacteme, NDArray[np.intp]]] = []
     if cls == _POINT:
-        j_move = runs.first_sustained(moved > config.move_mm, hold)
+        j_move = runs.first_sustained(moved > config.move_mm, hold, span, hold)
         hits.append((Tacteme.PC_MOVES, j_move))
         corner = np.full(s_n, -1, np.intp)
         for s in np.flatnonzero(j_move >= 0).tolist():
@@ -165,17 +166,18 @@ def _group(
             raw,
             theta,
             ext,
+            span,
         )
     else:
         turned = np.where(valid, _turn(angle, ref_g), 0.0)
         same = np.abs(area / area[ref_g] - 1.0) <= config.area_tolerance
-        moves = runs.first_sustained((moved > config.move_mm) & same, hold)
+        moves = runs.first_sustained((moved > config.move_mm) & same, hold, span, hold)
         hits.append((Tacteme.AC_MOVES, moves))
         oriented = (elong >= config.area_min_elongation) & (
             elong[ref_g] >= config.area_min_elongation
         )
         rotated = (turned > config.area_rotate_deg) & same & oriented
-        hits.append((Tacteme.AC_ROTATES, runs.first_sustained(rotated, hold)))
+        hits.append((Tacteme.AC_ROTATES, runs.first_sustained(rotated, hold, span, hold)))
         if config.face_shapes:
             steady = valid & same
             for s, track in enumerate(tracks):
@@ -214,11 +216,13 @@ def _line_hits(
     raw: NDArray[np.float64],
     theta: NDArray[np.float64],
     ext: NDArray[np.float64] | None,
+    span: NDArray[np.intp] | None,
 ) -> list[tuple[Tacteme, NDArray[np.intp]]]:
     """The line rules of ``segment_tactemes``: each tacteme's index per segment (-1: none).
 
     In the order the per-segment form emits them (ties in frame keep it).
-    ``shift``: each row's smoothed centre less its reference's ``(N, 2)``, mm.
+    ``shift``: each row's smoothed centre less its reference's ``(N, 2)``, mm;
+    ``span``: the rows' frame numbers where holds count the recording's frames.
     """
     starts, lengths, seg, local = runs.starts, runs.lengths, runs.seg, runs.local
     move = config.move_mm
@@ -228,9 +232,9 @@ def _line_hits(
     half = smooth[:, 6]
     ends = along - np.abs(half - half.take(ref_g))
     across = np.where(valid, np.abs(-shift[:, 0] * sin_ref + shift[:, 1] * cos_ref), 0.0)
-    j_lcm = runs.first_sustained(across > move, hold)
+    j_lcm = runs.first_sustained(across > move, hold, span, hold)
     slid = valid & (ends > move) & (across < 0.5 * move)
-    j_slide = runs.first_sustained(slid, hold)
+    j_slide = runs.first_sustained(slid, hold, span, hold)
     slide = np.where((j_slide >= 0) & ((j_lcm < 0) | (j_slide < j_lcm)), j_slide, -1)
     first_ref = np.minimum(w - 1, lengths - 1)  # a line's turn counts from its first reference
     first_g = starts + first_ref
@@ -241,13 +245,15 @@ def _line_hits(
     parallel = (across_all >= config.parallel_move_mm) & (
         turned_all <= config.parallel_limit_deg(across_all)
     )
-    j_par = _first_held(runs, parallel, _holds(tracks, config.parallel_hold_s, hold, config))
-    j_turn = runs.first_sustained(turned_all > config.turn_deg, hold)
+    j_par = _first_held(
+        runs, parallel, _holds(tracks, config.parallel_hold_s, hold, config), span, hold
+    )
+    j_turn = runs.first_sustained(turned_all > config.turn_deg, hold, span, hold)
     par = np.where((j_par >= 0) & ((j_turn < 0) | (j_par < j_turn)), j_par, -1)
     pivots = {tac: np.full(starts.size, -1, np.intp) for tac in _PIVOT_TACTEMES}
     turning = np.flatnonzero(j_turn >= 0)
     for s, (j, tac) in _pivots(
-        runs, tracks, config, angle, anchor, ref, j_turn, turning, w, hold, raw, theta, ext
+        runs, tracks, config, angle, anchor, ref, j_turn, turning, w, hold, raw, theta, ext, span
     ):
         pivots[tac][s] = j
     out = [
@@ -267,15 +273,21 @@ def _holds(
     return np.array([frames_for_interval(t.frame_interval_s(k), seconds, hold) for t in tracks])
 
 
-def _first_held(runs: Runs, mask: NDArray[np.bool_], holds: NDArray[np.intp]) -> NDArray[np.intp]:
-    """``runs.first_sustained(mask, h)`` with each segment's own ``h`` (``holds``)."""
+def _first_held(
+    runs: Runs,
+    mask: NDArray[np.bool_],
+    holds: NDArray[np.intp],
+    span: NDArray[np.intp] | None = None,
+    min_rows: int = 1,
+) -> NDArray[np.intp]:
+    """``runs.first_sustained(mask, h, span, min_rows)``, each segment's own ``h`` (``holds``)."""
     values = np.unique(holds).tolist()
     if len(values) == 1:
-        return runs.first_sustained(mask, values[0])
+        return runs.first_sustained(mask, values[0], span, min_rows)
     out = np.full(holds.size, -1, np.intp)
     for h in values:
         sel = holds == h
-        out[sel] = runs.first_sustained(mask, h)[sel]
+        out[sel] = runs.first_sustained(mask, h, span, min_rows)[sel]
     return out
 
 
@@ -293,12 +305,14 @@ def _pivots(
     raw: NDArray[np.float64],
     raw_theta: NDArray[np.float64],
     raw_ext: NDArray[np.float64] | None,
+    span: NDArray[np.intp] | None = None,
 ) -> list[tuple[int, tuple[int, Tacteme]]]:
     """:func:`~taxelkit.smart.pivot_rules.pivot_tacteme` of the segments ``turning``, together.
 
     ``raw``, ``raw_theta``, ``raw_ext``: the group's unsmoothed centres (columns
     0-1) and half-lengths (column 6), axes and line extents (None: not all
-    measured, each segment alone); ``w``: the group's smoothing window, frames.
+    measured, each segment alone); ``w``: the group's smoothing window, frames;
+    ``span``: the group's frame numbers where holds count the recording's frames.
     Returns ``(segment, (index, tacteme))`` for each pivot verdict sustained
     in a segment (one segment may have several).
     """
@@ -335,7 +349,9 @@ def _pivots(
     holds = _holds([tracks[s] for s in together.tolist()], config.pivot_hold_s, hold, config)
     verdicts_of: list[list[tuple[int, Tacteme]]] = [[] for _ in range(together.size)]
     for tac, verdict in verdicts:
-        js = _first_held(part, verdict, holds)
+        # "about one end", the verdict that names a cone, holds on the segment's own rows
+        own = span is None or tac is Tacteme.LCMT_ABOUT_END
+        js = _first_held(part, verdict, holds, None if own else span[rows], hold)
         for i, j in enumerate(js.tolist()):
             if j >= 0:
                 verdicts_of[i].append((int(first[i]) + j, tac))

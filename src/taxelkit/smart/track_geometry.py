@@ -130,8 +130,25 @@ def first(mask: NDArray[np.bool_], start: int) -> int | None:
     return None if hits.size == 0 else int(hits[0]) + start
 
 
-def sustained(mask: NDArray[np.bool_], k: int) -> NDArray[np.bool_]:
-    """True where ``mask`` has held for the last ``k`` frames (motion is debounced too)."""
+def sustained(
+    mask: NDArray[np.bool_], k: int, frames: NDArray[np.intp] | None = None, min_rows: int = 1
+) -> NDArray[np.bool_]:
+    """True where ``mask`` has held for the last ``k`` frames (motion is debounced too).
+
+    ``frames``: the rows' frame numbers in the recording ``(n,)``; given, a
+    run of True rows holds once it spans ``k`` frames of the recording
+    (``frames[i] - frames[first] + 1 >= k``), the frames left out of the
+    segment between its rows counted, and counts at least ``min_rows`` rows.
+    None: ``k`` rows.
+    """
+    if frames is not None:
+        idx = np.arange(mask.size)
+        first_row = np.maximum.accumulate(np.where(mask, 0, idx + 1))  # each run's first row
+        first_row = np.minimum(first_row, max(mask.size - 1, 0))
+        spans: NDArray[np.bool_] = (
+            mask & (frames - frames[first_row] + 1 >= k) & (idx - first_row + 1 >= min_rows)
+        )
+        return spans
     c = np.cumsum(mask.astype(np.int64))
     run = c.copy()
     run[k:] -= c[:-k]
