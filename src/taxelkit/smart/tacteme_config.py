@@ -362,11 +362,15 @@ class TactemeConfig:
         pivot, the face shapes) shorten on such segments. "About one end",
         the verdict that names a cone, keeps the segment's rows: counted in
         the span it named truncated cones on the 8 x 8 array as cones (seed
-        0: 1 roll, seed 44: 2). Measured on ``robustness`` (19,200 rolls a seed) with
-        every verdict spanning, before that exception: seed 0 19,145 ->
-        19,144 identified (cells at >= 20 frames/s under 0.98: 5 -> 5; wrong
-        0 -> 0); seed 11 19,039 -> 19,051 (17 -> 13; wrong 2 -> 2); seed 44,
-        not looked at before, 19,022 -> 19,026 (25 -> 23; wrong 3 -> 3).
+        0: 1 roll, seed 44: 2). Measured on ``robustness`` (19,200 rolls a
+        seed; cells at >= 20 frames/s under 0.98 in brackets): seed 0
+        19,145 -> 19,144 (5 -> 5), seed 11 19,039 -> 19,050 (17 -> 14) and
+        seed 44, not looked at before, 19,022 -> 19,026 (25 -> 23); wrong
+        identities unchanged (0, 2, 3); other arrays 1,282 -> 1,283, 1,277 ->
+        1,277 and 1,248 -> 1,250 identified, wrong unchanged (2, 6, 4). The
+        roll lost on seed 0 (MuJoCo truncated cone 47, 20 frames/s, every
+        imperfection) read "LCMP" on three rows over 0.45 s before it turned,
+        named a cylinder for a moment, and ended "unknown".
     pivot_hold_s : float
         A pivot verdict must hold this long (at least as long as a motion), s:
         the running estimate settles as the line turns on. Measured on 12
