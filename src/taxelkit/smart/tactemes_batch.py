@@ -348,10 +348,11 @@ def _pivots(
     verdicts = pivot_verdicts(config, ratio, error, arc_ratio, turned_now, line_mm, pitch, largest)
     holds = _holds([tracks[s] for s in together.tolist()], config.pivot_hold_s, hold, config)
     verdicts_of: list[list[tuple[int, Tacteme]]] = [[] for _ in range(together.size)]
+    part_span = None if span is None else span[rows]
     for tac, verdict in verdicts:
         # "about one end", the verdict that names a cone, holds on the segment's own rows
-        own = span is None or tac is Tacteme.LCMT_ABOUT_END
-        js = _first_held(part, verdict, holds, None if own else span[rows], hold)
+        own = tac is Tacteme.LCMT_ABOUT_END
+        js = _first_held(part, verdict, holds, None if own else part_span, hold)
         for i, j in enumerate(js.tolist()):
             if j >= 0:
                 verdicts_of[i].append((int(first[i]) + j, tac))
