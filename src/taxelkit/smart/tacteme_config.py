@@ -365,7 +365,8 @@ class TactemeConfig:
         0: 1 roll, seed 44: 2). Measured on ``robustness`` (19,200 rolls a
         seed; cells at >= 20 frames/s under 0.98 in brackets): seed 0
         19,145 -> 19,144 (5 -> 5), seed 11 19,039 -> 19,050 (17 -> 14) and
-        seed 44, not looked at before, 19,022 -> 19,026 (25 -> 23); wrong
+        seed 44 19,022 -> 19,026 (25 -> 23; first run blind with every
+        verdict spanning, which then chose the exception above); wrong
         identities unchanged (0, 2, 3); other arrays 1,282 -> 1,283, 1,277 ->
         1,277 and 1,248 -> 1,250 identified, wrong unchanged (2, 6, 4). The
         roll lost on seed 0 (MuJoCo truncated cone 47, 20 frames/s, every
