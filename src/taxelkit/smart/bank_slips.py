@@ -60,13 +60,13 @@ def slip_inputs(
         class, a frame rate not yet fixed, or the per-frame reference scan).
     """
     out: list[SlipInputs | None] = [None] * len(feeds)
-    groups: dict[tuple[int, int, int], list[int]] = {}
+    groups: dict[tuple[int, int, int, float], list[int]] = {}
     for s, (scanner, rows) in enumerate(feeds):
         if scanner is None or scanner.reference or not rows.shape[0]:
             continue
         if not scanner.prime(rows[:, 8]):  # a new segment's rate is fixed from these rows
             continue
-        groups.setdefault((scanner.cls, scanner.cur, scanner.ref), []).append(s)
+        groups.setdefault((scanner.cls, scanner.cur, scanner.ref, scanner.length_mm), []).append(s)
     for members in groups.values():
         scanners = [feeds[s][0] for s in members]
         for s, inputs in zip(

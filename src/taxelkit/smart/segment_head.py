@@ -104,7 +104,9 @@ class SegmentHead:
         self._slip = (
             None
             if config.slip is None
-            else SlipScanner(self.cls, config.slip, k=int(config.debounce_frames))
+            else SlipScanner(
+                self.cls, config.slip, k=int(config.debounce_frames), pitch_mm=self.pitch_mm
+            )
         )
 
     @property

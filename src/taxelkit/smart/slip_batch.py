@@ -35,6 +35,7 @@ def batch_slip_scanners(
     config: SlipConfig,
     *,
     k: int,
+    pitch_mm: Sequence[float] | float = 0.0,
 ) -> list[SlipScanner]:
     """Scanners of whole segments, each extended by all its frames.
 
@@ -46,20 +47,31 @@ def batch_slip_scanners(
     config : SlipConfig
     k : int
         The debounce count (as :class:`~taxelkit.smart.slip_scan.SlipScanner`).
+    pitch_mm : float or sequence of float
+        Taxel pitch, mm (0: unknown): one for all segments, or one each.
 
     Returns
     -------
     list of SlipScanner
-        ``SlipScanner(cls, config, k=k)`` after ``extend(frames, rows)``, one per item.
+        ``SlipScanner(cls, config, k=k, pitch_mm=pitch)`` after
+        ``extend(frames, rows)``, one per item.
     """
-    scanners = [SlipScanner(cls, config, k=k) for cls, _, _ in items]
-    groups: dict[tuple[int, int, int], list[int]] = {}
+    if isinstance(pitch_mm, (int, float)):
+        pitches = [float(pitch_mm)] * len(items)
+    else:
+        pitches = [float(p) for p in pitch_mm]
+    scanners = [
+        SlipScanner(cls, config, k=k, pitch_mm=p)
+        for (cls, _, _), p in zip(items, pitches, strict=True)
+    ]
+    groups: dict[tuple[int, int, int, float], list[int]] = {}
     for i, (scanner, (_, frames, rows)) in enumerate(zip(scanners, items, strict=True)):
         if frames.size and scanner.prime(rows[:, 8]):
-            groups.setdefault((scanner.cls, scanner.cur, scanner.ref), []).append(i)
+            key = (scanner.cls, scanner.cur, scanner.ref, scanner.length_mm)
+            groups.setdefault(key, []).append(i)
         else:
             scanner.extend(frames, rows)
-    for (_, cur, ref), members in groups.items():
+    for (_, cur, ref, _), members in groups.items():
         part: list[int] = []
         rows_in = 0
         for i in members:

@@ -105,13 +105,20 @@ def slip_features(
 
 
 def motion_mm(
-    ref: NDArray[np.float64], cur: NDArray[np.float64], *, line: bool, config: SlipConfig
+    ref: NDArray[np.float64],
+    cur: NDArray[np.float64],
+    *,
+    line: bool,
+    config: SlipConfig,
+    length_mm: float = math.inf,
 ) -> float:
     """How far the footprint moved from mean features ``ref`` to ``cur`` ``(15,)``, mm.
 
     NaN when the mean area changed by more than ``area_step`` of the
     reference's, or (a face) when the areas of the current window spread
-    by more than that (standard deviation): no decision.
+    by more than that (standard deviation): no decision. A line whose two
+    ends' moves differ by more than ``length_mm`` (``line_length_pitches``
+    times the pitch) grew or shrank at one end: 0.
     """
     cfg = config
     a_ref, a_cur = float(ref[_AREA_COL]), float(cur[_AREA_COL])
@@ -132,6 +139,8 @@ def motion_mm(
         d1, d2 = float(e1[0] * ax + e1[1] * ay), float(e2[0] * ax + e2[1] * ay)
         if math.isnan(d1 + d2):  # ends not measured: the centre less the change of length
             return abs(dx * ax + dy * ay) - abs(float(cur[_HALF] - ref[_HALF]))
+        if abs(d1 - d2) > length_mm:  # a rigid slide keeps the line's length
+            return 0.0
         return min(abs(d1), abs(d2)) if d1 * d2 > 0.0 else 0.0  # both ends, the same way
     spread = float(cur[_AREA2]) - a_cur * a_cur  # the current window's areas: a face tipping
     if spread > (cfg.area_step * a_ref) ** 2:

@@ -201,11 +201,14 @@ def _line_motion(
     unsure: NDArray[np.bool_],
     across_mm: float,
     tol: float,
+    length_mm: float = math.inf,
 ) -> NDArray[np.float64]:
     """A line's two ends along the bisector of the axes, mm (both must move the same way).
 
     0 where its ends moved across it by more than ``across_mm`` (its shift
-    across plus its turn times its half-length: a line that rolls).
+    across plus its turn times its half-length: a line that rolls), or
+    where the two ends' moves differ by more than ``length_mm`` (a line
+    that grew or shrank at one end).
     """
     c2, s2 = ref[:, _C2] + cur[:, _C2], ref[:, _S2] + cur[:, _S2]
     unsure |= np.hypot(c2, s2) < AXIS_MIN_NORM
@@ -222,6 +225,10 @@ def _line_motion(
     e1, e2 = cur[:, _END1] - ref[:, _END1], cur[:, _END2] - ref[:, _END2]
     d1, d2 = e1[:, 0] * ax + e1[:, 1] * ay, e2[:, 0] * ax + e2[:, 1] * ay
     both = np.where(d1 * d2 > 0.0, np.minimum(np.abs(d1), np.abs(d2)), 0.0)
+    if math.isfinite(length_mm):  # a rigid slide keeps the line's length
+        grew = np.abs(d1 - d2)
+        unsure |= np.abs(grew - length_mm) <= tol
+        both = np.where(grew > length_mm, 0.0, both)
     # ends not measured (NaN as in the row-by-row means): the centre less the change of length
     centre = np.abs(shift_x * ax + shift_y * ay) - np.abs(cur[:, _HALF] - ref[:, _HALF])
     out: NDArray[np.float64] = np.where(rolls, 0.0, np.where(np.isnan(d1 + d2), centre, both))
@@ -268,6 +275,7 @@ def motions_mm(
     limit_mm: float,
     bound: float,
     line_across_mm: float = math.inf,
+    line_length_mm: float = math.inf,
 ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """The per-frame rule's motion for rows of mean features, and where it may differ.
 
@@ -282,6 +290,10 @@ def motions_mm(
     line_across_mm : float
         As :class:`~taxelkit.smart.slip.SlipConfig` (a line only; default:
         no limit).
+    line_length_mm : float
+        Largest difference of a line's two ends' moves, mm
+        (:attr:`~taxelkit.smart.slip.SlipConfig.line_length_pitches` times the
+        pitch; default: no limit).
     limit_mm : float
         The limit the motion is compared with, mm.
     bound : float
@@ -305,7 +317,7 @@ def motions_mm(
         unsure |= np.abs(dev - area_step) <= tol * (1.0 + np.abs(ratio)) / np.abs(a_ref)
         changed = ~(a_ref > 0) | (dev > area_step)
         if line:
-            motion = _line_motion(ref, cur, unsure, line_across_mm, tol)
+            motion = _line_motion(ref, cur, unsure, line_across_mm, tol, line_length_mm)
         else:
             motion = _face_motion(ref, cur, unsure, min_elongation, tol)
             # the areas of the current window spread (their variance) beyond area_step
@@ -331,6 +343,7 @@ def window_decisions(
     line: bool,
     config: SlipConfig,
     piece: int = 512,
+    length_mm: float = math.inf,
 ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
     """Motions from the windows of ``wa`` rows at ``a0 + k`` to those of ``wb`` at ``b0 + k``.
 
@@ -349,6 +362,9 @@ def window_decisions(
     config : SlipConfig
     piece : int
         Frames computed together (the window sums of a piece stay small).
+    length_mm : float
+        A line's largest difference of its ends' moves, mm (as
+        :func:`~taxelkit.smart.slip_features.motion_mm`; default: no limit).
 
     Returns
     -------
@@ -373,12 +389,13 @@ def window_decisions(
             limit_mm=limit,
             bound=sums.error_bound(min(wa, wb)),
             line_across_mm=config.line_across_mm,
+            line_length_mm=length_mm,
         )
         changed[k0 : k0 + m], above[k0 : k0 + m] = np.isnan(motion), motion > limit
         redo = np.flatnonzero(unsure | bad_a | bad_b) + k0
         if redo.size:
             ra, rb = exact_means(x, a0 + redo, wa), exact_means(x, b0 + redo, wb)
             for k, u, v in zip(redo.tolist(), ra, rb, strict=True):
-                mm = motion_mm(u, v, line=line, config=config)
+                mm = motion_mm(u, v, line=line, config=config, length_mm=length_mm)
                 changed[k], above[k] = math.isnan(mm), mm > limit
     return changed, above

@@ -44,6 +44,9 @@ class SlipScanner:
         reference the vectorised scan is tested against). By default a
         chunk's motions are computed at once (:mod:`taxelkit.smart.slip_motion`)
         and the scan jumps from decision to decision; the slips are the same.
+    pitch_mm : float
+        Taxel pitch, mm (0: unknown), for
+        :attr:`~taxelkit.smart.slip.SlipConfig.line_length_pitches`.
 
     Notes
     -----
@@ -61,9 +64,18 @@ class SlipScanner:
     """
 
     def __init__(
-        self, cls: int, config: SlipConfig, *, k: int = 2, reference: bool = False
+        self,
+        cls: int,
+        config: SlipConfig,
+        *,
+        k: int = 2,
+        reference: bool = False,
+        pitch_mm: float = 0.0,
     ) -> None:
         self.cls = int(cls)
+        pitch = float(pitch_mm)
+        #: a line's largest difference of its two ends' moves, mm (inf: no test)
+        self.length_mm = config.line_length_pitches * pitch if pitch > 0.0 else math.inf
         self.reference = bool(reference)
         self.config = config
         self.k = max(2, int(k))
@@ -155,7 +167,8 @@ class SlipScanner:
 
         :func:`~taxelkit.smart.slip_features.motion_mm` of this scanner's class.
         """
-        return motion_mm(ref, cur, line=self.cls == _LINE, config=self.config)
+        line = self.cls == _LINE
+        return motion_mm(ref, cur, line=line, config=self.config, length_mm=self.length_mm)
 
     # -- feeding ---------------------------------------------------------------------------------
     def prime(self, t_s: NDArray[np.float64]) -> bool:
@@ -244,7 +257,17 @@ class SlipScanner:
     ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
         """:func:`~taxelkit.smart.slip_motion.window_decisions` for this scanner's class."""
         return window_decisions(
-            x, a0, wa, b0, wb, count, limit, line=self.cls == _LINE, config=self.config, piece=piece
+            x,
+            a0,
+            wa,
+            b0,
+            wb,
+            count,
+            limit,
+            line=self.cls == _LINE,
+            config=self.config,
+            piece=piece,
+            length_mm=self.length_mm,
         )
 
     def _onset(self, flags: NDArray[np.bool_]) -> int | None:

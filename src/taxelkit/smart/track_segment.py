@@ -84,7 +84,9 @@ class TrackSegment:
         if config.slip is not None:
             self._slip = slip
             if slip is None:
-                self._slip = SlipScanner(cls, config.slip, k=int(config.debounce_frames))
+                self._slip = SlipScanner(
+                    cls, config.slip, k=int(config.debounce_frames), pitch_mm=track.pitch_mm
+                )
                 self._slip.extend(track.frames, rows_from_track(track))
 
     def frames_for(self, seconds: float, k: int, *, minimum: int | None = None) -> int:
@@ -193,6 +195,7 @@ def track_segments(
                 ],
                 config.slip,
                 k=int(config.debounce_frames),
+                pitch_mm=[float(track.pitch_mm) for _, track, _ in items],
             )
         )
     tracks = [track for _, track, _ in items]
