@@ -328,7 +328,12 @@ def _stepping_line(rate_hz: float, speed_mm_s: float = 4.0) -> np.ndarray:
     slid = speed_mm_s * np.clip(t - 1.0, 0.0, None)
     lo = -8.0 + PITCH * np.floor(slid / PITCH + 0.5)  # steps at 0.22 s, 0.66 s, ...
     hi = 8.0 + PITCH * np.floor(slid / PITCH)  # steps at 0.44 s, 0.88 s, ...
-    rows = np.zeros((n, 9))
+    return line_rows_between(lo, hi, t)
+
+
+def line_rows_between(lo: np.ndarray, hi: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Rows ``(n, 9)`` of a line along x drawn from ``lo`` to ``hi`` (mm) at times ``t``."""
+    rows = np.zeros((t.size, 9))
     rows[:, 0] = 0.5 * (lo + hi)
     rows[:, 3], rows[:, 4], rows[:, 5] = 28.0, 5.0, 0.5 * (hi - lo)
     rows[:, 6], rows[:, 7], rows[:, 8] = 0.5 * (lo - hi), 0.5 * (hi - lo), t

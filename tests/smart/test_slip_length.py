@@ -14,6 +14,8 @@ from taxelkit.smart.slip_features import motion_mm
 from taxelkit.smart.slip_motion import motions_mm
 from taxelkit.smart.slip_scan import SlipScanner
 
+from .test_slip import _stepping_line, line_rows_between
+
 LINE = int(ContactClass.LINE)
 PITCH = 1.7625
 
@@ -69,25 +71,7 @@ def _growing_line(rate_hz: float) -> np.ndarray:
     on = t >= 1.0
     lo = np.where(on, -8.0 + 0.5 * PITCH, -8.0)
     hi = np.where(on, 8.0 + 2.0 * PITCH, 8.0)
-    rows = np.zeros((n, 9))
-    rows[:, 0] = 0.5 * (lo + hi)
-    rows[:, 3], rows[:, 4], rows[:, 5] = 28.0, 5.0, 0.5 * (hi - lo)
-    rows[:, 6], rows[:, 7], rows[:, 8] = 0.5 * (lo - hi), 0.5 * (hi - lo), t
-    return rows
-
-
-def _sliding_line(rate_hz: float, speed_mm_s: float = 4.0) -> np.ndarray:
-    """A line sliding along itself from 1 s, its ends stepping a pitch each at its own phase."""
-    n = int(3 * rate_hz)
-    t = np.arange(n) / rate_hz
-    slid = speed_mm_s * np.clip(t - 1.0, 0.0, None)
-    lo = -8.0 + PITCH * np.floor(slid / PITCH + 0.5)
-    hi = 8.0 + PITCH * np.floor(slid / PITCH)
-    rows = np.zeros((n, 9))
-    rows[:, 0] = 0.5 * (lo + hi)
-    rows[:, 3], rows[:, 4], rows[:, 5] = 28.0, 5.0, 0.5 * (hi - lo)
-    rows[:, 6], rows[:, 7], rows[:, 8] = 0.5 * (lo - hi), 0.5 * (hi - lo), t
-    return rows
+    return line_rows_between(lo, hi, t)
 
 
 @pytest.mark.parametrize("rate_hz", [20.0, 100.0, 240.0])
@@ -107,7 +91,7 @@ def test_a_line_growing_at_one_end_does_not_slip_and_a_sliding_one_does(
         off = SlipConfig(line_length_pitches=math.inf)
         scan = SlipScanner(LINE, off, k=2, reference=reference, pitch_mm=PITCH)
         assert scan.extend(frames, grow)
-    slide = _sliding_line(rate_hz)
+    slide = _stepping_line(rate_hz)  # its ends step a pitch each, at their own phases
     slips = SlipScanner(LINE, cfg, k=2, reference=reference, pitch_mm=PITCH).extend(
         np.arange(slide.shape[0]), slide
     )
