@@ -56,10 +56,7 @@ def batch_slip_scanners(
         ``SlipScanner(cls, config, k=k, pitch_mm=pitch)`` after
         ``extend(frames, rows)``, one per item.
     """
-    if isinstance(pitch_mm, (int, float)):
-        pitches = [float(pitch_mm)] * len(items)
-    else:
-        pitches = [float(p) for p in pitch_mm]
+    pitches = np.broadcast_to(np.asarray(pitch_mm, dtype=np.float64), (len(items),)).tolist()
     scanners = [
         SlipScanner(cls, config, k=k, pitch_mm=p)
         for (cls, _, _), p in zip(items, pitches, strict=True)
