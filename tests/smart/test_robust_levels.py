@@ -501,6 +501,32 @@ def test_about_one_end_waits_until_the_pivot_is_certain_enough() -> None:
         TactemeConfig(pivot_end_sigmas=-0.5)
 
 
+def test_in_an_arc_waits_until_the_pivot_is_certain_enough() -> None:
+    """A line turning about a far pivot reads "in an arc", unless its error is weighed heavily."""
+    turns = np.concatenate([np.zeros(10), np.linspace(0.0, 40.0, 60), np.full(30, 40.0)])
+    rec = TactileFrames(arc_frames(turns), t_s=np.arange(turns.size) / 20.0, pitch_mm=PITCH)
+    for cfg, arc in ((TactemeConfig(), True), (TactemeConfig(pivot_arc_sigmas=50.0), False)):
+        res = recognise(rec, cleaning=None, config=cfg)
+        assert ("LCMT in an arc" in [n for n, _ in res.tactemes]) is arc
+        assert "LCMT about one end" not in [n for n, _ in res.tactemes]
+        assert res.identified == ("truncated-cone" if arc else None)
+        sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None, config=cfg)
+        for f, t in zip(rec.frames, rec.t_s, strict=True):
+            sensor.push(f, t)
+        assert list(sensor.result().events) == list(res.events)
+    with pytest.raises(InputError, match="pivot_arc_sigmas"):
+        TactemeConfig(pivot_arc_sigmas=-0.5)
+
+
+def test_the_gates_move_the_ratio_by_its_error() -> None:
+    from taxelkit.smart.pivot_limits import pivot_lower, pivot_upper
+
+    ratio, error = np.array([1.5, 2.0, np.nan]), np.array([0.2, 0.4, 0.1])
+    np.testing.assert_allclose(pivot_upper(ratio, error, 0.5), [1.6, 2.2, np.nan])
+    np.testing.assert_allclose(pivot_lower(ratio, error, 0.5), [1.4, 1.8, np.nan])
+    assert pivot_lower(ratio, error, 0.0) is ratio and pivot_upper(ratio, error, 0.0) is ratio
+
+
 def test_the_arc_limit_widens_as_the_turn_shrinks() -> None:
     from taxelkit.smart.pivot_limits import arc_ratio_limit
 

@@ -29,6 +29,19 @@ def pivot_upper(
     return out
 
 
+def pivot_lower(
+    ratio: NDArray[np.float64], error: NDArray[np.float64], sigmas: float
+) -> NDArray[np.float64]:
+    """The ratio that "in an arc" must keep above its limit: ``ratio - sigmas x error``.
+
+    ``sigmas`` 0: the ratio itself (no allowance for the estimate's uncertainty).
+    """
+    if sigmas == 0.0:
+        return ratio
+    out: NDArray[np.float64] = ratio - sigmas * error
+    return out
+
+
 def arc_ratio_limit(
     turn_deg: NDArray[np.float64],
     end_ratio: float,

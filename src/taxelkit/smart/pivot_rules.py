@@ -15,11 +15,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from taxelkit.smart.pivot_limits import arc_limit_turn_deg, arc_ratio_limit, pivot_upper
+from taxelkit.smart.pivot_limits import (
+    arc_limit_turn_deg,
+    arc_ratio_limit,
+    pivot_lower,
+    pivot_upper,
+)
 from taxelkit.smart.pivots import drawn_pivot_fit
 from taxelkit.smart.tacteme_config import TactemeConfig
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_geometry import drawn_half_mm, first, sustained, turn
+from taxelkit.smart.verdict_holds import bridge_gaps, gap_rows
 
 if TYPE_CHECKING:
     from taxelkit.smart.tactemes import SegmentTrack
@@ -84,12 +90,14 @@ def pivot_tacteme(
     turned_now = turn(angle, ref[start] + np.zeros(n, np.intp))[start:]
     span = track.frames[start:stop] if config.hold_spans_gaps else None
     largest = np.maximum.accumulate(turned_now) if config.pivot_arc_max_turn else None
+    gap = gap_rows(track.frame_interval_s(k), config.pivot_gap_s)
     for tac, verdict in pivot_verdicts(
         config, ratio, error, arc_ratio, turned_now, line_mm, track.pitch_mm, largest
     ):
         # "about one end", the verdict that names a cone, holds on the segment's own rows
         own = tac is Tacteme.LCMT_ABOUT_END
-        j = first(sustained(verdict, pivot_hold, None if own else span, hold), 0)
+        bridged = bridge_gaps(verdict, gap)
+        j = first(sustained(bridged, pivot_hold, None if own else span, hold) & verdict, 0)
         if j is not None:
             pivots.append((start + j, tac))
     found = sorted(pivots, key=lambda hit: hit[0])
@@ -130,7 +138,7 @@ def pivot_verdicts(
     """
     short = line_mm < config.pivot_min_line_taxels * pitch_mm
     ratio = np.where(short, np.nan, ratio)
-    arc_ratio = np.where(short, np.nan, arc_ratio)
+    arc_ratio = np.where(short, np.nan, pivot_lower(arc_ratio, error, config.pivot_arc_sigmas))
     ready = turned_deg > config.pivot_turn_deg
     lo = config.pivot_end_ratio / config.pivot_band
     arc_turned = turned_deg

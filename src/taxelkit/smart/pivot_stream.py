@@ -12,10 +12,16 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from taxelkit.smart.pivot_limits import arc_limit_turn_deg, arc_ratio_limit, pivot_upper
+from taxelkit.smart.pivot_limits import (
+    arc_limit_turn_deg,
+    arc_ratio_limit,
+    pivot_lower,
+    pivot_upper,
+)
 from taxelkit.smart.pivots import pivot_from_sums, pressed_half_mm, trailing_mean
 from taxelkit.smart.tacteme_table import Tacteme
-from taxelkit.smart.track_stream import RunningSum, Sustained, drawn_length_mm, turn_from
+from taxelkit.smart.track_stream import RunningSum, drawn_length_mm, turn_from
+from taxelkit.smart.verdict_holds import BridgedSustained
 
 __all__ = ["LinePivot", "PivotRun"]
 
@@ -52,6 +58,10 @@ class PivotRun:
         (:attr:`~taxelkit.smart.tactemes.TactemeConfig.hold_spans_gaps`), on
         at least ``min_rows`` of the segment's frames.
     min_rows : int
+    gap : int
+        Rows where a verdict does not read, between two where it does, that
+        it holds through (:class:`~taxelkit.smart.verdict_holds.BridgedSustained`,
+        :attr:`~taxelkit.smart.tactemes.TactemeConfig.pivot_gap_s`).
     """
 
     def __init__(
@@ -64,6 +74,7 @@ class PivotRun:
         pressed: bool = False,
         spans: bool = False,
         min_rows: int = 1,
+        gap: int = 0,
     ) -> None:
         self.start = start  # segment index of the anchor
         self.every = every
@@ -88,7 +99,10 @@ class PivotRun:
         ] = []
         # spins, about one end, in an arc: "about one end", the verdict that names a
         # cone, holds on the segment's own rows
-        self.verdicts = [Sustained(hold, flag, min_rows) for flag in (spans, False, spans)]
+        self.verdicts = [
+            BridgedSustained(hold, flag, min_rows, gap) for flag in (spans, False, spans)
+        ]
+        self.gap = gap
         self.max_turn = 0.0  # the largest turn from the reference so far, deg
         # (frame, tacteme) of each verdict sustained so far, in the order found
         self.found: list[tuple[int, Tacteme]] = []
@@ -149,6 +163,7 @@ class PivotRun:
         pitch_mm: float = 0.0,
         min_line_mm: float = 0.0,
         end_sigmas: float = 0.0,
+        arc_sigmas: float = 0.0,
     ) -> None:
         """Run the three verdicts over the pending frames (their reference angle is known).
 
@@ -156,7 +171,9 @@ class PivotRun:
         ``end_lo`` (the ratio plus ``end_sigmas`` times its error,
         :func:`~taxelkit.smart.pivot_limits.pivot_upper`), on frames turned
         more than ``turn_deg`` from the reference; in an arc from
-        :func:`~taxelkit.smart.pivot_limits.arc_ratio_limit` of the turn;
+        :func:`~taxelkit.smart.pivot_limits.arc_ratio_limit` of the turn
+        (the arc's ratio less ``arc_sigmas`` times the error,
+        :func:`~taxelkit.smart.pivot_limits.pivot_lower`);
         no verdict on lines drawn shorter than ``min_line_mm``; with
         ``arc_max_turn`` (the run's) the arc's limit reads the largest turn so far where
         the grid allows (:func:`~taxelkit.smart.pivot_limits.arc_limit_turn_deg`,
@@ -179,10 +196,11 @@ class PivotRun:
             short = line_mm < min_line_mm
             ratio = np.where(short, np.nan, ratio)
             ready = turned > turn_deg
-            arc = np.where(short, np.nan, arc_ratio) >= arc_ratio_limit(
+            arc_low = pivot_lower(arc_ratio, error, arc_sigmas)
+            arc = np.where(short, np.nan, arc_low) >= arc_ratio_limit(
                 arc_turned, end_ratio, band, turn_deg, arc_turn_deg, line_mm, pitch_mm
             )
-            if not (ready.any() or arc.any()):  # no verdict can hold on these frames
+            if not (ready.any() or arc.any()) and self.gap == 0:  # no verdict holds here
                 for s in self.verdicts:
                     s.reset()
                 continue
@@ -237,6 +255,8 @@ class LinePivot:
         Verdicts hold over the recording's frames (:class:`PivotRun`).
     min_rows : int
         Rows a verdict must hold on, with ``spans`` (:class:`PivotRun`).
+    gap : int
+        Rows a verdict holds through (:class:`PivotRun`).
     """
 
     def __init__(
@@ -250,8 +270,10 @@ class LinePivot:
         pressed: bool = False,
         spans: bool = False,
         min_rows: int = 1,
+        gap: int = 0,
     ) -> None:
         self.w, self.hold, self.limits, self.arc_w = w, hold, limits, arc_w
+        self.gap = gap
         self.every, self.arc_max_turn, self.pressed = every, arc_max_turn, pressed
         self.spans, self.min_rows = spans, min_rows
         self.run: PivotRun | None = None
@@ -297,6 +319,7 @@ class LinePivot:
                     self.pressed,
                     self.spans,
                     self.min_rows,
+                    self.gap,
                 )
                 self._kept, self._kept_n = [], 0
             if run.complete:

@@ -46,6 +46,7 @@ from taxelkit.smart.track_stream import (
     mean_axis_deg,
     turn_from,
 )
+from taxelkit.smart.verdict_holds import gap_rows
 
 __all__ = ["ROW_COLUMNS", "SegmentScanner", "mean_axis_deg", "rows_from_track"]
 
@@ -174,6 +175,7 @@ class SegmentScanner(SegmentHead):
             self.pitch_mm,
             cfg.pivot_min_line_taxels * self.pitch_mm,
             cfg.pivot_end_sigmas,
+            cfg.pivot_arc_sigmas,
         )
         self._last_angle = float("nan")
         self._done: set[Tacteme] = set()
@@ -204,6 +206,7 @@ class SegmentScanner(SegmentHead):
             cfg.pivot_pressed_half,
             spans,
             self.hold,
+            gap_rows(self.frame_interval_s(k), cfg.pivot_gap_s),
         )
 
     def _anchors(

@@ -35,6 +35,7 @@ from taxelkit.smart.tactemes import (
     frames_for_interval,
 )
 from taxelkit.smart.track_geometry import axis_angle_deg, drawn_half_mm
+from taxelkit.smart.verdict_holds import bridge_gaps, gap_rows
 
 __all__ = ["batch_tactemes"]
 
@@ -279,15 +280,25 @@ def _first_held(
     holds: NDArray[np.intp],
     span: NDArray[np.intp] | None = None,
     min_rows: int = 1,
+    keep: NDArray[np.bool_] | None = None,
 ) -> NDArray[np.intp]:
-    """``runs.first_sustained(mask, h, span, min_rows)``, each segment's own ``h`` (``holds``)."""
+    """``runs.first_sustained(mask, h, span, min_rows)``, each segment's own ``h`` (``holds``).
+
+    ``keep``: only its True rows may be the first (a mask whose gaps were
+    bridged, :func:`~taxelkit.smart.verdict_holds.bridge_gaps`, and the mask before).
+    """
+
+    def held(h: int) -> NDArray[np.intp]:
+        on = runs.sustained(mask, h, span, min_rows)
+        return runs.first(on if keep is None else on & keep)
+
     values = np.unique(holds).tolist()
     if len(values) == 1:
-        return runs.first_sustained(mask, values[0], span, min_rows)
+        return held(values[0])
     out = np.full(holds.size, -1, np.intp)
     for h in values:
         sel = holds == h
-        out[sel] = runs.first_sustained(mask, h, span, min_rows)[sel]
+        out[sel] = held(h)[sel]
     return out
 
 
@@ -346,13 +357,18 @@ def _pivots(
     turned_now = np.abs((angle[rows] - angle[ref_start][part.seg] + 90.0) % 180.0 - 90.0)
     largest = part.cummax(turned_now) if config.pivot_arc_max_turn else None  # run by run
     verdicts = pivot_verdicts(config, ratio, error, arc_ratio, turned_now, line_mm, pitch, largest)
-    holds = _holds([tracks[s] for s in together.tolist()], config.pivot_hold_s, hold, config)
+    group = [tracks[s] for s in together.tolist()]
+    holds = _holds(group, config.pivot_hold_s, hold, config)
+    k = int(config.debounce_frames)
+    gaps = np.array([gap_rows(t.frame_interval_s(k), config.pivot_gap_s) for t in group])
     verdicts_of: list[list[tuple[int, Tacteme]]] = [[] for _ in range(together.size)]
     part_span = None if span is None else span[rows]
     for tac, verdict in verdicts:
         # "about one end", the verdict that names a cone, holds on the segment's own rows
         own = tac is Tacteme.LCMT_ABOUT_END
-        js = _first_held(part, verdict, holds, None if own else part_span, hold)
+        bridged = bridge_gaps(verdict, gaps[part.seg], part.seg)
+        span_v = None if own else part_span
+        js = _first_held(part, bridged, holds, span_v, hold, keep=verdict)
         for i, j in enumerate(js.tolist()):
             if j >= 0:
                 verdicts_of[i].append((int(first[i]) + j, tac))
