@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -484,38 +486,30 @@ def test_the_pivot_of_a_line_too_short_for_the_grid_is_not_read() -> None:
         TactemeConfig(pivot_min_line_taxels=-1.0)
 
 
-def test_about_one_end_waits_until_the_pivot_is_certain_enough() -> None:
-    """A line turning about its end reads "about one end", unless its error is weighed heavily."""
+@pytest.mark.parametrize(
+    ("frames_of", "verdict", "other", "name", "option"),
+    [
+        (end_frames, "LCMT about one end", "LCMT in an arc", "cone", "pivot_end_sigmas"),
+        (arc_frames, "LCMT in an arc", "LCMT about one end", "truncated-cone", "pivot_arc_sigmas"),
+    ],
+)
+def test_a_pivot_verdict_waits_until_the_pivot_is_certain_enough(
+    frames_of: Any, verdict: str, other: str, name: str, option: str
+) -> None:
+    """A line turning about its end (a far pivot) reads its verdict unless its error weighs much."""
     turns = np.concatenate([np.zeros(10), np.linspace(0.0, 40.0, 60), np.full(30, 40.0)])
-    rec = TactileFrames(end_frames(turns), t_s=np.arange(turns.size) / 20.0, pitch_mm=PITCH)
-    for cfg, about_end in ((TactemeConfig(), True), (TactemeConfig(pivot_end_sigmas=50.0), False)):
+    rec = TactileFrames(frames_of(turns), t_s=np.arange(turns.size) / 20.0, pitch_mm=PITCH)
+    for cfg, read in ((TactemeConfig(), True), (TactemeConfig(**{option: 50.0}), False)):
         res = recognise(rec, cleaning=None, config=cfg)
-        assert ("LCMT about one end" in [n for n, _ in res.tactemes]) is about_end
-        assert "LCMT in an arc" not in [n for n, _ in res.tactemes]
-        assert res.identified == ("cone" if about_end else None)
+        assert (verdict in [n for n, _ in res.tactemes]) is read
+        assert other not in [n for n, _ in res.tactemes]
+        assert res.identified == (name if read else None)
         sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None, config=cfg)
         for f, t in zip(rec.frames, rec.t_s, strict=True):
             sensor.push(f, t)
         assert list(sensor.result().events) == list(res.events)
-    with pytest.raises(InputError, match="pivot_end_sigmas"):
-        TactemeConfig(pivot_end_sigmas=-0.5)
-
-
-def test_in_an_arc_waits_until_the_pivot_is_certain_enough() -> None:
-    """A line turning about a far pivot reads "in an arc", unless its error is weighed heavily."""
-    turns = np.concatenate([np.zeros(10), np.linspace(0.0, 40.0, 60), np.full(30, 40.0)])
-    rec = TactileFrames(arc_frames(turns), t_s=np.arange(turns.size) / 20.0, pitch_mm=PITCH)
-    for cfg, arc in ((TactemeConfig(), True), (TactemeConfig(pivot_arc_sigmas=50.0), False)):
-        res = recognise(rec, cleaning=None, config=cfg)
-        assert ("LCMT in an arc" in [n for n, _ in res.tactemes]) is arc
-        assert "LCMT about one end" not in [n for n, _ in res.tactemes]
-        assert res.identified == ("truncated-cone" if arc else None)
-        sensor = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None, config=cfg)
-        for f, t in zip(rec.frames, rec.t_s, strict=True):
-            sensor.push(f, t)
-        assert list(sensor.result().events) == list(res.events)
-    with pytest.raises(InputError, match="pivot_arc_sigmas"):
-        TactemeConfig(pivot_arc_sigmas=-0.5)
+    with pytest.raises(InputError, match=option):
+        TactemeConfig(**{option: -0.5})
 
 
 def test_the_gates_move_the_ratio_by_its_error() -> None:

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["arc_limit_turn_deg", "arc_ratio_limit", "grid_tilt_deg", "pivot_upper"]
+__all__ = ["arc_limit_turn_deg", "arc_ratio_limit", "grid_tilt_deg", "pivot_lower", "pivot_upper"]
 
 
 def pivot_upper(
@@ -36,10 +36,7 @@ def pivot_lower(
 
     ``sigmas`` 0: the ratio itself (no allowance for the estimate's uncertainty).
     """
-    if sigmas == 0.0:
-        return ratio
-    out: NDArray[np.float64] = ratio - sigmas * error
-    return out
+    return pivot_upper(ratio, error, -sigmas)
 
 
 def arc_ratio_limit(
