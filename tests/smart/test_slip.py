@@ -363,7 +363,8 @@ def test_one_frame_jumping_along_a_line_and_back_does_not_decide_a_slip_at_20_hz
     rows[25, 0] = 2 * PITCH  # the ends jump two pitches along the line for one frame
     frames = np.arange(rows.shape[0])
     assert SlipScanner(line, SlipConfig(), k=2).extend(frames, rows) == []
-    alone = SlipConfig(line_jump_back=False)
+    assert SlipScanner(line, SlipConfig(line_jump_back=False), k=2).extend(frames, rows) == []
+    alone = SlipConfig(line_jump_back=False, line_reseat_s=0.0)  # the jump from rest reseats
     (slip,) = SlipScanner(line, alone, k=2).extend(frames, rows)
     assert slip.detected_frame == 26
     scan = SlipScanner(line, SlipConfig(), k=2)

@@ -81,14 +81,15 @@ def test_a_line_growing_at_one_end_does_not_slip_and_a_sliding_one_does(
 ) -> None:
     grow = _growing_line(rate_hz)
     frames = np.arange(grow.shape[0])
-    cfg = SlipConfig()
+    cfg = SlipConfig(line_reseat_s=0.0)  # (its ends step the same way at once: a reseat too)
     assert (
         SlipScanner(LINE, cfg, k=2, reference=reference, pitch_mm=PITCH).extend(frames, grow) == []
     )
+    assert SlipScanner(LINE, SlipConfig(), k=2, reference=reference).extend(frames, grow) == []
     if rate_hz > 20.0:  # (at 20 frames/s the single step does not hold long enough anyway)
         # the test needs the pitch; without it (or switched off) the growth reads as a slide
         assert SlipScanner(LINE, cfg, k=2, reference=reference).extend(frames, grow)
-        off = SlipConfig(line_length_pitches=math.inf)
+        off = SlipConfig(line_length_pitches=math.inf, line_reseat_s=0.0)
         scan = SlipScanner(LINE, off, k=2, reference=reference, pitch_mm=PITCH)
         assert scan.extend(frames, grow)
     slide = _stepping_line(rate_hz)  # its ends step a pitch each, at their own phases

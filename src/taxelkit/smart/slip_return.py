@@ -20,7 +20,26 @@ from numpy.typing import NDArray
 from taxelkit.smart.slip_features import line_returned
 from taxelkit.smart.slip_motion import exact_means
 
-__all__ = ["ReturnTest", "drop_returns", "first_hold_hit"]
+__all__ = ["ReturnTest", "drop_returns", "first_hold_hit", "reseat_steps"]
+
+
+def reseat_steps(x: NDArray[np.float64], limit_mm: float) -> NDArray[np.bool_]:
+    """Whether both drawn ends of a line stepped along it together, beyond ``limit_mm``.
+
+    For each row of ``x`` ``(n, 15)`` but the first (``(n - 1,)``): the
+    ends' moves from the row before, along that row's line (from its first
+    end to its second), both of one sign and both longer than ``limit_mm``.
+    Only IEEE-exact operations (products, sums and one square root, no
+    division or trigonometry): the same decisions on every CPU and in every
+    path. Rows whose ends were not measured (NaN) never step.
+    """
+    a, b = x[:-1], x[1:]
+    lx, ly = a[:, 9] - a[:, 7], a[:, 10] - a[:, 8]  # the line, first end to second
+    d1 = (b[:, 7] - a[:, 7]) * lx + (b[:, 8] - a[:, 8]) * ly  # moves along it, times its length
+    d2 = (b[:, 9] - a[:, 9]) * lx + (b[:, 10] - a[:, 10]) * ly
+    far = limit_mm * np.sqrt(lx * lx + ly * ly)
+    out: NDArray[np.bool_] = (d1 * d2 > 0.0) & (np.abs(d1) > far) & (np.abs(d2) > far)
+    return out
 
 
 def first_hold_hit(
@@ -58,6 +77,13 @@ class ReturnTest:
         (``line_jump_back``, where one frame lies in every window of the hold).
     tol_mm, area_step : float
         ``line_return_mm`` and ``area_step`` of the config.
+    reseat_mm : float
+        Also a pair of windows across which the line reseated: both ends
+        stepped along it, the same way, by more than this in one frame
+        (:func:`reseat_steps`), with no such step in the :attr:`rest`
+        frames before (``line_reseat_s``; 0: not tested).
+    rest : int
+        Frames without a step of both ends before a reseat.
     """
 
     cur: int
@@ -66,6 +92,8 @@ class ReturnTest:
     jump: bool
     tol_mm: float
     area_step: float
+    reseat_mm: float = 0.0
+    rest: int = 0
 
     def returned(
         self, x: NDArray[np.float64], ps: NDArray[np.intp], first_allowed: int
@@ -78,12 +106,24 @@ class ReturnTest:
         line; or, with :attr:`jump`, the frame itself where a frame of its
         reference had it. Each mean is summed row by row (the floats of the
         per-frame rule's means), so a window's verdict does not depend on
-        which others are tested with it.
+        which others are tested with it. With :attr:`reseat_mm`, also the
+        windows across which the line's ends stepped together (:func:`reseat_steps`).
         """
         c, r = self.cur, self.ref
         ps = np.asarray(ps, np.intp)
         lo = ps - c - r + 1  # each reference's first row
         out = np.zeros(ps.size, bool)
+        seated = np.zeros(ps.size, bool)
+        if self.reseat_mm > 0.0 and ps.size:
+            g = max(0, int(lo.min()) - self.rest, first_allowed)
+            both = reseat_steps(x[g : int(ps.max()) + 1], self.reseat_mm)
+            # both[j - 1]: the ends stepped together into row g + j; a reseat: none in the rest
+            # before (a slide whose two ends keep stepping together is judged at its next step)
+            moved = np.concatenate([[0], np.cumsum(both)])  # moved[j]: into rows g + 1 .. g + j
+            j = np.arange(1, both.size + 1)
+            calm = moved[j - 1] - moved[np.maximum(j - 1 - self.rest, 0)] == 0
+            upto = np.concatenate([[0], np.cumsum(both & calm)])
+            seated = upto[ps - g] - upto[np.clip(lo - g, 0, None)] > 0  # into rows lo + 1 .. ps
         if self.jump:
             g = max(0, int(lo.min()))
             out = line_returned(
@@ -100,7 +140,7 @@ class ReturnTest:
                     cur, x[g : int(lo[todo].max())], first[todo] - g, lo[todo] - g,
                     tol_mm=self.tol_mm, area_step=self.area_step,
                 )  # fmt: skip
-        return out
+        return out | seated
 
 
 def drop_returns(

@@ -122,12 +122,14 @@ class SlipScanner:
         # whether one frame lies in every current window of the hold (line_jump_back)
         back = frames(cfg.line_return_s, 1) if self.cls == _LINE and cfg.line_return_s else 0
         jump = self.cls == _LINE and cfg.line_jump_back and self.hold <= self.cur
+        rest = frames(cfg.line_reseat_s, 1) if self.cls == _LINE and cfg.line_reseat_s else 0
+        reseat = cfg.line_slip_mm if rest else 0.0
         self._back: ReturnTest | None = None
-        if back or jump:
+        if back or jump or rest:
             self._back = ReturnTest(
-                self.cur, self.ref, back, jump, cfg.line_return_mm, cfg.area_step
+                self.cur, self.ref, back, jump, cfg.line_return_mm, cfg.area_step, reseat, rest
             )
-        self.keep = max(self.cur + self.ref + back, 2 * self.end)
+        self.keep = max(self.cur + self.ref + max(back, rest), 2 * self.end)
         self._ready = True
 
     def features(self, rows: NDArray[np.float64]) -> NDArray[np.float64]:
