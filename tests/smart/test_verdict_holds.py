@@ -11,7 +11,7 @@ from taxelkit.errors import InputError
 from taxelkit.smart.segment_runs import Runs
 from taxelkit.smart.tactemes import TactemeConfig
 from taxelkit.smart.track_geometry import first, sustained
-from taxelkit.smart.verdict_holds import BridgedSustained, bridge_gaps, gap_rows
+from taxelkit.smart.verdict_holds import Sustained, bridge_gaps, gap_rows
 
 
 def _bridged_by_loop(mask: np.ndarray, gap: int) -> np.ndarray:
@@ -39,7 +39,7 @@ def test_bridge_gaps_fills_only_short_gaps_between_true_rows() -> None:
 
 
 def test_the_streamed_hold_is_the_batch_hold_whatever_the_chunks() -> None:
-    """BridgedSustained == first(sustained(bridge_gaps(mask), k, frames, min_rows) & mask)."""
+    """Sustained == first(sustained(bridge_gaps(mask), k, frames, min_rows) & mask)."""
     rng = np.random.default_rng(11)
     for case in range(400):
         n = int(rng.integers(1, 120))
@@ -51,7 +51,7 @@ def test_the_streamed_hold_is_the_batch_hold_whatever_the_chunks() -> None:
         held = sustained(bridge_gaps(mask, gap), k, frames if spans else None, min_rows) & mask
         j = first(held, 0)
         expected = None if j is None else int(frames[j])
-        stream = BridgedSustained(k, spans, min_rows, gap)
+        stream = Sustained(k, spans, min_rows, gap)
         cuts = np.sort(rng.integers(0, n + 1, int(rng.integers(0, 6))))
         got = None
         for a, b in zip(np.r_[0, cuts], np.r_[cuts, n], strict=True):

@@ -21,7 +21,7 @@ from taxelkit.smart.pivot_limits import (
 from taxelkit.smart.pivots import pivot_from_sums, pressed_half_mm, trailing_mean
 from taxelkit.smart.tacteme_table import Tacteme
 from taxelkit.smart.track_stream import RunningSum, drawn_length_mm, turn_from
-from taxelkit.smart.verdict_holds import BridgedSustained
+from taxelkit.smart.verdict_holds import Sustained
 
 __all__ = ["LinePivot", "PivotRun"]
 
@@ -60,7 +60,7 @@ class PivotRun:
     min_rows : int
     gap : int
         Rows where a verdict does not read, between two where it does, that
-        it holds through (:class:`~taxelkit.smart.verdict_holds.BridgedSustained`,
+        it holds through (:class:`~taxelkit.smart.verdict_holds.Sustained`,
         :attr:`~taxelkit.smart.tactemes.TactemeConfig.pivot_gap_s`).
     """
 
@@ -99,9 +99,7 @@ class PivotRun:
         ] = []
         # spins, about one end, in an arc: "about one end", the verdict that names a
         # cone, holds on the segment's own rows
-        self.verdicts = [
-            BridgedSustained(hold, flag, min_rows, gap) for flag in (spans, False, spans)
-        ]
+        self.verdicts = [Sustained(hold, flag, min_rows, gap) for flag in (spans, False, spans)]
         self.gap = gap
         self.max_turn = 0.0  # the largest turn from the reference so far, deg
         # (frame, tacteme) of each verdict sustained so far, in the order found

@@ -145,7 +145,7 @@ class TactemeConfig:
         rms distance from the pivot over the sine of their spread) below
         ``pivot_end_ratio / pivot_band``: a pivot located from a few noisy
         lines, or from lines that do not meet in one point, does not name a
-        cone. "In an arc" has its own, smaller gate (``pivot_arc_sigmas``).
+        cone. "In an arc" has an optional gate, off by default (``pivot_arc_sigmas``).
         0: no gate (as in :data:`PAPER_LEVEL3`). With ``pivot_end_ratio`` 1.40 and
         ``pivot_band`` 1.10 (drawn half-lengths, before
         ``pivot_pressed_half``), against 1.32, 1.15 and no gate, on the

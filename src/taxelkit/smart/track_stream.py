@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from taxelkit.smart.track_geometry import drawn_half_mm, spaced_points
+from taxelkit.smart.verdict_holds import Sustained
 
 __all__ = [
     "CarriedShift",
@@ -99,63 +100,6 @@ class RollingMean:
         self._tail = hist[-w:]
         result: NDArray[np.float64] = out / n
         return result
-
-
-class Sustained:
-    """``first(sustained(mask, k))`` of a mask arriving in chunks: the run length is carried.
-
-    Parameters
-    ----------
-    k : int
-        Frames the mask must hold.
-    spans : bool
-        The run must span ``k`` of the frames numbered (``index``), those left
-        out between its rows counted, and ``min_rows`` rows, as
-        ``sustained(mask, k, frames, min_rows)``; False: ``k`` rows.
-    min_rows : int
-    """
-
-    def __init__(self, k: int, spans: bool = False, min_rows: int = 1) -> None:
-        self.k = int(k)
-        self.spans = spans
-        self.min_rows = int(min_rows)
-        self.run = 0
-        self.start = -1  # with spans: the number of the open run's first row (-1: none)
-        self.found: int | None = None
-
-    def reset(self) -> None:
-        """The mask is False: no run is open."""
-        self.run = 0
-        self.start = -1
-
-    def push(self, mask: NDArray[np.bool_], index: NDArray[np.intp]) -> int | None:
-        """Feed the mask of rows numbered ``index``; return the first hit's number (kept)."""
-        if self.found is not None or mask.size == 0:
-            return self.found
-        if not mask.any():
-            self.reset()
-            return None
-        idx = np.arange(mask.size)
-        if self.spans:
-            z = np.where(mask, -1, idx + 1)  # -1: a run that began before this chunk
-            if self.start < 0 and mask[0]:
-                z[0] = 0
-            row = np.maximum.accumulate(z)
-            first = np.where(row < 0, self.start, index[np.clip(row, 0, mask.size - 1)])
-            rows = np.where(row < 0, idx + 1 + self.run, idx - row + 1)  # the run's rows so far
-            hits = np.flatnonzero(mask & (index - first + 1 >= self.k) & (rows >= self.min_rows))
-            if hits.size:
-                self.found = int(index[hits[0]])
-            self.start = int(first[-1]) if mask[-1] else -1
-            self.run = int(rows[-1]) if mask[-1] else 0
-            return self.found
-        last_off = np.maximum.accumulate(np.where(mask, -1 - self.run, idx))
-        run = idx - last_off
-        hits = np.flatnonzero(run >= self.k)
-        if hits.size:
-            self.found = int(index[hits[0]])
-        self.run = int(run[-1])
-        return self.found
 
 
 class LegScan:

@@ -10,9 +10,11 @@ reported only on a row where it reads (so the streamed rule, which cannot
 see past its last row, decides as the batch rule does).
 
 :func:`bridge_gaps` is the batch form (for one segment or for many laid end
-to end); :class:`BridgedSustained` the streamed one, equal to
+to end); :class:`Sustained` the streamed one, equal to
 ``first(sustained(bridge_gaps(mask, gap), k, frames, min_rows) & mask)``
-whatever the chunks (tested). With ``gap`` 0 both are the plain rule.
+whatever the chunks (tested). With ``gap`` 0 both are the plain rule, and
+:class:`Sustained` is the streamed hold of every Level 3 motion
+(:mod:`taxelkit.smart.track_stream` re-exports it).
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["BridgedSustained", "bridge_gaps", "gap_rows"]
+__all__ = ["Sustained", "bridge_gaps", "gap_rows"]
 
 
 def gap_rows(frame_interval_s: float, seconds: float) -> int:
@@ -72,7 +74,7 @@ def bridge_gaps(
     return out
 
 
-class BridgedSustained:
+class Sustained:
     """The first row where a mask arriving in chunks has held, bridging gaps of ``gap`` rows.
 
     ``first(sustained(bridge_gaps(mask, gap), k, frames, min_rows) & mask)``
