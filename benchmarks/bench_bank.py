@@ -68,20 +68,21 @@ def roll_pool(n: int) -> list[np.ndarray]:
 def skin_frames(
     pool: list[np.ndarray], n_arrays: int, n_frames: int, active: float, rng: np.random.Generator
 ) -> np.ndarray:
-    """Frames ``(N, T, 16, 16)``: each active array loops one roll from a random offset."""
-    out = np.zeros((n_arrays, n_frames, 16, 16), bool)
+    """Frames ``(T, N, 16, 16)``, time first (each push takes one contiguous block, as a
+    skin's fresh frames would be): each active array loops one roll from a random offset."""
+    out = np.zeros((n_frames, n_arrays, 16, 16), bool)
     for i in np.flatnonzero(rng.random(n_arrays) < active):
         roll = pool[int(rng.integers(len(pool)))]
         clear = np.zeros((int(rng.integers(50, 500)), 16, 16), bool)  # lifted between rolls
         loop = np.concatenate([clear, roll])
         idx = (int(rng.integers(loop.shape[0])) + np.arange(n_frames)) % loop.shape[0]
-        out[i] = loop[idx]
+        out[:, i] = loop[idx]
     return out
 
 
 def bank_run(frames: np.ndarray, args: argparse.Namespace) -> dict[str, float]:
-    """One bank run over ``frames`` ``(N, T, 16, 16)``: CPU rate, per-push times, wall rate."""
-    n, t_n, b = frames.shape[0], frames.shape[1], args.batch_frames
+    """One bank run over ``frames`` ``(T, N, 16, 16)``: CPU rate, per-push times, wall rate."""
+    t_n, n, b = frames.shape[0], frames.shape[1], args.batch_frames
     times = (np.arange(t_n) / RATE_HZ).tolist()
     bank = SensorBank(
         n,
@@ -94,7 +95,7 @@ def bank_run(frames: np.ndarray, args: argparse.Namespace) -> dict[str, float]:
     wall0, t_start = time.perf_counter(), clock()
     for j in range(t_n):
         t0 = clock()
-        bank.push(frames[:, j], times[j])
+        bank.push(frames[j], times[j])
         per_push.append(clock() - t0)
     bank.flush()
     t_bank = clock() - t_start
@@ -109,7 +110,7 @@ def bank_run(frames: np.ndarray, args: argparse.Namespace) -> dict[str, float]:
 
 def separate_rate(frames: np.ndarray, n_measured: int) -> float:
     """Frames/s of one ``SmartSensor.push`` per array per frame, on the first arrays, scaled."""
-    n, t_n = frames.shape[:2]
+    t_n, n = frames.shape[:2]
     times = (np.arange(t_n) / RATE_HZ).tolist()
     m = min(n_measured, n)
     pitch = BONNEVILLE_16X16.array.pitch_mm
@@ -118,7 +119,7 @@ def separate_rate(frames: np.ndarray, n_measured: int) -> float:
     for j in range(t_n):
         t = times[j]
         for i in range(m):
-            sensors[i].push(frames[i, j], t)
+            sensors[i].push(frames[j, i], t)
     return n * t_n / ((clock() - t0) * n / m)
 
 

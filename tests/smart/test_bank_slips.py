@@ -103,8 +103,9 @@ def rolls(n: int, n_frames: int) -> np.ndarray:
     return out
 
 
-@pytest.mark.parametrize("batch_frames", [37, 256])
+@pytest.mark.parametrize("batch_frames", [37, 256, 700])
 def test_a_bank_with_every_array_touched_gives_each_its_own_events(batch_frames: int) -> None:
+    """700: the whole recording is one batch (every array's segments are computed together)."""
     frames = rolls(6, 700)
     t = np.arange(frames.shape[1]) / 240.0
     bank = SensorBank(

@@ -11,9 +11,12 @@ push, ``(N, rows, cols)``, buffers ``batch_frames`` of them and runs:
 * the debounce and Levels 3-4 per array
   (:class:`~taxelkit.smart.stream_state.ArrayStream`, one Python step per run
   of equal classes; an array with no contact in the chunk and none pending
-  costs a counter update), but for the slip scanners' features and window
-  motions of the open segments' new frames, computed for all the arrays at
-  once (:func:`~taxelkit.smart.bank_slips.slip_inputs`).
+  costs a counter update), but for the segments that begin and end within
+  the chunk (their Level 3 computed for all the arrays in one
+  :func:`~taxelkit.smart.levels34.track_segments` call) and the slip
+  scanners' features and window motions of the open segments' new frames,
+  computed for all the arrays at once
+  (:func:`~taxelkit.smart.bank_slips.slip_inputs`).
 
 Each array gets the events that a ``SmartSensor`` of its own, or
 :func:`~taxelkit.smart.recogniser.recognise` on its frames, gives (tested).
@@ -51,8 +54,8 @@ from taxelkit.smart.levels12 import (
     DEFAULT_THRESHOLD_MM,
     ChunkLevels12,
 )
-from taxelkit.smart.levels34 import Recognition
-from taxelkit.smart.stream_state import ArrayStream, ClassHistory
+from taxelkit.smart.levels34 import Recognition, track_segments
+from taxelkit.smart.stream_state import ArrayStream, ClassHistory, WholeItem
 from taxelkit.smart.streaming import check_count
 from taxelkit.smart.tactemes import TactemeConfig
 
@@ -252,18 +255,28 @@ class SensorBank:
     ) -> list[tuple[int, Event]]:
         """Debounce and Levels 3-4 of every array's chunk: classes, rows ``(N, T, 9)``, times.
 
-        Every touched array is debounced and shown to Levels 3-4 up to its
-        open segment's last feed; the slip scanners' part of those feeds is
-        computed for all of them at once (:func:`~taxelkit.smart.bank_slips.slip_inputs`),
-        then each feed is made.
+        Every touched array is debounced; the segments that began and ended
+        within the chunk, of all arrays, are computed at once
+        (:func:`~taxelkit.smart.levels34.track_segments`); each array is then
+        shown to Levels 3-4 up to its open segment's last feed; the slip
+        scanners' part of those feeds is computed for all of them at once
+        (:func:`~taxelkit.smart.bank_slips.slip_inputs`), then each feed is made.
         """
         quiet = (~np.any(classes != _NONE, axis=1)).tolist()
         touched: list[tuple[int, list[Event]]] = []
+        whole: list[list[WholeItem]] = []
         for i, (stream, still) in enumerate(zip(self._streams, quiet, strict=True)):
             if still and stream.idle:
                 stream.push_quiet(t[i])
                 continue
-            touched.append((i, stream.begin_chunk(classes[i], rows[i], t[i])))
+            touched.append((i, []))
+            whole.append(stream.debounce_chunk(classes[i], rows[i], t[i]))
+        # the segments that began and ended within the chunk, of every array at once
+        segs = track_segments([w for items in whole for w in items], self.config)
+        at = 0
+        for (i, events), items in zip(touched, whole, strict=True):
+            events += self._streams[i].settle_chunk(segs[at : at + len(items)])
+            at += len(items)
         feeds = [(k, self._streams[i].tail_feed) for k, (i, _) in enumerate(touched)]
         fed = [(k, f) for k, f in feeds if f is not None]
         inputs = slip_inputs([f for _, f in fed])

@@ -26,15 +26,18 @@ from numpy.typing import NDArray
 from taxelkit.smart.class_history import ClassHistory, check_chunk
 from taxelkit.smart.contact_classes import ContactClass
 from taxelkit.smart.elimination import Event
-from taxelkit.smart.levels34 import Levels34, Recognition, finish, track_segments
+from taxelkit.smart.levels34 import Levels34, Recognition, TrackSegment, finish, track_segments
 from taxelkit.smart.segment_head import SlipInputs, track_from_rows
 from taxelkit.smart.segment_scan import SegmentScanner
 from taxelkit.smart.slip_scan import SlipScanner
 from taxelkit.smart.stream_calls import DeferredSegment, LevelsCall
 from taxelkit.smart.tacteme_table import Tacteme
-from taxelkit.smart.tactemes import TactemeConfig, debounce_counts
+from taxelkit.smart.tactemes import SegmentTrack, TactemeConfig, debounce_counts
 
-__all__ = ["ArrayStream", "ClassHistory", "check_chunk"]
+__all__ = ["ArrayStream", "ClassHistory", "WholeItem", "check_chunk"]
+
+#: A segment that began and ended within a chunk: class, track, rows (as fed).
+WholeItem = tuple[int, SegmentTrack, NDArray[np.float64] | None]
 
 _NONE = int(ContactClass.NONE)
 _INDET = int(ContactClass.INDETERMINATE)
@@ -93,6 +96,8 @@ class ArrayStream:
             tuple[SegmentScanner, NDArray[np.intp], NDArray[np.float64], tuple[int, int] | None]
             | None
         ) = None
+        self._before = 0  # events before the chunk (debounce_chunk to settle_chunk)
+        self._settling = False
         #: Tactemes of segments ending in the next chunk, by (class, frames.tobytes()), computed
         self.precomputed: dict[tuple[int, bytes], list[tuple[Tacteme, int]]] = {}  # elsewhere
 
@@ -154,21 +159,37 @@ class ArrayStream:
         The feed that ends the chunk (its frames to the open segment's
         scanner) waits in :attr:`tail_feed` for :meth:`end_chunk`, which must
         come next: a bank computes the slip scanners' part of those feeds for
-        all its arrays at once in between.
+        all its arrays at once in between. It is :meth:`debounce_chunk` and
+        :meth:`settle_chunk` with this array's whole segments computed between.
+        """
+        items = self.debounce_chunk(classes, rows, t_s)
+        segs = track_segments(items, self.config, known=self.precomputed) if items else []
+        return self.settle_chunk(segs)
+
+    def debounce_chunk(
+        self, classes: NDArray[np.int8], rows: NDArray[np.float64], t_s: NDArray[np.float64]
+    ) -> list[WholeItem]:
+        """:meth:`begin_chunk`'s debounce: the segments that began and ended within the chunk.
+
+        Returns each such segment's ``(class, track, rows)``, in order, for
+        :func:`~taxelkit.smart.levels34.track_segments`; its result goes to
+        :meth:`settle_chunk`, which must come next. A bank computes those of
+        all its arrays in one call (:attr:`precomputed` must then be empty).
         """
         assert self._tail is None, "end_chunk must follow begin_chunk"
+        self._before = len(self.state.events)
+        self._settling = False
         m = int(classes.size)
         if m == 0:
             return []
         if self.frame_index == 0 and m > 1:  # the first frame is debounced before dt is known
-            return self.push_chunk(classes[:1], rows[:1], t_s[:1]) + self.begin_chunk(
-                classes[1:], rows[1:], t_s[1:]
-            )
+            self.push_chunk(classes[:1], rows[:1], t_s[:1])
+            classes, rows, t_s = classes[1:], rows[1:], t_s[1:]
+            m -= 1
         j0 = self.frame_index
         self.frame_index += m
         self.classes.extend_array(classes)
         self._timing(float(t_s[0]), float(t_s[1]) if m > 1 else None)
-        before = len(self.state.events)
         idx = np.flatnonzero(classes != _INDET)
         if idx.size == 0:
             return []
@@ -180,13 +201,24 @@ class ArrayStream:
         self._queue = []
         try:
             self._runs(c, idx, bounds, rows, j0, k_contact, k_none)
-        finally:
+        except BaseException:
             self._defer = False
             self._replay()
             self._undefer(hold=True)
-        if sum(j.size for j, _ in self._pend_chunks) >= self.chunk_every:
-            self._feed(final=False, hold=True)
-        return self.state.events[before:]
+            raise
+        self._defer = False
+        self._settling = True
+        return [(q.cls, q.track, q.rows) for q in self._queue if q.track is not None]
+
+    def settle_chunk(self, segs: list[TrackSegment]) -> list[Event]:
+        """The rest of :meth:`begin_chunk`: ``segs``, those of :meth:`debounce_chunk`'s segments."""
+        if self._settling:
+            self._settling = False
+            self._replay(segs=segs)
+            self._undefer(hold=True)
+            if sum(j.size for j, _ in self._pend_chunks) >= self.chunk_every:
+                self._feed(final=False, hold=True)
+        return self.state.events[self._before :]
 
     @property
     def tail_feed(self) -> tuple[SlipScanner | None, NDArray[np.float64]] | None:
@@ -316,14 +348,20 @@ class ArrayStream:
         else:
             self._queue.append(call)
 
-    def _replay(self, calls: list[LevelsCall] | None = None) -> None:
-        """Make the queued calls to Levels 3-4 in order (the whole segments' tactemes at once)."""
+    def _replay(
+        self, calls: list[LevelsCall] | None = None, segs: list[TrackSegment] | None = None
+    ) -> None:
+        """Make the queued calls to Levels 3-4 in order (the whole segments' tactemes at once).
+
+        ``segs``: the whole segments' :class:`TrackSegment`, computed already.
+        """
         if calls is None:
             calls, self._queue = self._queue or [], None
         whole = [c for c in calls if c.track is not None]
         if whole:
-            items = [(c.cls, c.track, c.rows) for c in whole]
-            segs = track_segments(items, self.config, known=self.precomputed)  # type: ignore[arg-type]
+            if segs is None:
+                items = [(c.cls, c.track, c.rows) for c in whole]
+                segs = track_segments(items, self.config, known=self.precomputed)  # type: ignore[arg-type]
             for c, seg in zip(whole, segs, strict=True):
                 c.seg = seg
         for c in calls:
