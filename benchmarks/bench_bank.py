@@ -23,8 +23,9 @@ Times are CPU seconds of this process (``time.process_time``; BLAS on one
 thread), so that other work on a shared machine does not count; the wall-clock
 rate of the bank is printed beside.
 
-Each skin (``--active``: one or more fractions) is run ``--runs`` times and
-the range is quoted; ``--record`` writes the README row
+Each skin (``--active``: one or more fractions) is run once to warm up (the
+first run pays the page faults of the bank's buffers; not counted), then
+``--runs`` times, and the range is quoted; ``--record`` writes the README row
 (``docs/results/bench/bench_bank.json``), or, with another ``--batch-frames``
 or an ``--evaluate-every`` above 1, a variant
 (``docs/results/bench/variants/bench_bank-batchB[-everyE].json``) that only
@@ -181,6 +182,7 @@ def main() -> None:
     skins = {}
     for active in args.active:
         frames = skin_frames(pool, n, t_n, active, np.random.default_rng(0))
+        bank_run(frames, args)  # warm-up, not counted: the first run pays the page faults
         runs = [bank_run(frames, args) for _ in range(args.runs)]
         sep = separate_rate(frames, args.baseline_arrays)
         rates = [r["rate"] for r in runs]
