@@ -751,9 +751,43 @@ def test_a_brief_contact_that_rules_out_nothing_is_passed_over(blip_frames: int)
         assert r.identified == "cylinder"
         ((first, lifted),) = r.verdict.passed_over
         assert first > roll.shape[0] and "ruled out nothing" in r.verdict.sentence()
-        want = [{"first_frame": first, "lifted_frame": lifted}]
+        want = [{"first_frame": first, "lifted_frame": lifted, "last_frame": lifted}]
         assert r.verdict.to_json()["passed_over"] == want
+        assert not r.verdict.still_on
     else:  # lasting 0.6 s, it is the verdict's contact, however little it shows
         assert r.identified is None and r.verdict.passed_over == ()
     cfg = TactemeConfig(blip_s=0.0)  # the last contact, however brief
     assert recognise(rec, cleaning=None, config=cfg).identified is None
+
+
+@pytest.mark.parametrize("on_frames", [6, 16])
+def test_a_brief_contact_still_on_at_the_end_is_passed_over(on_frames: int) -> None:
+    """A lone taxel lit for the last 0.3 s of a recording, after the object was lifted, is
+    cut off too brief to tell: the summary is the object's, saying so; lit for 0.8 s (0.65 s
+    from its acceptance) it is the summary's contact. Batch, streaming and bank alike."""
+    from taxelkit.smart.bank import SensorBank
+
+    roll = line_frames([(5, 8)] * 6 + [(5 + k // 3, 8) for k in range(18)])
+    after = np.zeros((20 + on_frames, 16, 16), bool)
+    after[20:, 1, 0] = True  # lit until the recording ends
+    frames = np.concatenate([roll, after])
+    rec = TactileFrames(frames, t_s=np.arange(frames.shape[0]) / 20.0, pitch_mm=PITCH)
+    r = recognise(rec, cleaning=None)
+    kinds = [e.kind for e in r.events]
+    assert kinds.count("lifted") == 1 and kinds.count("contact") == 2
+    stream = SmartSensor((16, 16), pitch_mm=PITCH, cleaning=None, batch_frames=8)
+    bank = SensorBank(2, (16, 16), pitch_mm=PITCH, cleaning=None, batch_frames=8)
+    for f, t in zip(frames, rec.t_s, strict=True):
+        stream.push(f, float(t))
+        bank.push(np.stack([f, np.zeros_like(f)]), float(t))
+    for other in (stream.result(), bank.result(0)):
+        assert other.identified == r.identified and other.verdict == r.verdict
+    if on_frames == 6:
+        assert r.identified == "cylinder" and r.verdict.still_on
+        ((first, last),) = r.verdict.passed_over
+        assert last == frames.shape[0] - 1 and first > roll.shape[0]
+        assert "still on when the recording ended" in r.verdict.sentence()
+        want = [{"first_frame": first, "lifted_frame": None, "last_frame": last}]
+        assert r.verdict.to_json()["passed_over"] == want and r.verdict.to_json()["still_on"]
+    else:
+        assert r.identified is None and r.verdict.passed_over == () and not r.verdict.still_on

@@ -165,6 +165,10 @@ class Verdict:
         Later contacts, ``(first frame, frame lifted)``, too brief to rule out
         any object (:attr:`~taxelkit.smart.tactemes.TactemeConfig.blip_s`):
         this verdict is that of the contact before them.
+    still_on : bool
+        The last of ``passed_over`` was still on when the recording ended,
+        its second frame the recording's last: it began less than ``blip_s``
+        before the end and ruled out nothing so far.
     """
 
     outcome: str | None
@@ -175,6 +179,7 @@ class Verdict:
     rare: tuple[str, ...] = ()
     unread_gap_s: float | None = None
     passed_over: tuple[tuple[int, int], ...] = ()
+    still_on: bool = False
 
     @property
     def reason(self) -> str | None:
@@ -190,9 +195,10 @@ class Verdict:
         if not self.passed_over:
             return self._sentence()
         spans = ", ".join(f"{a}-{b}" for a, b in self.passed_over)
+        end = "; the last still on when the recording ended" if self.still_on else ""
         return (
             f"{self._sentence()} (the contact before the brief one(s) at frames {spans}, "
-            "which ruled out nothing)"
+            f"which ruled out nothing{end})"
         )
 
     def _sentence(self) -> str:
@@ -242,7 +248,15 @@ class Verdict:
             ],
             "rare": list(self.rare),
             "unread_gap_s": self.unread_gap_s,
-            "passed_over": [{"first_frame": a, "lifted_frame": b} for a, b in self.passed_over],
+            "passed_over": [
+                {
+                    "first_frame": a,
+                    "lifted_frame": None if self.still_on and k == len(self.passed_over) - 1 else b,
+                    "last_frame": b,
+                }
+                for k, (a, b) in enumerate(self.passed_over)
+            ],
+            "still_on": self.still_on,
         }
 
 
@@ -254,6 +268,7 @@ def explain(
     table: ObjectTable | None = None,
     unread_gap_s: float | None = None,
     passed_over: tuple[tuple[int, int], ...] = (),
+    still_on: bool = False,
 ) -> Verdict:
     """The verdict and its reasons from the tactemes of one contact, in order.
 
@@ -271,6 +286,8 @@ def explain(
         read (:attr:`Verdict.unread_gap_s`).
     passed_over : tuple of (int, int)
         Later contacts passed over as too brief (:attr:`Verdict.passed_over`).
+    still_on : bool
+        The last of them was still on at the recording's end (:attr:`Verdict.still_on`).
     """
     from taxelkit.smart.tacteme_table import ALL_ROWS, TABLE, TactemeRow
 
@@ -318,4 +335,5 @@ def explain(
         rare,
         unread_gap_s,
         passed_over,
+        bool(still_on and passed_over),
     )

@@ -338,11 +338,17 @@ def _contacts(events: list[Event], objects: tuple[str, ...]) -> list[_Contact]:
     return out
 
 
-def _blip(c: _Contact, objects: tuple[str, ...], blip_s: float, dt: float | None) -> bool:
-    """A contact lifted within ``blip_s`` that ruled out nothing and did not slip."""
-    if c.last is None or dt is None or not blip_s > 0:
+def _blip(
+    c: _Contact, objects: tuple[str, ...], blip_s: float, dt: float | None, end: int | None
+) -> bool:
+    """A contact lifted within ``blip_s`` that ruled out nothing and did not slip.
+
+    A contact still on counts up to ``end``, the recording's last frame (None: never a blip).
+    """
+    last = c.last if c.last is not None else end
+    if last is None or dt is None or not blip_s > 0:
         return False
-    return (c.last - c.first) * dt < blip_s and set(c.candidates) == set(objects) and not c.slid
+    return (last - c.first) * dt < blip_s and set(c.candidates) == set(objects) and not c.slid
 
 
 def _frame_of(tac: Tacteme, found: list[tuple[int, int, Tacteme]]) -> int:
@@ -358,6 +364,7 @@ def finish(
     unread_gap_s: float | None = None,
     blip_s: float = 0.0,
     frame_interval_s: float | None = None,
+    last_frame: int | None = None,
 ) -> Recognition:
     """Summarise: the outcome is that of the current contact, or of the last one lifted.
 
@@ -367,15 +374,23 @@ def finish(
     ``blip_s``, ``frame_interval_s``: a contact lifted within ``blip_s`` that
     ruled out no object is passed over, and the summary is that of the
     contact before it (:attr:`~taxelkit.smart.tactemes.TactemeConfig.blip_s`).
+    ``last_frame``: the recording's last frame; a contact still on then that
+    began less than ``blip_s`` before it and ruled out no object is passed over
+    too (it is cut off, too brief to tell; None: never).
     """
     tactemes = tuple((str(e.value), e.frame) for e in events if e.kind == "tacteme")
     state = Eliminator.for_table(objects)
     contacts = _contacts(events, state.objects)
     covered, passed = len(contacts) - 1, []
-    while covered > 0 and _blip(contacts[covered], state.objects, blip_s, frame_interval_s):
+    while covered > 0 and _blip(
+        contacts[covered], state.objects, blip_s, frame_interval_s, last_frame
+    ):
         blip = contacts[covered]
-        passed.append((blip.first, blip.first if blip.last is None else blip.last))
+        end = last_frame if blip.last is None else blip.last
+        assert end is not None  # a contact still on is a blip only up to last_frame
+        passed.append((blip.first, end))
         covered -= 1
+    still_on = bool(passed) and contacts[-1].last is None
     last = contacts[covered] if contacts else None
     final = None if last is None else last.candidates
     state.candidates = state.objects if final is None else final
@@ -386,6 +401,7 @@ def finish(
         table=objects,
         unread_gap_s=unread_gap_s if not passed else None,
         passed_over=tuple(reversed(passed)),
+        still_on=still_on,
     )
     assert verdict.candidates == state.candidates  # the same elimination, told twice
     return Recognition(

@@ -175,4 +175,5 @@ def recognise(
         unread_gap_s=state.unread_gap_s,
         blip_s=cfg.blip_s,
         frame_interval_s=dt,
+        last_frame=int(classes.size) - 1,
     )

@@ -438,4 +438,5 @@ class ArrayStream:
             unread_gap_s=state.unread_gap_s,
             blip_s=self.config.blip_s,
             frame_interval_s=self._dt,
+            last_frame=self.frame_index - 1,
         )

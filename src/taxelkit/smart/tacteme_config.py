@@ -52,7 +52,15 @@ class TactemeConfig:
         the summary's as before. 0 (as in :data:`PAPER_LEVEL3`): the last
         contact, however brief. 0.5 s: about the shortest placement that
         shows a motion tacteme (``motion_hold_s`` after a debounce and a
-        smoothing window, at 20 frames/s).
+        smoothing window, at 20 frames/s). A contact still on when the
+        recording ends, accepted less than ``blip_s`` before its last frame
+        and having ruled out nothing, is cut off too brief to tell and is
+        passed over the same way (:attr:`~taxelkit.smart.elimination.Verdict.still_on`):
+        with offset drift and threshold spread a taxel or two may light up
+        for good near the end of a recording, after the object was lifted
+        (the blind seed 57 of ``robustness``: MuJoCo spheres 9 and 43 and
+        cube 47 at 20 frames/s with every imperfection, "undecided" after
+        being identified).
     move_mm : float
         Centre displacement that counts as motion, mm (over one 1.76 mm pitch:
         a contact flickering between two taxels does not move).
