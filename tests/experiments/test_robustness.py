@@ -194,3 +194,20 @@ def test_the_sampling_line_tells_established_misses_from_chance() -> None:
         _sampling([cell(50)] * 3)
     )
     assert _sampling([]) == ""
+
+
+def test_the_misses_are_counted_as_rolls_seen_in_several_cells() -> None:
+    from taxelkit.experiments.report_robustness import _rolls
+
+    def cell(engine: str, rate: float, missed: list[list[object]]) -> dict[str, object]:
+        return {"engine": engine, "object": "cone", "rate_hz": rate, "missed": missed}
+
+    low = [
+        cell("mujoco", 20.0, [[43, None], [8, "unknown"]]),
+        cell("mujoco", 100.0, [[43, "truncated-cone"]]),
+        cell("kinematic", 20.0, [[43, None]]),  # another engine: another motion
+    ]
+    text = _rolls(low)
+    assert "Their misses are 3 roll(s), 1 of them missed in more than one" in text
+    assert "(at most 2)" in text
+    assert _rolls([]) == "" and _rolls([cell("mujoco", 20.0, [])]) == ""

@@ -62,7 +62,29 @@ def _sampling(cells: list[dict[str, Any]], target: float = TARGET_ACCURACY) -> s
         f"interval is under {target:g}); the others miss by fewer trials than the "
         f"cell's size can tell from {target:g}. Had every cell the pooled accuracy "
         f"({_pct(pooled)} %), chance alone would leave about {chance:.0f} of the "
-        f"{len(cells)} below {target:g}."
+        f"{len(cells)} below {target:g}.{_rolls(low)}"
+    )
+
+
+def _rolls(low: list[dict[str, Any]]) -> str:
+    """The rolls whose misses put ``low`` (cells) below target: how many, how many in several.
+
+    A roll is one motion (engine, object, trial) seen at every rate and
+    imperfection, so one hard motion can miss in many cells.
+    """
+    seen: dict[tuple[str, str, int], int] = {}
+    for c in low:
+        for trial, _ in c.get("missed", []):
+            key = (c["engine"], c["object"], int(trial))
+            seen[key] = seen.get(key, 0) + 1
+    if not seen:
+        return ""
+    many = sum(n > 1 for n in seen.values())
+    most = max(seen.values())
+    return (
+        f" Their misses are {len(seen)} roll(s), {many} of them missed in more than one "
+        f"of these cells (at most {most}): a cell's trials are motions, each seen at every "
+        "rate and imperfection."
     )
 
 
@@ -207,7 +229,8 @@ def robustness_heldout_markdown(docs: dict[str, dict[str, Any]]) -> str:
             f"{o['undecided']} undecided, {o['unknown']} unknown; sliding "
             f"{doc['sliding']['identified']} of {doc['sliding']['n']} identified; cells at "
             f"20 frames/s and above below {TARGET_ACCURACY:g}: {len(low)} of {len(fast)}, "
-            f"{sure} of them beyond sampling doubt (95 % Wilson interval).{_named(o)}"
+            f"{sure} of them beyond sampling doubt (95 % Wilson interval).{_rolls(low)}"
+            f"{_named(o)}"
         )
     return "\n".join(
         [
